@@ -1,0 +1,290 @@
+//! The dataset `simulate` writes: one Parquet row per realization, ragged event lists.
+//!
+//! Layout: `DIR/part-IIIII-of-NNNNN.parquet`, one file per shard, rows sorted by the global
+//! `realization` index. Columns (see `CONTRACT.md`): `realization` int64, `x0`, `xdot0` float64,
+//! `initial_sign` int32 (belt sign at t = 0), `n_switches` int32 (Q), `n_stick`, `n_slip` int32
+//! (S_T, S_L), `stick_start`, `stick_duration`, `slip_start`, `slip_duration` list<float64>
+//! (T, D, L, H; non-null lists, `[]` when empty), `last_truncated` bool, and `switch_times`
+//! list<float64> (Y) only when the scenario asks for it.
+//!
+//! Files are written as `.part-….parquet.tmp` and renamed when complete, so a reader never sees a
+//! partial file and a failed run leaves nothing behind. Parquet settings follow what polars and
+//! DuckDB both read well: zstd, no dictionary for floats, BYTE_STREAM_SPLIT float encoding,
+//! spec-compliant list element name `element`, provenance in the file key-value metadata.
+
+use std::fs::File;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use arrow::array::{ArrayRef, BooleanArray, Float64Array, Int32Array, Int64Array, ListArray, RecordBatch};
+use arrow::buffer::{OffsetBuffer, ScalarBuffer};
+use arrow::datatypes::{DataType, Field, Schema, SchemaRef};
+use parquet::arrow::ArrowWriter;
+use parquet::basic::{Compression, Encoding, ZstdLevel};
+use parquet::file::metadata::KeyValue;
+use parquet::file::properties::WriterProperties;
+use parquet::schema::types::ColumnPath;
+
+use crate::events::Record;
+use crate::excitation::BeltPath;
+
+/// Version of the column layout, recorded in every file.
+pub const SCHEMA_VERSION: &str = "1";
+
+/// Rows per Parquet row group (a row group is also flushed early past [`ROW_GROUP_BYTES`]).
+const ROW_GROUP_ROWS: usize = 131_072;
+const ROW_GROUP_BYTES: usize = 128 << 20;
+
+/// List columns, in schema order.
+pub const LIST_COLUMNS: [&str; 4] = ["stick_start", "stick_duration", "slip_start", "slip_duration"];
+
+/// The Arrow schema of a dataset file.
+pub fn schema(with_switch_times: bool) -> SchemaRef {
+    let mut fields = vec![
+        Field::new("realization", DataType::Int64, false),
+        Field::new("x0", DataType::Float64, false),
+        Field::new("xdot0", DataType::Float64, false),
+        Field::new("initial_sign", DataType::Int32, false),
+        Field::new("n_switches", DataType::Int32, false),
+        Field::new("n_stick", DataType::Int32, false),
+        Field::new("n_slip", DataType::Int32, false),
+    ];
+    fields.extend(LIST_COLUMNS.iter().map(|name| list_field(name)));
+    fields.push(Field::new("last_truncated", DataType::Boolean, false));
+    if with_switch_times {
+        fields.push(list_field("switch_times"));
+    }
+    Arc::new(Schema::new(fields))
+}
+
+fn list_field(name: &str) -> Field {
+    Field::new(name, DataType::List(Arc::new(Field::new("element", DataType::Float64, false))), false)
+}
+
+/// A ragged float column being filled realization by realization.
+#[derive(Debug, Clone)]
+struct ListColumn {
+    offsets: Vec<i32>,
+    values: Vec<f64>,
+}
+
+impl ListColumn {
+    fn new() -> Self {
+        ListColumn { offsets: vec![0], values: Vec::new() }
+    }
+
+    fn push(&mut self, row: &[f64]) {
+        self.values.extend_from_slice(row);
+        self.offsets.push(i32::try_from(self.values.len()).expect("a chunk holds < 2^31 list values"));
+    }
+
+    fn into_array(self) -> ArrayRef {
+        let field = Arc::new(Field::new("element", DataType::Float64, false));
+        let offsets = OffsetBuffer::new(ScalarBuffer::from(self.offsets));
+        Arc::new(ListArray::new(field, offsets, Arc::new(Float64Array::from(self.values)), None))
+    }
+}
+
+/// The rows of a contiguous run of realizations, column by column.
+#[derive(Debug, Clone)]
+pub struct Rows {
+    realization: Vec<i64>,
+    x0: Vec<f64>,
+    xdot0: Vec<f64>,
+    initial_sign: Vec<i32>,
+    n_switches: Vec<i32>,
+    n_stick: Vec<i32>,
+    n_slip: Vec<i32>,
+    lists: [ListColumn; 4],
+    last_truncated: Vec<bool>,
+    switch_times: Option<ListColumn>,
+}
+
+impl Rows {
+    pub fn new(with_switch_times: bool) -> Rows {
+        Rows {
+            realization: Vec::new(),
+            x0: Vec::new(),
+            xdot0: Vec::new(),
+            initial_sign: Vec::new(),
+            n_switches: Vec::new(),
+            n_stick: Vec::new(),
+            n_slip: Vec::new(),
+            lists: std::array::from_fn(|_| ListColumn::new()),
+            last_truncated: Vec::new(),
+            switch_times: with_switch_times.then(ListColumn::new),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.realization.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.realization.is_empty()
+    }
+
+    /// Σ S_T over the rows.
+    pub fn total_sticks(&self) -> u64 {
+        self.n_stick.iter().map(|&n| n as u64).sum()
+    }
+
+    /// Append realization `index`.
+    pub fn push(&mut self, index: u64, x0: f64, xdot0: f64, belt: &BeltPath, rec: &Record) {
+        let count = |n: usize| i32::try_from(n).expect("counts are bounded by the validated λ t_a");
+        self.realization.push(index as i64);
+        self.x0.push(x0);
+        self.xdot0.push(xdot0);
+        self.initial_sign.push(belt.initial_sign as i32);
+        self.n_switches.push(count(belt.switch_times.len()));
+        self.n_stick.push(count(rec.n_stick()));
+        self.n_slip.push(count(rec.n_slip()));
+        for (col, values) in self.lists.iter_mut().zip([
+            &rec.stick_start,
+            &rec.stick_duration,
+            &rec.slip_start,
+            &rec.slip_duration,
+        ]) {
+            col.push(values);
+        }
+        self.last_truncated.push(rec.last_truncated);
+        if let Some(col) = &mut self.switch_times {
+            col.push(&belt.switch_times);
+        }
+    }
+
+    /// The rows as an Arrow record batch with [`schema`].
+    pub fn into_batch(self) -> RecordBatch {
+        let schema = schema(self.switch_times.is_some());
+        let mut columns: Vec<ArrayRef> = vec![
+            Arc::new(Int64Array::from(self.realization)),
+            Arc::new(Float64Array::from(self.x0)),
+            Arc::new(Float64Array::from(self.xdot0)),
+            Arc::new(Int32Array::from(self.initial_sign)),
+            Arc::new(Int32Array::from(self.n_switches)),
+            Arc::new(Int32Array::from(self.n_stick)),
+            Arc::new(Int32Array::from(self.n_slip)),
+        ];
+        columns.extend(self.lists.into_iter().map(ListColumn::into_array));
+        columns.push(Arc::new(BooleanArray::from(self.last_truncated)));
+        columns.extend(self.switch_times.map(ListColumn::into_array));
+        RecordBatch::try_new(schema, columns).expect("columns match the schema")
+    }
+}
+
+/// Errors writing a dataset, each naming the path.
+#[derive(Debug, thiserror::Error)]
+pub enum DatasetError {
+    #[error("cannot use output directory {}: {source}", path.display())]
+    OutDir { path: PathBuf, source: std::io::Error },
+    #[error("output directory {} already holds {}, a part of a run split into a different number of shards; remove it or choose another --out", dir.display(), other.display())]
+    Layout { dir: PathBuf, other: PathBuf },
+    #[error("writing {}: {source}", path.display())]
+    Write { path: PathBuf, source: Box<dyn std::error::Error + Send + Sync> },
+}
+
+/// File name of shard `index` of `count`.
+pub fn part_name(index: u64, count: u64) -> String {
+    format!("part-{index:05}-of-{count:05}.parquet")
+}
+
+/// Writes one part file: created under a temporary name, renamed by [`PartWriter::commit`],
+/// removed if dropped before that (and the directory too, if this writer created it empty).
+pub struct PartWriter {
+    writer: Option<ArrowWriter<File>>,
+    tmp: PathBuf,
+    path: PathBuf,
+    created_dir: Option<PathBuf>,
+    committed: bool,
+}
+
+impl PartWriter {
+    /// Open `dir/part-index-of-count.parquet` for writing, with key-value `metadata`.
+    pub fn create(
+        dir: &Path,
+        index: u64,
+        count: u64,
+        with_switch_times: bool,
+        metadata: Vec<(String, String)>,
+    ) -> Result<PartWriter, DatasetError> {
+        let out_err = |source| DatasetError::OutDir { path: dir.to_owned(), source };
+        let created_dir = if dir.exists() {
+            None
+        } else {
+            std::fs::create_dir_all(dir).map_err(out_err)?;
+            Some(dir.to_owned())
+        };
+        let name = part_name(index, count);
+        let layout = format!("-of-{count:05}.parquet");
+        for entry in std::fs::read_dir(dir).map_err(out_err)? {
+            let file = entry.map_err(out_err)?.file_name().to_string_lossy().into_owned();
+            if file.starts_with("part-") && file.ends_with(".parquet") && !file.ends_with(&layout) {
+                return Err(DatasetError::Layout { dir: dir.to_owned(), other: dir.join(file) });
+            }
+        }
+        let path = dir.join(&name);
+        let tmp = dir.join(format!(".{name}.tmp"));
+        let file = File::create(&tmp).map_err(out_err)?;
+        let mut pw = PartWriter { writer: None, tmp, path, created_dir, committed: false };
+        let writer = ArrowWriter::try_new(file, schema(with_switch_times), Some(properties(with_switch_times, metadata)))
+            .map_err(|e| pw.write_err(e))?;
+        pw.writer = Some(writer);
+        Ok(pw)
+    }
+
+    fn write_err(&self, e: impl std::error::Error + Send + Sync + 'static) -> DatasetError {
+        DatasetError::Write { path: self.path.clone(), source: Box::new(e) }
+    }
+
+    /// Append rows; row groups are cut at a fixed row count (or size), never by timing.
+    pub fn write(&mut self, rows: Rows) -> Result<(), DatasetError> {
+        let writer = self.writer.as_mut().expect("open until commit");
+        let result = writer.write(&rows.into_batch()).and_then(|()| {
+            if writer.in_progress_size() > ROW_GROUP_BYTES {
+                writer.flush()
+            } else {
+                Ok(())
+            }
+        });
+        result.map_err(|e| self.write_err(e))
+    }
+
+    /// Finish the file and move it to its final name.
+    pub fn commit(mut self) -> Result<PathBuf, DatasetError> {
+        let writer = self.writer.take().expect("open until commit");
+        writer.close().map_err(|e| self.write_err(e))?;
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| self.write_err(e))?;
+        self.committed = true;
+        Ok(self.path.clone())
+    }
+}
+
+impl Drop for PartWriter {
+    fn drop(&mut self) {
+        if self.committed {
+            return;
+        }
+        drop(self.writer.take());
+        let _ = std::fs::remove_file(&self.tmp);
+        if let Some(dir) = &self.created_dir {
+            let _ = std::fs::remove_dir(dir); // only succeeds if empty
+        }
+    }
+}
+
+fn properties(with_switch_times: bool, metadata: Vec<(String, String)>) -> WriterProperties {
+    let mut floats = vec![ColumnPath::from("x0"), ColumnPath::from("xdot0")];
+    let lists = LIST_COLUMNS.iter().copied().chain(with_switch_times.then_some("switch_times"));
+    floats.extend(lists.map(|c| ColumnPath::new(vec![c.into(), "list".into(), "element".into()])));
+    let mut builder = WriterProperties::builder()
+        .set_compression(Compression::ZSTD(ZstdLevel::try_new(3).expect("valid level")))
+        .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
+        .set_coerce_types(true)
+        .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()));
+    for col in floats {
+        builder = builder
+            .set_column_dictionary_enabled(col.clone(), false)
+            .set_column_encoding(col, Encoding::BYTE_STREAM_SPLIT);
+    }
+    builder.build()
+}

@@ -1,0 +1,247 @@
+//! The oscillator: parameters and the closed-form motion inside one mode.
+//!
+//! Equation of motion (Lima & Sampaio, "Analysis of a dry-friction oscillator driven by a
+//! stochastic base motion", eq. 1–2):
+//!
+//! ```text
+//!     m ẍ + k x = f,      slip:  f = f_max · σ,   σ = sgn(v − ẋ),   f_max = μ n
+//!                         stick: ẋ = v,  f = k x,  |k x| ≤ f_max
+//! ```
+//!
+//! Everything below is written per unit mass, in the accelerations
+//! `ω² = k/m` [1/s²] and `a_f = f_max/m` [m/s²], so that m → 0 or m → ∞ never forms k·x − f
+//! out of two huge forces. With the belt at constant velocity `v` the motion is known in closed
+//! form in both modes:
+//!
+//! ```text
+//!  stick:  x(τ) = x₀ + v τ                                            (until s ω² x = a_f)
+//!  slip:   x(τ) = x₀ + ẋ₀ S(τ) + a₀ C(τ),   ẋ(τ) = ẋ₀ cos ωτ + a₀ S(τ)
+//!          a₀ = σ a_f − ω² x₀   (acceleration at τ = 0)
+//!          S(τ) = sin(ωτ)/ω,    C(τ) = (1 − cos ωτ)/ω² = 2 sin²(ωτ/2)/ω²
+//! ```
+//!
+//! `S` and `C` are evaluated from `sin`/`cos` of the half angle ωτ/2, which keeps full relative
+//! accuracy for small ωτ (no `1 − cos` cancellation) and has the exact limits `S → τ`,
+//! `C → τ²/2` as ω → 0 (a spring-less mass: uniformly decelerated slip).
+//!
+//! ## When does a slip reach belt speed?
+//! With the tangent half-angle substitution `tan(ωτ/2) = ω r / 2` (r → τ as ω → 0), the relative
+//! velocity `u(τ) = ẋ(τ) − v` satisfies
+//!
+//! ```text
+//!     u(τ) · (1 + ω² r²/4) = u₀ + a₀ r − (ẋ₀ + v) (ω²/4) r²
+//! ```
+//!
+//! so the crossings `u = 0` are the roots of the quadratic `α r² + β r + γ = 0` with
+//! `α = (ẋ₀ + v) ω²/4`, `β = −a₀`, `γ = −u₀` and discriminant `a₀² + ω² u₀ (ẋ₀ + v)`
+//! (written so that `ẋ₀² − v²` is never formed by cancellation). The roots are taken with the
+//! cancellation-free formula `q = −(β + sgn β √Δ)/2`, `r₁ = q/α`, `r₂ = γ/q` (Press et al.,
+//! *Numerical Recipes*, 3rd ed., §5.6), mapped back by `ωτ = 2 atan(ω r / 2)` (plus 2π for a
+//! negative angle: the motion is 2π/ω-periodic, so the first crossing lies within one period or
+//! there is none). At a root the state needs no trigonometry: with `c² = 1/(1 + ω²r²/4)`,
+//! `S = r c²` and `C = (r²/2) c²` (r = ±∞ is the half period: `S = 0`, `C = 2/ω²`).
+//! Where the solution is a double root the velocity only touches belt speed (grazing).
+
+use std::f64::consts::{PI, TAU};
+
+/// Physical parameters of the oscillator (SI units), as in the scenario's `[model]` table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Model {
+    /// m, kg (> 0)
+    pub mass: f64,
+    /// k, N/m (≥ 0)
+    pub stiffness: f64,
+    /// n, N (≥ 0)
+    pub normal_force: f64,
+    /// μ, dimensionless (≥ 0)
+    pub friction_coefficient: f64,
+}
+
+impl Model {
+    /// The paper's parameters: m = 1 kg, k = 4 N/m, n = 9.8 N, μ = 0.51.
+    pub const PAPER: Model = Model {
+        mass: 1.0,
+        stiffness: 4.0,
+        normal_force: 9.8,
+        friction_coefficient: 0.51,
+    };
+
+    /// f_max = μ n, N.
+    pub fn max_friction(&self) -> f64 {
+        self.friction_coefficient * self.normal_force
+    }
+
+    /// The per-unit-mass constants the solvers work with.
+    pub fn per_unit_mass(&self) -> Accel {
+        let omega2 = self.stiffness / self.mass;
+        Accel {
+            omega2,
+            omega: omega2.sqrt(),
+            friction: self.max_friction() / self.mass,
+        }
+    }
+}
+
+/// The model per unit mass: `ω² = k/m`, `ω`, and `a_f = f_max/m`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Accel {
+    pub omega2: f64,
+    pub omega: f64,
+    pub friction: f64,
+}
+
+/// Below this ωτ the series of `S` and `C` are used (their first dropped terms are below
+/// 1e-17 relative), which also makes ω = 0 and an underflowing ω² exact.
+const SERIES_BELOW: f64 = 1e-4;
+
+impl Accel {
+    /// `(S(τ), C(τ), cos ωτ)` for a slip lasting τ (see the module docs).
+    pub fn slip_basis(&self, tau: f64) -> (f64, f64, f64) {
+        let theta = self.omega * tau;
+        if theta < SERIES_BELOW {
+            let t2 = theta * theta;
+            let s = tau * (1.0 - t2 / 6.0);
+            let c = 0.5 * tau * tau * (1.0 - t2 / 12.0);
+            return (s, c, 1.0 - 0.5 * t2);
+        }
+        let (sh, ch) = (0.5 * theta).sin_cos();
+        let s = 2.0 * sh * ch / self.omega;
+        let c = 2.0 * sh * sh / self.omega2;
+        (s, c, 1.0 - 2.0 * sh * sh)
+    }
+
+    /// State `(x, ẋ)` after a slip of duration τ from `(x₀, ẋ₀)` with initial acceleration `a₀`.
+    pub fn slip_state(&self, x0: f64, xdot0: f64, a0: f64, tau: f64) -> (f64, f64) {
+        let (s, c, cos) = self.slip_basis(tau);
+        (x0 + xdot0 * s + a0 * c, xdot0 * cos + a0 * s)
+    }
+
+    /// The first τ > 0 at which a slip from `(x₀, ẋ₀)` with acceleration `a₀` reaches belt
+    /// velocity `v`, and the position there; `None` if it never does (the velocity oscillation
+    /// stays on one side of `v`, or a spring-less mass moves away from it).
+    ///
+    /// A slip that starts exactly at belt speed with zero acceleration (`u₀ = a₀ = 0`, the orbit
+    /// right after a breakaway) only touches belt speed once per period, tangentially; that
+    /// touch is not a crossing and `None` is returned.
+    pub fn belt_speed_crossing(&self, x0: f64, xdot0: f64, a0: f64, v: f64) -> Option<(f64, f64)> {
+        let u0 = xdot0 - v;
+        let alpha = 0.25 * (xdot0 + v) * self.omega2;
+        let beta = -a0;
+        let gamma = -u0;
+        let disc = a0 * a0 + self.omega2 * u0 * (xdot0 + v);
+        if !(disc >= 0.0) {
+            return None;
+        }
+        let q = -0.5 * (beta + beta.signum() * disc.sqrt());
+        if q == 0.0 {
+            // β = 0 and Δ = 0: either the touch-only orbit (u₀ = 0) or ẋ₀ = −v, a₀ = 0, whose
+            // only root is at the half period (r = ∞).
+            return if u0 == 0.0 { None } else { self.at_root(x0, xdot0, a0, f64::INFINITY) };
+        }
+        // Of the two roots, the first in time: ωτ = 2 atan(ω r/2) lies in (0, π) for r > 0 and in
+        // (π, 2π) for r < 0 (after the 2π shift), and grows with r within each sign; only the
+        // chosen root is mapped back (one `atan`).
+        // (q ≠ 0 here, so neither root is NaN; r₁ = ±∞ when α = 0 is the half period.)
+        let (r1, r2) = (q / alpha, gamma / q);
+        let key = |r: f64| if r > 0.0 { (0, r) } else { (1, r) };
+        let r = if key(r2) < key(r1) { r2 } else { r1 };
+        self.at_root(x0, xdot0, a0, r)
+    }
+
+    /// Map a root `r` of the crossing quadratic to `(τ, x(τ))`, τ ∈ (0, 2π/ω].
+    fn at_root(&self, x0: f64, xdot0: f64, a0: f64, r: f64) -> Option<(f64, f64)> {
+        if r.is_nan() {
+            return None;
+        }
+        let h = 0.5 * self.omega * r; // tan(ωτ/2)
+        if self.omega == 0.0 || h == 0.0 && r != 0.0 {
+            // No spring (or ω r below resolution): uniformly accelerated motion, τ = r.
+            return (r > 0.0 && r.is_finite()).then(|| (r, x0 + xdot0 * r + 0.5 * a0 * r * r));
+        }
+        let mut theta = 2.0 * h.atan();
+        if theta <= 0.0 {
+            theta += TAU;
+        }
+        let tau = theta / self.omega;
+        let x = if h.is_infinite() || h.abs() > 1e150 {
+            // ωτ = π: S = 0, C = 2/ω².
+            debug_assert!((theta - PI).abs() < 1e-9);
+            x0 + a0 * 2.0 / self.omega2
+        } else {
+            let c2 = 1.0 / (1.0 + h * h);
+            x0 + (xdot0 * r + 0.5 * a0 * r * r) * c2
+        };
+        Some((tau, x))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn accel(k: f64, fmax: f64) -> Accel {
+        Model { mass: 1.0, stiffness: k, normal_force: fmax, friction_coefficient: 1.0 }.per_unit_mass()
+    }
+
+    /// Reference: direct trigonometric solution x = xe + A cos ωτ + B sin ωτ.
+    fn direct(a: &Accel, x0: f64, xd0: f64, a0: f64, tau: f64) -> (f64, f64) {
+        let xe = x0 + a0 / a.omega2;
+        let (s, c) = (a.omega * tau).sin_cos();
+        let (aa, bb) = (x0 - xe, xd0 / a.omega);
+        (xe + aa * c + bb * s, a.omega * (-aa * s + bb * c))
+    }
+
+    #[test]
+    fn slip_state_matches_direct_trigonometric_solution() {
+        let a = accel(4.0, 5.0);
+        for &tau in &[1e-7, 1e-3, 0.3, 1.7, 12.0] {
+            let (x, xd) = a.slip_state(0.3, -0.7, 2.1, tau);
+            let (xr, xdr) = direct(&a, 0.3, -0.7, 2.1, tau);
+            assert!((x - xr).abs() < 1e-13 * (1.0 + xr.abs()), "tau {tau}: {x} vs {xr}");
+            assert!((xd - xdr).abs() < 1e-13 * (1.0 + xdr.abs()));
+        }
+    }
+
+    #[test]
+    fn slip_state_without_spring_is_uniform_acceleration() {
+        let a = accel(0.0, 5.0);
+        let (x, xd) = a.slip_state(0.5, 2.0, -5.0, 0.3);
+        assert_eq!(x, 0.5 + 2.0 * 0.3 - 2.5 * 0.09);
+        assert!((xd - (2.0 - 1.5)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn crossing_is_a_root_of_relative_velocity() {
+        let a = accel(4.0, 5.0);
+        for &(x0, xd0, sig, v) in &[(0.2, -1.0, 1.0, 1.0), (-0.9, 3.0, -1.0, 1.0), (0.4, 0.9, 1.0, -1.0)] {
+            let a0 = sig * a.friction - a.omega2 * x0;
+            let (tau, x) = a.belt_speed_crossing(x0, xd0, a0, v).expect("crossing");
+            let (xr, xdr) = direct(&a, x0, xd0, a0, tau);
+            assert!((xdr - v).abs() < 1e-12, "u = {} at tau {tau}", xdr - v);
+            assert!((x - xr).abs() < 1e-12);
+            // and it is the first one: u keeps its sign on a fine grid before tau
+            let s0 = (xd0 - v).signum();
+            for i in 1..1000 {
+                let (_, xd) = direct(&a, x0, xd0, a0, tau * i as f64 / 1000.0);
+                assert_eq!((xd - v).signum(), s0);
+            }
+        }
+    }
+
+    #[test]
+    fn no_crossing_when_velocity_amplitude_is_below_belt_speed() {
+        let a = accel(4.0, 0.0);
+        // free oscillation with velocity amplitude 0.5 < v = 1
+        assert!(a.belt_speed_crossing(0.0, 0.5, 0.0, 1.0).is_none());
+    }
+
+    #[test]
+    fn tiny_omega_crossing_tends_to_uniform_deceleration() {
+        // k = 1e-20: ω = 1e-10; the crossing time must approach u₀/a_f without cancellation.
+        let a = accel(1e-20, 5.0);
+        let a0 = a.friction - a.omega2 * 0.3;
+        let (tau, x) = a.belt_speed_crossing(0.3, -1.0, a0, 1.0).unwrap();
+        assert!((tau - 2.0 / a0).abs() < 1e-14, "{tau}");
+        assert!((x - (0.3 - 2.0 / a0 + 0.5 * a0 * (2.0 / a0).powi(2))).abs() < 1e-14);
+    }
+}

@@ -1,0 +1,308 @@
+//! Scenario files: TOML in, a validated [`Scenario`] out — every check happens here, before a
+//! single realization runs.
+//!
+//! Resolution order: the embedded paper scenario (`pipelines/paper.toml`, which lists every key)
+//! ← the user's file (any subset of keys) ← `--set key=value` overrides ← `--realizations` /
+//! `--seed`. A key that the paper scenario does not have is an error, so a typo never silently
+//! keeps a default. The resolved table is what datasets record as provenance.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use toml::{Table, Value};
+
+use crate::excitation::{Belt, InitialSign};
+use crate::model::Model;
+
+/// The paper scenario, embedded: the default and the list of known keys.
+pub const PAPER_TOML: &str = include_str!("../pipelines/paper.toml");
+
+/// Largest accepted λ·t_a (expected belt flips per realization): their instants are held in memory.
+pub const MAX_EXPECTED_SWITCHES: f64 = 1e7;
+
+/// The solvers `run.solver` may name.
+pub const SOLVERS: &[&str] = &["exact"];
+
+/// A fully resolved and validated scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    pub model: Model,
+    pub belt: Belt,
+    /// Uniform ranges [lo, hi] of X0 [m] and Ẋ0 [m/s].
+    pub position: [f64; 2],
+    pub velocity: [f64; 2],
+    pub realizations: u64,
+    pub seed: u64,
+    pub solver: String,
+    pub store_switch_times: bool,
+    /// The resolved table, for provenance.
+    pub table: Table,
+}
+
+/// Everything that can be wrong with a scenario, each naming its culprit.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    #[error("cannot read scenario file {}: {source}", path.display())]
+    Read { path: PathBuf, source: std::io::Error },
+    #[error("scenario file {} is not valid TOML: {message}", path.display())]
+    Syntax { path: PathBuf, message: String },
+    #[error("unknown scenario key `{key}`{hint}")]
+    UnknownKey { key: String, hint: Hint },
+    #[error("scenario key `{key}` = {value}: {reason}")]
+    Invalid { key: String, value: String, reason: String },
+    #[error("--set {arg:?}: expected KEY=VALUE with a dotted key, e.g. --set belt.switch_rate=1.0")]
+    BadSet { arg: String },
+}
+
+/// The known keys next to an unknown one, for the error message.
+#[derive(Debug)]
+pub struct Hint(Vec<String>);
+
+impl fmt::Display for Hint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.is_empty() {
+            Ok(())
+        } else {
+            write!(f, " (known here: {})", self.0.join(", "))
+        }
+    }
+}
+
+impl Scenario {
+    /// The paper scenario.
+    pub fn paper() -> Scenario {
+        Scenario::resolve(None, &[]).expect("the embedded paper scenario is valid")
+    }
+
+    /// Resolve a scenario from an optional file and `KEY=VALUE` overrides.
+    pub fn resolve(file: Option<&Path>, sets: &[String]) -> Result<Scenario, ScenarioError> {
+        let mut table: Table = PAPER_TOML.parse().expect("embedded scenario parses");
+        if let Some(path) = file {
+            let text = std::fs::read_to_string(path)
+                .map_err(|source| ScenarioError::Read { path: path.to_owned(), source })?;
+            let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax {
+                path: path.to_owned(),
+                message: e.to_string().trim_end().to_owned(),
+            })?;
+            merge(&mut table, user, "")?;
+        }
+        for arg in sets {
+            let (key, value) = arg.split_once('=').ok_or_else(|| ScenarioError::BadSet { arg: arg.clone() })?;
+            set(&mut table, key.trim(), parse_value(value.trim()))?;
+        }
+        Scenario::from_table(table)
+    }
+
+    /// Override one key by its dotted name (the value as TOML, or a bare string).
+    pub fn with(self, key: &str, value: &str) -> Result<Scenario, ScenarioError> {
+        let mut table = self.table;
+        set(&mut table, key, parse_value(value))?;
+        Scenario::from_table(table)
+    }
+
+    fn from_table(table: Table) -> Result<Scenario, ScenarioError> {
+        let g = Getter(&table);
+        let model = Model {
+            mass: g.f64("model.mass", |x| x > 0.0, "must be > 0 (kg)")?,
+            stiffness: g.f64("model.stiffness", |x| x >= 0.0, "must be >= 0 (N/m)")?,
+            normal_force: g.f64("model.normal_force", |x| x >= 0.0, "must be >= 0 (N)")?,
+            friction_coefficient: g.f64("model.friction_coefficient", |x| x >= 0.0, "must be >= 0")?,
+        };
+        let sign = match g.get("belt.initial_sign") {
+            Value::Integer(1) => InitialSign::Positive,
+            Value::Integer(-1) => InitialSign::Negative,
+            Value::String(s) if s == "random" => InitialSign::Random,
+            other => return Err(invalid("belt.initial_sign", other, "must be 1, -1 or \"random\"")),
+        };
+        let belt = Belt {
+            speed: g.f64("belt.speed", |x| x > 0.0, "must be > 0 (m/s)")?,
+            switch_rate: g.f64("belt.switch_rate", |x| x >= 0.0, "must be >= 0 (1/s)")?,
+            initial_sign: sign,
+            duration: g.f64("run.duration", |x| x > 0.0, "must be > 0 (s)")?,
+        };
+        let solver = match g.get("run.solver") {
+            Value::String(s) if SOLVERS.contains(&s.as_str()) => s.clone(),
+            other => return Err(invalid("run.solver", other, &format!("must be one of {SOLVERS:?}"))),
+        };
+        let scenario = Scenario {
+            model,
+            belt,
+            position: g.range("initial_conditions.position")?,
+            velocity: g.range("initial_conditions.velocity")?,
+            realizations: g.count("run.realizations", 1)?,
+            seed: g.count("run.seed", 0)?,
+            solver,
+            store_switch_times: match g.get("output.switch_times") {
+                Value::Boolean(b) => *b,
+                other => return Err(invalid("output.switch_times", other, "must be true or false")),
+            },
+            table,
+        };
+        scenario.check_derived()?;
+        Ok(scenario)
+    }
+
+    /// Checks on combinations of keys.
+    fn check_derived(&self) -> Result<(), ScenarioError> {
+        let m = &self.model;
+        let a = m.per_unit_mass();
+        if !a.omega2.is_finite() || !a.friction.is_finite() || !m.max_friction().is_finite() {
+            return Err(ScenarioError::Invalid {
+                key: "model".into(),
+                value: format!("k/m = {:e} 1/s², mu n/m = {:e} m/s²", a.omega2, a.friction),
+                reason: "these ratios must be finite".into(),
+            });
+        }
+        let expected = self.belt.switch_rate * self.belt.duration;
+        if !(expected <= MAX_EXPECTED_SWITCHES) {
+            return Err(ScenarioError::Invalid {
+                key: "belt.switch_rate".into(),
+                value: self.belt.switch_rate.to_string(),
+                reason: format!(
+                    "belt.switch_rate × run.duration = {expected:e} expected belt flips per realization; at most {MAX_EXPECTED_SWITCHES:e} are supported"
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The resolved scenario as TOML text.
+    pub fn to_toml(&self) -> String {
+        toml::to_string(&self.table).expect("a TOML table serializes")
+    }
+}
+
+/// A `--set` value: TOML if it parses as TOML (`1.0`, `[-1, 1]`, `"x"`, `true`), else a bare string.
+fn parse_value(text: &str) -> Value {
+    format!("v = {text}")
+        .parse::<Table>()
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| Value::String(text.to_owned()))
+}
+
+/// Merge `user` into `base`, refusing keys `base` does not have.
+fn merge(base: &mut Table, user: Table, prefix: &str) -> Result<(), ScenarioError> {
+    for (key, value) in user {
+        let dotted = if prefix.is_empty() { key.clone() } else { format!("{prefix}.{key}") };
+        match (base.get_mut(&key), value) {
+            (None, _) => return Err(unknown(&dotted, base)),
+            (Some(Value::Table(b)), Value::Table(u)) => merge(b, u, &dotted)?,
+            (Some(Value::Table(_)), v) => return Err(invalid(&dotted, &v, "must be a table")),
+            (Some(_), Value::Table(_)) => return Err(ScenarioError::UnknownKey { key: dotted, hint: Hint(vec![]) }),
+            (Some(slot), v) => *slot = v,
+        }
+    }
+    Ok(())
+}
+
+fn set(table: &mut Table, key: &str, value: Value) -> Result<(), ScenarioError> {
+    set_in(table, key, key, value)
+}
+
+fn set_in(table: &mut Table, full: &str, rest: &str, value: Value) -> Result<(), ScenarioError> {
+    let (head, tail) = match rest.split_once('.') {
+        Some((head, tail)) => (head, Some(tail)),
+        None => (rest, None),
+    };
+    match (table.get_mut(head), tail) {
+        (Some(Value::Table(t)), Some(tail)) => set_in(t, full, tail, value),
+        (Some(slot), None) if !slot.is_table() => {
+            *slot = value;
+            Ok(())
+        }
+        _ => Err(unknown(full, table)),
+    }
+}
+
+fn unknown(key: &str, siblings: &Table) -> ScenarioError {
+    ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(siblings.keys().cloned().collect()) }
+}
+
+fn invalid(key: &str, value: &Value, reason: &str) -> ScenarioError {
+    ScenarioError::Invalid { key: key.to_owned(), value: value.to_string(), reason: reason.to_owned() }
+}
+
+/// Typed access to the merged table by dotted key.
+struct Getter<'a>(&'a Table);
+
+impl Getter<'_> {
+    fn get(&self, key: &str) -> &Value {
+        let mut parts = key.split('.');
+        let mut v = &self.0[parts.next().unwrap()];
+        for p in parts {
+            v = &v[p];
+        }
+        v
+    }
+
+    fn number(&self, key: &str, v: &Value) -> Result<f64, ScenarioError> {
+        match *v {
+            Value::Float(x) => Ok(x),
+            Value::Integer(i) => Ok(i as f64),
+            ref other => Err(invalid(key, other, "must be a number")),
+        }
+    }
+
+    fn f64(&self, key: &str, ok: impl Fn(f64) -> bool, reason: &str) -> Result<f64, ScenarioError> {
+        let v = self.get(key);
+        let x = self.number(key, v)?;
+        if x.is_finite() && ok(x) {
+            Ok(x)
+        } else {
+            Err(invalid(key, v, if x.is_finite() { reason } else { "must be finite" }))
+        }
+    }
+
+    fn range(&self, key: &str) -> Result<[f64; 2], ScenarioError> {
+        let v = self.get(key);
+        let bad = || invalid(key, v, "must be [lo, hi] with finite lo <= hi");
+        match v {
+            Value::Array(a) if a.len() == 2 => {
+                let (lo, hi) = (self.number(key, &a[0])?, self.number(key, &a[1])?);
+                if lo.is_finite() && hi.is_finite() && lo <= hi {
+                    Ok([lo, hi])
+                } else {
+                    Err(bad())
+                }
+            }
+            _ => Err(bad()),
+        }
+    }
+
+    fn count(&self, key: &str, min: i64) -> Result<u64, ScenarioError> {
+        match *self.get(key) {
+            Value::Integer(i) if i >= min => Ok(i as u64),
+            ref other => Err(invalid(key, other, &format!("must be an integer >= {min}"))),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_defaults() {
+        let s = Scenario::paper();
+        assert_eq!(s.model, Model::PAPER);
+        assert_eq!(s.belt.switch_rate, 5.0);
+        assert_eq!(s.realizations, 18_000);
+        assert_eq!(s.position, [-1.0, 1.0]);
+    }
+
+    #[test]
+    fn set_overrides_and_names_unknown_keys() {
+        let s = Scenario::resolve(None, &["belt.switch_rate=1".into(), "belt.initial_sign=random".into()]).unwrap();
+        assert_eq!(s.belt.switch_rate, 1.0);
+        assert_eq!(s.belt.initial_sign, InitialSign::Random);
+        let e = Scenario::resolve(None, &["belt.swich_rate=1".into()]).unwrap_err().to_string();
+        assert!(e.contains("belt.swich_rate") && e.contains("switch_rate"), "{e}");
+        let e = Scenario::resolve(None, &["model.mass=-1".into()]).unwrap_err().to_string();
+        assert!(e.contains("model.mass") && e.contains("> 0"), "{e}");
+        let e = Scenario::resolve(None, &["model.mass=nan".into()]).unwrap_err().to_string();
+        assert!(e.contains("finite"), "{e}");
+        let e = Scenario::resolve(None, &["run.realizations=0".into()]).unwrap_err().to_string();
+        assert!(e.contains("run.realizations"), "{e}");
+    }
+}

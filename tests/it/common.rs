@@ -1,0 +1,131 @@
+//! Shared test helpers: run realizations, check the counting invariants, run the CLI.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use stickslip::ensemble::{Ensemble, Outcome};
+use stickslip::events::{Observer, Record};
+use stickslip::scenario::Scenario;
+use stickslip::solver::{Drive, Exact, Solver};
+
+/// The paper scenario with `KEY=VALUE` overrides.
+pub fn scenario(sets: &[&str]) -> Scenario {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    Scenario::resolve(None, &sets).expect("valid test scenario")
+}
+
+/// Realizations `0..n` of a scenario.
+pub fn outcomes(sc: &Scenario, n: u64) -> Vec<Outcome> {
+    let ens = Ensemble::new(sc);
+    (0..n)
+        .map(|i| {
+            let mut o = Outcome::default();
+            ens.realization(i, &mut o).expect("solves");
+            o
+        })
+        .collect()
+}
+
+/// A recorder that also keeps the positions at which sticks begin.
+#[derive(Default)]
+pub struct WithPositions {
+    pub record: Record,
+    pub stick_x: Vec<f64>,
+}
+
+impl Observer for WithPositions {
+    fn stick(&mut self, t: f64, x: f64) {
+        self.stick_x.push(x);
+        self.record.stick(t, x);
+    }
+    fn slip(&mut self, t: f64, x: f64, xdot: f64) {
+        self.record.slip(t, x, xdot);
+    }
+}
+
+/// Solve a scripted drive with the exact solver.
+pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot0: f64) -> WithPositions {
+    let drive = Drive { sign0, switches, speed: sc.belt.speed, t_end: sc.belt.duration };
+    let mut obs = WithPositions::default();
+    Exact::new(&sc.model).solve(&drive, x0, xdot0, &mut obs).expect("solves");
+    obs.record.finish(sc.belt.duration);
+    obs
+}
+
+/// Belt sign at time t (just after t) for a sorted effective switch list.
+pub fn belt_sign(sign0: f64, switches: &[f64], t: f64) -> f64 {
+    let flips = switches.partition_point(|&y| y <= t);
+    if flips % 2 == 0 { sign0 } else { -sign0 }
+}
+
+/// Check the counting invariants of one realization; `Err` describes the first violation.
+/// `strict` asks for strictly increasing event times (false only where durations fall below
+/// the resolution of t, e.g. absurd friction).
+pub fn check_invariants(sc: &Scenario, o: &Outcome, strict: bool) -> Result<(), String> {
+    let r = &o.record;
+    let ta = sc.belt.duration;
+    let (nt, nl) = (r.stick_start.len(), r.slip_start.len());
+    let all = r.stick_start.iter().chain(&r.stick_duration).chain(&r.slip_start).chain(&r.slip_duration);
+    if let Some(x) = all.clone().find(|x| !x.is_finite()) {
+        return Err(format!("non-finite value {x}"));
+    }
+    if r.stick_duration.len() != nt || r.slip_duration.len() != nl {
+        return Err("a start without a duration".into());
+    }
+    if !(nt == nl || nt == nl + 1) {
+        return Err(format!("S_T = {nt}, S_L = {nl}"));
+    }
+    if r.last_truncated != (nt > 0) {
+        return Err(format!("last_truncated = {} with S_T = {nt}", r.last_truncated));
+    }
+    // Interleave T_1 < L_1 < T_2 < L_2 < ... and check order inside [0, t_a].
+    let mut seq = Vec::with_capacity(nt + nl);
+    for i in 0..nt {
+        seq.push(r.stick_start[i]);
+        if i < nl {
+            seq.push(r.slip_start[i]);
+        }
+    }
+    for w in seq.windows(2) {
+        if (strict && !(w[0] < w[1])) || w[0] > w[1] {
+            return Err(format!("event times not increasing: {} then {}", w[0], w[1]));
+        }
+    }
+    if let (Some(first), Some(last)) = (seq.first(), seq.last()) {
+        if *first < 0.0 || *last > ta {
+            return Err(format!("events outside [0, t_a]: {first} .. {last}"));
+        }
+        let total: f64 = r.stick_duration.iter().chain(&r.slip_duration).sum();
+        if (total - (ta - first)).abs() > 1e-9 * ta.max(1.0) {
+            return Err(format!("durations sum to {total}, t_a - T_1 = {}", ta - first));
+        }
+    }
+    if let Some(d) = r.stick_duration.iter().chain(&r.slip_duration).find(|&&d| d < 0.0) {
+        return Err(format!("negative duration {d}"));
+    }
+    // |k x| <= f_max throughout every stick: at its start and (x moves with the belt) at its end.
+    let k = sc.model.stiffness;
+    let fmax = sc.model.max_friction();
+    let mut switches = Vec::new();
+    let sign0 = o.belt.effective_switches(&mut switches);
+    let traced = solve_scripted(sc, sign0, &switches, o.x0, o.xdot0);
+    if traced.record != *r {
+        return Err("re-solving the same drive gave a different record".into());
+    }
+    let slack = fmax * 1e-9 + 1e-300;
+    for (i, (&t, &x)) in r.stick_start.iter().zip(&traced.stick_x).enumerate() {
+        let v = belt_sign(sign0, &switches, t) * sc.belt.speed;
+        let x_end = x + v * r.stick_duration[i];
+        for (what, xx) in [("start", x), ("end", x_end)] {
+            if (k * xx).abs() > fmax + slack * (1.0 + (k * xx).abs()) {
+                return Err(format!("stick {} {what}: |k x| = {} > f_max = {fmax}", i + 1, (k * xx).abs()));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Run the CLI binary.
+pub fn stickslip(args: &[&str], cwd: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stickslip")).args(args).current_dir(cwd).output().expect("binary runs")
+}

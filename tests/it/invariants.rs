@@ -1,0 +1,47 @@
+//! Property tests: the counting invariants over random scenarios and seeds.
+
+use proptest::prelude::*;
+
+use crate::common::{check_invariants, outcomes, scenario};
+
+fn sets(m: f64, k: f64, mu: f64, v0: f64, lambda: f64, ta: f64, sign: &str, seed: u64) -> Vec<String> {
+    vec![
+        format!("model.mass={m:e}"),
+        format!("model.stiffness={k:e}"),
+        format!("model.friction_coefficient={mu:e}"),
+        format!("belt.speed={v0:e}"),
+        format!("belt.switch_rate={lambda:e}"),
+        format!("run.duration={ta:e}"),
+        format!("belt.initial_sign={sign}"),
+        format!("run.seed={seed}"),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn invariants_hold_over_random_scenarios(
+        m in 0.05f64..20.0,
+        k in prop_oneof![Just(0.0), 0.01f64..100.0],
+        mu in prop_oneof![Just(0.0), 0.01f64..3.0],
+        v0 in 0.05f64..20.0,
+        lambda in prop_oneof![Just(0.0), 0.05f64..50.0],
+        ta in 0.5f64..40.0,
+        sign in prop_oneof![Just("1"), Just("-1"), Just("\"random\"")],
+        seed in 0u64..1_000_000,
+    ) {
+        let s = sets(m, k, mu, v0, lambda, ta, sign, seed);
+        let refs: Vec<&str> = s.iter().map(String::as_str).collect();
+        let sc = scenario(&refs);
+        let dmax = 2.0 * sc.model.max_friction() / (k * v0);
+        for (i, o) in outcomes(&sc, 8).iter().enumerate() {
+            if let Err(e) = check_invariants(&sc, o, true) {
+                return Err(TestCaseError::fail(format!("realization {i}: {e}")));
+            }
+            for &d in &o.record.stick_duration {
+                prop_assert!(d <= dmax * (1.0 + 1e-12), "stick of {d} s > 2 f_max/(k v0) = {dmax}");
+            }
+        }
+    }
+}

@@ -1,0 +1,11 @@
+//! Integration tests: one binary, one module per kind of check.
+
+mod common;
+
+mod cli;
+mod closed_forms;
+mod dataset;
+mod determinism;
+mod extremes;
+mod invariants;
+mod reference;
