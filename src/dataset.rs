@@ -277,7 +277,7 @@ fn properties(with_switch_times: bool, metadata: Vec<(String, String)>) -> Write
     let lists = LIST_COLUMNS.iter().copied().chain(with_switch_times.then_some("switch_times"));
     floats.extend(lists.map(|c| ColumnPath::new(vec![c.into(), "list".into(), "element".into()])));
     let mut builder = WriterProperties::builder()
-        .set_compression(Compression::ZSTD(ZstdLevel::try_new(3).expect("valid level")))
+        .set_compression(Compression::ZSTD(ZstdLevel::try_new(1).expect("valid level")))
         .set_max_row_group_row_count(Some(ROW_GROUP_ROWS))
         .set_coerce_types(true)
         .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()));
