@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 
+use crate::analysis;
 use crate::scenario::Scenario;
 use crate::simulate::{self, Shard};
 
@@ -24,6 +25,34 @@ pub enum Command {
     /// Without SCENARIO the paper scenario runs (Lima & Sampaio: m = 1 kg, k = 4 N/m,
     /// n = 9.8 N, mu = 0.51, v0 = 1 m/s, lambda = 5 /s, t_a = 10 s, 18,000 realizations).
     Simulate(SimulateArgs),
+    /// Analyse a dataset: moments (Table 1), histograms, joint histograms, independence tests,
+    /// growth of the start instants with their index; tidy Parquet tables + summary.json in ADIR.
+    Analyze(AnalyzeArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct AnalyzeArgs {
+    /// Dataset directory written by `simulate` (all part-*.parquet files below it).
+    pub dataset: PathBuf,
+    /// Output directory (replaced atomically when the analysis is complete).
+    #[arg(long, value_name = "ADIR")]
+    pub out: PathBuf,
+    /// Largest event index k analysed for T_k, L_k, D_k, H_k.
+    #[arg(long, value_name = "K", default_value_t = 6)]
+    pub max_index: u32,
+    /// Fixed number of histogram bins (default: Scott's rule, 10..200 bins).
+    #[arg(long, value_name = "N")]
+    pub bins: Option<usize>,
+    /// Joint histogram + independence test of a pair, e.g. --pair D1,D2 (repeatable;
+    /// default: T1,T2 and D1,D2).
+    #[arg(long = "pair", value_name = "A,B")]
+    pub pairs: Vec<crate::analysis::series::Pair>,
+    /// Permutations of the mutual-information null distribution.
+    #[arg(long, value_name = "P", default_value_t = 199)]
+    pub permutations: u32,
+    /// Do not print the Table 1 comparison.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -58,7 +87,39 @@ pub struct SimulateArgs {
 pub fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Simulate(args) => simulate_command(args),
+        Command::Analyze(args) => analyze_command(args),
     }
+}
+
+fn analyze_command(args: AnalyzeArgs) -> anyhow::Result<()> {
+    let mut opts = analysis::Options { max_index: args.max_index, bins: args.bins, permutations: args.permutations, ..Default::default() };
+    if !args.pairs.is_empty() {
+        opts.pairs = args.pairs;
+    }
+    anyhow::ensure!(opts.bins != Some(0), "--bins must be at least 1");
+    let start = std::time::Instant::now();
+    let a = analysis::analyze(&args.dataset, &opts).context("analyze")?;
+    analysis::output::write(&a, &args.out).context("analyze")?;
+    if !args.quiet {
+        println!("{}", analysis::output::table1_markdown(&a));
+        for j in &a.joints {
+            if let Some(t) = &j.test {
+                println!(
+                    "{} vs {}: chi2 = {:.1} (df {}), p = {:.3}; G p = {:.3}; MI = {:.2e} nats, permutation p = {:.3} -> {}",
+                    j.pair.0, j.pair.1, t.chi2, t.df, t.chi2_p_value, t.g_p_value, t.mutual_information, t.mi_p_value,
+                    analysis::output::verdict(t.chi2_p_value)
+                );
+            }
+        }
+        if let Some(r) = &a.renewal {
+            println!(
+                "renewal check: E[S_T] predicted {:.2}, measured {:.2}; Var[S_T] predicted {:.2}, measured {:.2}",
+                r.predicted_mean, r.measured_mean, r.predicted_variance, r.measured_variance
+            );
+        }
+        eprintln!("analysed {} realizations in {:.2} s -> {}", a.dataset.rows, start.elapsed().as_secs_f64(), args.out.display());
+    }
+    Ok(())
 }
 
 fn simulate_command(args: SimulateArgs) -> anyhow::Result<()> {

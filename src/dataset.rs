@@ -9,7 +9,8 @@
 //!
 //! Files are written as `.part-….parquet.tmp` and renamed when complete, so a reader never sees a
 //! partial file and a failed run leaves nothing behind. Parquet settings follow what polars and
-//! DuckDB both read well: zstd, no dictionary for floats, BYTE_STREAM_SPLIT float encoding,
+//! DuckDB both read well: zstd, PLAIN and no dictionary for floats (the event times are
+//! near-incompressible; BYTE_STREAM_SPLIT saved 11% of size but made polars' reads 25% slower),
 //! spec-compliant list element name `element`, provenance in the file key-value metadata.
 
 use std::fs::File;
@@ -284,7 +285,7 @@ fn properties(with_switch_times: bool, metadata: Vec<(String, String)>) -> Write
     for col in floats {
         builder = builder
             .set_column_dictionary_enabled(col.clone(), false)
-            .set_column_encoding(col, Encoding::BYTE_STREAM_SPLIT);
+            .set_column_encoding(col, Encoding::PLAIN);
     }
     builder.build()
 }

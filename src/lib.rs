@@ -5,8 +5,9 @@
 //!
 //! Dependencies point one way:
 //! [`model`] → [`excitation`] → [`solver`] → [`events`] → [`ensemble`] → [`dataset`] →
-//! [`simulate`], with [`scenario`] loading and validating input and [`cli`] on top.
+//! [`simulate`] → [`analysis`], with [`scenario`] loading and validating input and [`cli`] on top.
 
+pub mod analysis;
 pub mod cli;
 pub mod dataset;
 pub mod ensemble;

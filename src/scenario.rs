@@ -76,12 +76,21 @@ impl Scenario {
 
     /// Resolve a scenario from an optional file and `KEY=VALUE` overrides.
     pub fn resolve(file: Option<&Path>, sets: &[String]) -> Result<Scenario, ScenarioError> {
+        let text = match file {
+            Some(path) => {
+                Some(std::fs::read_to_string(path).map_err(|source| ScenarioError::Read { path: path.to_owned(), source })?)
+            }
+            None => None,
+        };
+        Scenario::from_text(text.as_deref(), file.unwrap_or(Path::new("<scenario>")), sets)
+    }
+
+    /// Resolve a scenario from TOML text (`origin` names it in errors) and overrides.
+    pub fn from_text(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Scenario, ScenarioError> {
         let mut table: Table = PAPER_TOML.parse().expect("embedded scenario parses");
-        if let Some(path) = file {
-            let text = std::fs::read_to_string(path)
-                .map_err(|source| ScenarioError::Read { path: path.to_owned(), source })?;
+        if let Some(text) = text {
             let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax {
-                path: path.to_owned(),
+                path: origin.to_owned(),
                 message: e.to_string().trim_end().to_owned(),
             })?;
             merge(&mut table, user, "")?;

@@ -2,6 +2,7 @@
 
 mod common;
 
+mod analysis;
 mod cli;
 mod closed_forms;
 mod dataset;

@@ -1,0 +1,313 @@
+//! The `analyze` stage: a dataset in, tidy statistics tables out.
+//!
+//! Two streaming passes over the dataset (see [`frame`]): the first accumulates mergeable moments
+//! and ranges of every series, which fix the histogram bins; the second fills the 1-D, fine (mode)
+//! and joint histograms. Then the mode, the independence tests and the growth regressions are
+//! computed from those summaries, and everything is written atomically into ADIR.
+//!
+//! **Truncated intervals.** The interval running at t_a is cut there; its length is a censored
+//! observation, not a draw of D_k or H_k, so it is *excluded* from the statistics of D_k / H_k
+//! (column `n_truncated_excluded` counts them). Start instants T_k, L_k are never censored and
+//! are always included.
+
+pub mod accum;
+pub mod density;
+pub mod frame;
+pub mod growth;
+pub mod independence;
+pub mod input;
+pub mod output;
+pub mod paper;
+pub mod series;
+pub mod special;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use accum::{Histogram, Moments};
+use frame::Batch;
+use growth::{Line, Renewal};
+use independence::Independence;
+use input::{Dataset, InputError};
+use series::{Pair, Series, Variable};
+
+/// How to analyse.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Largest event index k analysed for T_k, L_k, D_k, H_k (and Y_k).
+    pub max_index: u32,
+    /// Fixed number of histogram bins (default: Scott's rule, see [`density`]).
+    pub bins: Option<usize>,
+    /// Joint histograms and independence tests.
+    pub pairs: Vec<Pair>,
+    /// Permutations for the mutual-information null.
+    pub permutations: u32,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        let pair = |a: &str, b: &str| Pair(a.parse().unwrap(), b.parse().unwrap());
+        Options { max_index: 6, bins: None, pairs: vec![pair("T1", "T2"), pair("D1", "D2")], permutations: 199 }
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum AnalysisError {
+    #[error(transparent)]
+    Input(#[from] InputError),
+    #[error("reading {}: {message}", path.display())]
+    Read { path: PathBuf, message: String },
+    #[error("writing {}: {message}", path.display())]
+    Write { path: PathBuf, message: String },
+    #[error("{0}")]
+    Options(String),
+}
+
+/// Statistics of one series.
+#[derive(Debug, Clone)]
+pub struct SeriesStats {
+    pub series: Series,
+    pub moments: Moments,
+    pub truncated: u64,
+    pub mode: Option<f64>,
+    /// 1-D histogram (for counts: unit bins centred on the integers).
+    pub histogram: Histogram,
+}
+
+/// A joint histogram on the two series' 1-D bins.
+#[derive(Debug, Clone)]
+pub struct Joint {
+    pub pair: Pair,
+    pub x: Histogram,
+    pub y: Histogram,
+    pub counts: Vec<Vec<u64>>,
+    pub test: Option<Independence>,
+}
+
+/// OLS of a statistic of T_k or L_k over k.
+#[derive(Debug, Clone)]
+pub struct GrowthFit {
+    pub var: Variable,
+    pub statistic: &'static str,
+    pub line: Line,
+}
+
+/// Everything `analyze` computes.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    pub dataset: Dataset,
+    pub options: Options,
+    pub stats: Vec<SeriesStats>,
+    pub joints: Vec<Joint>,
+    pub growth: Vec<GrowthFit>,
+    pub renewal: Option<Renewal>,
+}
+
+impl Analysis {
+    pub fn get(&self, series: Series) -> Option<&SeriesStats> {
+        self.stats.iter().find(|s| s.series == series)
+    }
+}
+
+/// The series analysed for a dataset.
+fn series_list(opts: &Options, switch_times: bool) -> Vec<Series> {
+    let mut out: Vec<Series> = Vec::new();
+    for var in Variable::INDEXED {
+        if var == Variable::Y && !switch_times {
+            continue;
+        }
+        out.extend((1..=opts.max_index).map(|k| Series::at(var, k)));
+    }
+    for p in &opts.pairs {
+        for s in [p.0, p.1] {
+            if !out.contains(&s) {
+                out.push(s);
+            }
+        }
+    }
+    out.extend(Variable::COUNTS.map(Series::count));
+    out
+}
+
+/// Whether row `r`'s value of series `s` is the truncated last interval (see the module docs).
+fn truncated(s: &Series, b: &Batch, r: usize) -> bool {
+    b.last_truncated[r]
+        && match (s.var, s.index) {
+            (Variable::D, Some(k)) => b.n_stick[r] == k as i32 && b.n_stick[r] > b.n_slip[r],
+            (Variable::H, Some(k)) => b.n_slip[r] == k as i32 && b.n_stick[r] == b.n_slip[r],
+            _ => false,
+        }
+}
+
+/// Value of series `i` in row `r`, unless absent or truncated.
+fn value(series: &[Series], i: usize, b: &Batch, r: usize) -> Option<f64> {
+    b.values[i][r].filter(|_| !truncated(&series[i], b, r))
+}
+
+/// Call `value(i, x)` for every present, non-truncated value of series `i` in the batch (and
+/// `cut(i)` for each truncated one), series by series, rows in dataset order.
+fn for_each_value(series: &[Series], b: &Batch, mut value: impl FnMut(usize, f64), mut cut: impl FnMut(usize)) {
+    for (i, s) in series.iter().enumerate() {
+        for (r, v) in b.values[i].iter().enumerate() {
+            match *v {
+                Some(_) if truncated(s, b, r) => cut(i),
+                Some(x) => value(i, x),
+                None => {}
+            }
+        }
+    }
+}
+
+/// Stream the dataset through `state`, file by file in path order; a failure names the file.
+fn pass<S>(data: &Dataset, series: &[Series], mut state: S, step: fn(&mut S, &[Series], &Batch)) -> Result<S, AnalysisError> {
+    for (path, rows) in data.files.iter().zip(&data.file_rows) {
+        frame::stream_file(path, *rows, series, &mut |b: &Batch| step(&mut state, series, b))
+            .map_err(|e| AnalysisError::Read { path: path.clone(), message: e.to_string() })?;
+    }
+    Ok(state)
+}
+
+struct First {
+    moments: Vec<Moments>,
+    n_cut: Vec<u64>,
+    pmf: Vec<BTreeMap<i64, u64>>,
+}
+
+struct Second {
+    hist: Vec<Histogram>,
+    fine: Vec<Histogram>,
+    joints: Vec<(usize, usize, Vec<Vec<u64>>)>,
+}
+
+/// Analyse the dataset below `dir`.
+pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
+    if opts.max_index == 0 {
+        return Err(AnalysisError::Options("--max-index must be at least 1".into()));
+    }
+    let data = input::open(dir)?;
+    if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.var == Variable::Y) && !data.switch_times) {
+        return Err(AnalysisError::Options(format!(
+            "--pair {},{}: the dataset has no switch_times (simulate with output.switch_times = true)",
+            p.0, p.1
+        )));
+    }
+    let series = series_list(opts, data.switch_times);
+    let n = series.len();
+
+    // Pass 1: moments, ranges, exact PMFs of the counts.
+    let first = First { moments: vec![Moments::default(); n], n_cut: vec![0; n], pmf: vec![BTreeMap::new(); n] };
+    let first = pass(&data, &series, first, |st, series, b| {
+        let First { moments, n_cut, pmf } = st;
+        for_each_value(
+            series,
+            b,
+            |i, x| {
+                moments[i].add(x);
+                if series[i].var.is_count() {
+                    *pmf[i].entry(x as i64).or_default() += 1;
+                }
+            },
+            |i| n_cut[i] += 1,
+        );
+    })?;
+
+    // Pass 2: histograms on bins fixed by pass 1.
+    let hist: Vec<Histogram> = series
+        .iter()
+        .zip(&first.moments)
+        .map(|(s, m)| {
+            if s.var.is_count() {
+                let (lo, hi) = if m.n > 0 { (m.min, m.max) } else { (0.0, 0.0) };
+                Histogram::new(lo - 0.5, hi + 0.5, (hi - lo) as usize + 1)
+            } else {
+                Histogram::new(m.min.min(m.max), m.max.max(m.min), density::bins(m, opts.bins))
+            }
+        })
+        .collect();
+    let fine = first.moments.iter().map(|m| Histogram::new(m.min.min(m.max), m.max.max(m.min), density::MODE_GRID)).collect();
+    let index_of = |s: &Series| series.iter().position(|x| x == s).expect("pair series are analysed");
+    let joints = opts
+        .pairs
+        .iter()
+        .map(|p| {
+            let (i, j) = (index_of(&p.0), index_of(&p.1));
+            (i, j, vec![vec![0u64; hist[j].bins()]; hist[i].bins()])
+        })
+        .collect();
+    let second = pass(&data, &series, Second { hist, fine, joints }, |st, series, b| {
+        let Second { hist, fine, joints } = st;
+        for_each_value(
+            series,
+            b,
+            |i, x| {
+                hist[i].add(x);
+                fine[i].add(x);
+            },
+            |_| {},
+        );
+        for (i, j, counts) in joints.iter_mut() {
+            for r in 0..b.n_stick.len() {
+                if let (Some(x), Some(y)) = (value(series, *i, b, r), value(series, *j, b, r)) {
+                    counts[hist[*i].bin(x)][hist[*j].bin(y)] += 1;
+                }
+            }
+        }
+    })?;
+
+    let stats: Vec<SeriesStats> = series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let m = first.moments[i];
+            let mode = if s.var.is_count() {
+                first.pmf[i].iter().max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0))).map(|(v, _)| *v as f64)
+            } else {
+                density::kde_mode(&second.fine[i], &m)
+            };
+            SeriesStats { series: *s, moments: m, truncated: first.n_cut[i], mode, histogram: second.hist[i].clone() }
+        })
+        .collect();
+
+    let rows = data.rows.max(1);
+    // Cap the permutation work at about 2e7 shuffled labels per test (at least 19 permutations).
+    let permutations = opts.permutations.min((2e7 / rows as f64).max(19.0) as u32);
+    let joints = opts
+        .pairs
+        .iter()
+        .zip(second.joints)
+        .map(|(p, (i, j, counts))| Joint {
+            pair: *p,
+            x: second.hist[i].clone(),
+            y: second.hist[j].clone(),
+            test: independence::test(&counts, permutations, data.scenario.seed),
+            counts,
+        })
+        .collect();
+
+    let mut growth = Vec::new();
+    for var in [Variable::T, Variable::L] {
+        let pts = |f: fn(&Moments) -> Option<f64>| -> Vec<(f64, f64)> {
+            stats
+                .iter()
+                .filter(|s| s.series.var == var && s.series.index.is_some_and(|k| k <= opts.max_index))
+                .filter_map(|s| Some((s.series.index? as f64, f(&s.moments)?)))
+                .collect()
+        };
+        if let Some(line) = growth::ols(&pts(|m| (m.n > 0).then_some(m.mean))) {
+            growth.push(GrowthFit { var, statistic: "mean", line });
+        }
+        if let Some(line) = growth::ols(&pts(Moments::variance)) {
+            growth.push(GrowthFit { var, statistic: "variance", line });
+        }
+    }
+    let fit = |stat: &str| growth.iter().find(|g| g.var == Variable::T && g.statistic == stat).map(|g| &g.line);
+    let st = stats.iter().find(|s| s.series == Series::count(Variable::St)).map(|s| s.moments);
+    let renewal = match (fit("mean"), fit("variance"), st) {
+        (Some(m), Some(v), Some(st)) => {
+            growth::renewal(data.scenario.belt.duration, m, v, st.mean, st.variance().unwrap_or(0.0))
+        }
+        _ => None,
+    };
+    let options = Options { permutations, ..opts.clone() };
+    Ok(Analysis { dataset: data, options, stats, joints, growth, renewal })
+}

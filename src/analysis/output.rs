@@ -1,0 +1,327 @@
+//! Writing an [`Analysis`]: tidy Parquet tables, `summary.json` and `table1.md`, atomically.
+//!
+//! Files in ADIR:
+//! - `moments.parquet`: variable, index, n, n_truncated_excluded, mean, variance (unbiased), mode,
+//!   skewness, kurtosis (Pearson), mean_se, variance_se, min, max;
+//! - `histograms.parquet`: variable, index, bin, lo, hi, count, density (densities integrate to 1;
+//!   for the counts S_T, S_L, Q the bins are the integers and density is the PMF);
+//! - `joint_histograms.parquet`: x, y, x_bin, y_bin, x_lo, x_hi, y_lo, y_hi, count, density,
+//!   product_density (the product of the two marginals on the same grid);
+//! - `independence.parquet`: x, y, n, rows, cols, chi2, df, chi2_p_value, g, g_p_value,
+//!   mutual_information, mi_null_mean, mi_p_value, permutations, verdict;
+//! - `growth.parquet`: variable, statistic, slope, intercept, r2, slope_se, points;
+//! - `summary.json`: provenance, policies, counts, regressions, renewal check, tests;
+//! - `table1.md`: our Table 1 beside the paper's.
+//!
+//! Everything is written into a hidden sibling directory that replaces ADIR only when complete.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::json;
+
+use super::frame::{Col, Table};
+use super::paper;
+use super::series::Variable;
+use super::{Analysis, AnalysisError};
+
+/// Significance level of the reported verdicts.
+pub const ALPHA: f64 = 0.05;
+
+fn f(v: Option<f64>) -> Option<f64> {
+    v.filter(|x| x.is_finite())
+}
+
+fn moments_table(a: &Analysis) -> Table {
+    let mut t = Table::default();
+    let s = &a.stats;
+    let float = |g: &dyn Fn(&super::SeriesStats) -> Option<f64>| Col::Float(s.iter().map(|x| f(g(x))).collect());
+    t.push("variable", Col::Str(s.iter().map(|x| x.series.var.name().to_string()).collect()))
+        .push("index", Col::Int(s.iter().map(|x| x.series.index.map(i64::from)).collect()))
+        .push("n", Col::Int(s.iter().map(|x| Some(x.moments.n as i64)).collect()))
+        .push("n_truncated_excluded", Col::Int(s.iter().map(|x| Some(x.truncated as i64)).collect()))
+        .push("mean", float(&|x| (x.moments.n > 0).then_some(x.moments.mean)))
+        .push("variance", float(&|x| x.moments.variance()))
+        .push("mode", float(&|x| x.mode))
+        .push("skewness", float(&|x| x.moments.skewness()))
+        .push("kurtosis", float(&|x| x.moments.kurtosis()))
+        .push("mean_se", float(&|x| x.moments.mean_se()))
+        .push("variance_se", float(&|x| x.moments.variance_se()))
+        .push("min", float(&|x| (x.moments.n > 0).then_some(x.moments.min)))
+        .push("max", float(&|x| (x.moments.n > 0).then_some(x.moments.max)));
+    t
+}
+
+fn histogram_table(a: &Analysis) -> Table {
+    let (mut var, mut idx) = (Vec::new(), Vec::new());
+    let (mut bin, mut count) = (Vec::new(), Vec::new());
+    let (mut lo, mut hi, mut dens) = (Vec::new(), Vec::new(), Vec::new());
+    for s in a.stats.iter().filter(|s| s.histogram.total() > 0) {
+        let h = &s.histogram;
+        for i in 0..h.bins() {
+            let (l, r) = h.edges(i);
+            var.push(s.series.var.name().to_string());
+            idx.push(s.series.index.map(i64::from));
+            bin.push(Some(i as i64));
+            count.push(Some(h.counts[i] as i64));
+            lo.push(Some(l));
+            hi.push(Some(r));
+            dens.push(Some(h.density(i)));
+        }
+    }
+    let mut t = Table::default();
+    t.push("variable", Col::Str(var))
+        .push("index", Col::Int(idx))
+        .push("bin", Col::Int(bin))
+        .push("lo", Col::Float(lo))
+        .push("hi", Col::Float(hi))
+        .push("count", Col::Int(count))
+        .push("density", Col::Float(dens));
+    t
+}
+
+fn joint_table(a: &Analysis) -> Table {
+    let (mut x, mut y, mut xb, mut yb, mut count) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut xlo, mut xhi, mut ylo, mut yhi) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut dens, mut prod) = (Vec::new(), Vec::new());
+    for j in &a.joints {
+        let n: u64 = j.counts.iter().flatten().sum();
+        if n == 0 {
+            continue;
+        }
+        let (wx, wy) = (j.x.width(), j.y.width());
+        let rows: Vec<u64> = j.counts.iter().map(|r| r.iter().sum()).collect();
+        let cols: Vec<u64> = (0..j.y.bins()).map(|c| j.counts.iter().map(|r| r[c]).sum()).collect();
+        let nf = n as f64;
+        for (i, row) in j.counts.iter().enumerate() {
+            for (k, &c) in row.iter().enumerate() {
+                let ((l1, h1), (l2, h2)) = (j.x.edges(i), j.y.edges(k));
+                x.push(j.pair.0.to_string());
+                y.push(j.pair.1.to_string());
+                xb.push(Some(i as i64));
+                yb.push(Some(k as i64));
+                xlo.push(Some(l1));
+                xhi.push(Some(h1));
+                ylo.push(Some(l2));
+                yhi.push(Some(h2));
+                count.push(Some(c as i64));
+                dens.push(Some(c as f64 / (nf * wx * wy)));
+                prod.push(Some(rows[i] as f64 / (nf * wx) * (cols[k] as f64 / (nf * wy))));
+            }
+        }
+    }
+    let mut t = Table::default();
+    t.push("x", Col::Str(x))
+        .push("y", Col::Str(y))
+        .push("x_bin", Col::Int(xb))
+        .push("y_bin", Col::Int(yb))
+        .push("x_lo", Col::Float(xlo))
+        .push("x_hi", Col::Float(xhi))
+        .push("y_lo", Col::Float(ylo))
+        .push("y_hi", Col::Float(yhi))
+        .push("count", Col::Int(count))
+        .push("density", Col::Float(dens))
+        .push("product_density", Col::Float(prod));
+    t
+}
+
+/// "independent" / "dependent" at level [`ALPHA`] by the χ² test.
+pub fn verdict(p: f64) -> &'static str {
+    if p < ALPHA {
+        "dependent"
+    } else {
+        "independent"
+    }
+}
+
+fn independence_table(a: &Analysis) -> Table {
+    let tests: Vec<_> = a.joints.iter().filter_map(|j| j.test.as_ref().map(|t| (j.pair, t))).collect();
+    let float = |g: &dyn Fn(&super::independence::Independence) -> Option<f64>| Col::Float(tests.iter().map(|(_, t)| f(g(t))).collect());
+    let int = |g: &dyn Fn(&super::independence::Independence) -> i64| Col::Int(tests.iter().map(|(_, t)| Some(g(t))).collect());
+    let mut t = Table::default();
+    t.push("x", Col::Str(tests.iter().map(|(p, _)| p.0.to_string()).collect()))
+        .push("y", Col::Str(tests.iter().map(|(p, _)| p.1.to_string()).collect()))
+        .push("n", int(&|t| t.n as i64))
+        .push("rows", int(&|t| t.rows as i64))
+        .push("cols", int(&|t| t.cols as i64))
+        .push("chi2", float(&|t| Some(t.chi2)))
+        .push("df", float(&|t| Some(t.df)))
+        .push("chi2_p_value", float(&|t| Some(t.chi2_p_value)))
+        .push("g", float(&|t| Some(t.g)))
+        .push("g_p_value", float(&|t| Some(t.g_p_value)))
+        .push("mutual_information", float(&|t| Some(t.mutual_information)))
+        .push("mi_null_mean", float(&|t| t.mi_null_mean))
+        .push("mi_p_value", float(&|t| Some(t.mi_p_value)))
+        .push("permutations", int(&|t| t.permutations as i64))
+        .push("verdict", Col::Str(tests.iter().map(|(_, t)| verdict(t.chi2_p_value).to_string()).collect()));
+    t
+}
+
+fn growth_table(a: &Analysis) -> Table {
+    let g = &a.growth;
+    let mut t = Table::default();
+    t.push("variable", Col::Str(g.iter().map(|x| x.var.name().to_string()).collect()))
+        .push("statistic", Col::Str(g.iter().map(|x| x.statistic.to_string()).collect()))
+        .push("slope", Col::Float(g.iter().map(|x| f(Some(x.line.slope))).collect()))
+        .push("intercept", Col::Float(g.iter().map(|x| f(Some(x.line.intercept))).collect()))
+        .push("r2", Col::Float(g.iter().map(|x| f(Some(x.line.r2))).collect()))
+        .push("slope_se", Col::Float(g.iter().map(|x| f(x.line.slope_se)).collect()))
+        .push("points", Col::Int(g.iter().map(|x| Some(x.line.points as i64)).collect()));
+    t
+}
+
+fn num(v: Option<f64>) -> serde_json::Value {
+    f(v).map_or(serde_json::Value::Null, |x| json!(x))
+}
+
+fn summary(a: &Analysis) -> serde_json::Value {
+    let sc = &a.dataset.scenario;
+    let counts: serde_json::Map<String, serde_json::Value> = a
+        .stats
+        .iter()
+        .filter(|s| s.series.var.is_count())
+        .map(|s| {
+            let m = &s.moments;
+            let paper = paper::COUNTS.iter().find(|c| c.0 == s.series.var);
+            (
+                s.series.to_string(),
+                json!({"n": m.n, "mean": num(Some(m.mean)), "variance": num(m.variance()), "mean_se": num(m.mean_se()),
+                       "variance_se": num(m.variance_se()), "mode": num(s.mode),
+                       "paper_mean": paper.map(|p| p.1), "paper_variance": paper.map(|p| p.2)}),
+            )
+        })
+        .collect();
+    let growth: Vec<_> = a
+        .growth
+        .iter()
+        .map(|g| json!({"variable": g.var.name(), "statistic": g.statistic, "slope": num(Some(g.line.slope)),
+                        "intercept": num(Some(g.line.intercept)), "r2": num(Some(g.line.r2)), "slope_se": num(g.line.slope_se)}))
+        .collect();
+    let tests: Vec<_> = a
+        .joints
+        .iter()
+        .filter_map(|j| j.test.as_ref().map(|t| (j, t)))
+        .map(|(j, t)| json!({"x": j.pair.0.to_string(), "y": j.pair.1.to_string(), "n": t.n, "table": [t.rows, t.cols],
+                             "chi2": num(Some(t.chi2)), "df": t.df, "chi2_p_value": num(Some(t.chi2_p_value)),
+                             "g": num(Some(t.g)), "g_p_value": num(Some(t.g_p_value)),
+                             "mutual_information": num(Some(t.mutual_information)), "mi_null_mean": num(t.mi_null_mean),
+                             "mi_p_value": num(Some(t.mi_p_value)), "permutations": t.permutations,
+                             "alpha": ALPHA, "verdict": verdict(t.chi2_p_value)}))
+        .collect();
+    let renewal = a.renewal.as_ref().map(|r| {
+        json!({"predicted_mean_S_T": num(Some(r.predicted_mean)), "measured_mean_S_T": num(Some(r.measured_mean)),
+               "predicted_variance_S_T": num(Some(r.predicted_variance)), "measured_variance_S_T": num(Some(r.measured_variance)),
+               "formula": "E[S_T] ~ t_a / slope(E T_k); Var[S_T] ~ t_a slope(Var T_k) / slope(E T_k)^3"})
+    });
+    json!({
+        "stickslip_version": env!("CARGO_PKG_VERSION"),
+        "dataset": {"files": a.dataset.files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+                    "realizations": a.dataset.rows, "seed": sc.seed, "solver": sc.solver,
+                    "scenario": sc.to_toml()},
+        "options": {"max_index": a.options.max_index, "bins": a.options.bins.map_or(json!("scott"), |b| json!(b)),
+                    "permutations": a.options.permutations},
+        "policies": {
+            "truncated_intervals": "The interval running at t_a is cut there and flagged; its length is censored, so it is excluded from D_k and H_k (moments.n_truncated_excluded counts them). T_k and L_k always include every realization that has a k-th event.",
+            "moments": "variance unbiased (n-1); skewness m3/m2^1.5 and kurtosis m4/m2^2 (Pearson, 3 for a normal) with population moments, as MATLAB's skewness/kurtosis; mean_se = sqrt(s^2/n); variance_se = sqrt((m4 - (n-3)/(n-1) s^4)/n)",
+            "mode": "maximum of a Gaussian KDE (Silverman bandwidth 0.9 sigma n^-1/5, reflected at 0) on a 1024-bin grid; counts: most frequent value",
+            "bins": "equal width over the sample range; Scott's rule 3.49 sigma n^-1/3 clamped to 10..200 bins, or --bins",
+            "independence": "contingency table of the joint histogram merged to <= 10x10 cells of ~equal marginal mass; Pearson chi2 and G tests; mutual information with a permutation null",
+        },
+        "counts": counts,
+        "growth": growth,
+        "renewal_check": renewal,
+        "independence": tests,
+    })
+}
+
+/// Our Table 1 beside the paper's, as Markdown.
+pub fn table1_markdown(a: &Analysis) -> String {
+    let mut out = String::from(
+        "| variable | n | mean ± se | paper | variance ± se | paper | mode | paper | skewness | paper | kurtosis | paper |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let fmt = |v: Option<f64>| f(v).map_or("–".to_string(), |x| format!("{x:.3}"));
+    for var in [Variable::T, Variable::L, Variable::D, Variable::H] {
+        for k in 1..=a.options.max_index.min(6) {
+            let Some(s) = a.get(super::series::Series::at(var, k)) else { continue };
+            let m = &s.moments;
+            let p = paper::table1(var, Some(k));
+            let pv = |i: usize| p.map_or("–".to_string(), |p| format!("{}", p[i]));
+            out += &format!(
+                "| {} | {} | {} ± {} | {} | {} ± {} | {} | {} | {} | {} | {} | {} | {} |\n",
+                s.series,
+                m.n,
+                fmt((m.n > 0).then_some(m.mean)),
+                fmt(m.mean_se()),
+                pv(0),
+                fmt(m.variance()),
+                fmt(m.variance_se()),
+                pv(1),
+                fmt(s.mode),
+                pv(2),
+                fmt(m.skewness()),
+                pv(3),
+                fmt(m.kurtosis()),
+                pv(4),
+            );
+        }
+    }
+    for (var, pm, pvar) in paper::COUNTS {
+        if let Some(s) = a.get(super::series::Series::count(*var)) {
+            let m = &s.moments;
+            out += &format!(
+                "| {} | {} | {} ± {} | {pm} | {} ± {} | {pvar} | {} | – | {} | – | {} | – |\n",
+                s.series,
+                m.n,
+                fmt(Some(m.mean)),
+                fmt(m.mean_se()),
+                fmt(m.variance()),
+                fmt(m.variance_se()),
+                fmt(s.mode),
+                fmt(m.skewness()),
+                fmt(m.kurtosis())
+            );
+        }
+    }
+    out
+}
+
+/// Write everything into `out`, replacing it only once complete.
+pub fn write(a: &Analysis, out: &Path) -> Result<(), AnalysisError> {
+    let werr = |path: &Path, e: &dyn std::fmt::Display| AnalysisError::Write { path: path.to_owned(), message: e.to_string() };
+    if out.is_file() {
+        return Err(werr(out, &"exists and is not a directory"));
+    }
+    let name = out.file_name().ok_or_else(|| werr(out, &"not a directory name"))?.to_string_lossy().into_owned();
+    let parent = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::fs::create_dir_all(parent).map_err(|e| werr(parent, &e))?;
+    let staging = Staging(parent.join(format!(".{name}.tmp-{}", std::process::id())));
+    std::fs::create_dir_all(&staging.0).map_err(|e| werr(out, &e))?;
+    let tables = [
+        ("moments.parquet", moments_table(a)),
+        ("histograms.parquet", histogram_table(a)),
+        ("joint_histograms.parquet", joint_table(a)),
+        ("independence.parquet", independence_table(a)),
+        ("growth.parquet", growth_table(a)),
+    ];
+    for (file, table) in tables {
+        table.write_parquet(&staging.0.join(file)).map_err(|e| werr(&out.join(file), &e))?;
+    }
+    let json = serde_json::to_string_pretty(&summary(a)).expect("JSON serializes");
+    std::fs::write(staging.0.join("summary.json"), json + "\n").map_err(|e| werr(&out.join("summary.json"), &e))?;
+    std::fs::write(staging.0.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&out.join("table1.md"), &e))?;
+    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
+    if out.exists() {
+        std::fs::rename(out, &old).map_err(|e| werr(out, &e))?;
+    }
+    std::fs::rename(&staging.0, out).map_err(|e| werr(out, &e))?;
+    let _ = std::fs::remove_dir_all(&old);
+    Ok(())
+}
+
+/// A staging directory removed unless it was renamed into place.
+struct Staging(PathBuf);
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}

@@ -1,0 +1,244 @@
+//! The analysis stage: moments against independent computations, histogram identities,
+//! independence tests, the paper's Table 1, bad input.
+
+use std::path::Path;
+
+use polars::prelude::*;
+use stickslip::analysis::{self, output, Options};
+use stickslip::dataset::{PartWriter, Rows};
+use stickslip::events::Record;
+use stickslip::excitation::BeltPath;
+use stickslip::simulate::{self, provenance, Shard};
+
+use crate::common::{outcomes, scenario, stickslip};
+
+fn read(path: &Path) -> DataFrame {
+    LazyFrame::scan_parquet(PlRefPath::new(path.to_str().unwrap()), ScanArgsParquet::default()).unwrap().collect().unwrap()
+}
+
+fn simulate_into(dir: &Path, sets: &[&str]) {
+    let opts = simulate::Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: Some(2), progress: false };
+    simulate::run(&scenario(sets), &opts).unwrap();
+}
+
+/// Population skewness / Pearson kurtosis and unbiased variance, two-pass.
+fn direct(x: &[f64]) -> (f64, f64, f64, f64) {
+    let n = x.len() as f64;
+    let m = x.iter().sum::<f64>() / n;
+    let c = |p: i32| x.iter().map(|v| (v - m).powi(p)).sum::<f64>() / n;
+    (m, c(2) * n / (n - 1.0), c(3) / c(2).powf(1.5), c(4) / (c(2) * c(2)))
+}
+
+fn row(df: &DataFrame, var: &str, index: Option<i64>) -> usize {
+    let v = df.column("variable").unwrap().str().unwrap();
+    let i = df.column("index").unwrap().i64().unwrap();
+    (0..df.height()).find(|&r| v.get(r) == Some(var) && i.get(r) == index).unwrap_or_else(|| panic!("{var} {index:?}"))
+}
+
+fn get(df: &DataFrame, col: &str, r: usize) -> f64 {
+    df.column(col).unwrap().f64().unwrap().get(r).unwrap()
+}
+
+#[test]
+fn moments_match_a_direct_computation_including_truncation() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sets = ["run.realizations=4000", "run.seed=3", "run.duration=3"];
+    simulate_into(&tmp.path().join("d"), &sets);
+    let a = analysis::analyze(&tmp.path().join("d"), &Options::default()).unwrap();
+    output::write(&a, &tmp.path().join("a")).unwrap();
+    let m = read(&tmp.path().join("a/moments.parquet"));
+    let lib = outcomes(&scenario(&sets), 4000);
+    for (var, k) in [("T", 1usize), ("T", 4), ("L", 2), ("D", 1), ("D", 3), ("H", 2)] {
+        let mut truncated = 0;
+        let x: Vec<f64> = lib
+            .iter()
+            .filter_map(|o| {
+                let r = &o.record;
+                // (values, whether the last interval of the realization is of this kind)
+                let (list, last_is_this) = match var {
+                    "T" => (&r.stick_start, false),
+                    "L" => (&r.slip_start, false),
+                    "D" => (&r.stick_duration, r.stick_start.len() > r.slip_start.len()),
+                    _ => (&r.slip_duration, r.stick_start.len() == r.slip_start.len()),
+                };
+                let v = *list.get(k - 1)?;
+                if last_is_this && list.len() == k && r.last_truncated {
+                    truncated += 1;
+                    return None;
+                }
+                Some(v)
+            })
+            .collect();
+        let (mean, var_u, skew, kurt) = direct(&x);
+        let r = row(&m, var, Some(k as i64));
+        let n = m.column("n").unwrap().i64().unwrap().get(r).unwrap();
+        assert_eq!(n as usize, x.len(), "{var}_{k}");
+        let cut = m.column("n_truncated_excluded").unwrap().i64().unwrap().get(r).unwrap();
+        assert_eq!(cut, truncated, "{var}_{k}");
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-10 * b.abs().max(1.0);
+        assert!(close(get(&m, "mean", r), mean), "{var}_{k} mean");
+        assert!(close(get(&m, "variance", r), var_u), "{var}_{k} variance");
+        assert!(close(get(&m, "skewness", r), skew), "{var}_{k} skewness");
+        assert!(close(get(&m, "kurtosis", r), kurt), "{var}_{k} kurtosis");
+        assert!(close(get(&m, "mean_se", r), (var_u / x.len() as f64).sqrt()));
+    }
+    assert!(a.stats.iter().any(|s| s.truncated > 0), "the short window truncates some intervals");
+}
+
+/// A dataset whose stick starts T_1 are the n quantiles of Exp(1) and T_2 = T_1 + 1.
+fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
+    let sc = scenario(&["run.realizations=1"]);
+    let mut w = PartWriter::create(dir, 0, 1, false, provenance(&sc, Shard::WHOLE)).unwrap();
+    let mut rows = Rows::new(false);
+    let mut x = Vec::new();
+    for i in 0..n {
+        let t1 = -(1.0 - (i as f64 + 0.5) / n as f64).ln();
+        x.push(t1);
+        let mut r = Record::default();
+        r.stick_start.extend([t1, t1 + 1.0]);
+        r.stick_duration.extend([0.5, 0.25]);
+        r.slip_start.push(t1 + 0.5);
+        r.slip_duration.push(0.5);
+        r.last_truncated = true;
+        rows.push(i as u64, 0.0, 0.0, &BeltPath { initial_sign: 1.0, switch_times: vec![] }, &r);
+    }
+    w.write(rows).unwrap();
+    w.commit().unwrap();
+    x
+}
+
+#[test]
+fn exponential_sample_has_skewness_two_and_kurtosis_nine() {
+    let tmp = tempfile::tempdir().unwrap();
+    let x = exponential_dataset(tmp.path(), 20_000);
+    let a = analysis::analyze(tmp.path(), &Options::default()).unwrap();
+    let s = a.get("T1".parse().unwrap()).unwrap();
+    let (mean, var, skew, kurt) = direct(&x);
+    assert!((s.moments.mean - mean).abs() < 1e-12 && (s.moments.variance().unwrap() - var).abs() < 1e-12);
+    // quantile grid of Exp(1): moments within the grid's tail truncation of 1, 1, 2, 9
+    assert!((mean - 1.0).abs() < 1e-3 && (var - 1.0).abs() < 0.01);
+    assert!((s.moments.skewness().unwrap() - 2.0).abs() < 0.05, "{:?}", s.moments.skewness());
+    assert!((s.moments.kurtosis().unwrap() - 9.0).abs() < 0.5, "{:?}", s.moments.kurtosis());
+    assert!((s.moments.skewness().unwrap() - skew).abs() < 1e-10 && (s.moments.kurtosis().unwrap() - kurt).abs() < 1e-9);
+    // the KDE mode of an exponential sample sits at 0
+    assert!(s.mode.unwrap() < 0.05, "mode {:?}", s.mode);
+    // the truncated last stick (D_2) is excluded: none of the 20,000 counted
+    let d2 = a.get("D2".parse().unwrap()).unwrap();
+    assert_eq!((d2.moments.n, d2.truncated), (0, 20_000));
+}
+
+#[test]
+fn histograms_integrate_to_one_and_joint_marginals_match() {
+    let tmp = tempfile::tempdir().unwrap();
+    simulate_into(&tmp.path().join("d"), &["run.realizations=3000", "output.switch_times=true"]);
+    let a = analysis::analyze(&tmp.path().join("d"), &Options::default()).unwrap();
+    output::write(&a, &tmp.path().join("a")).unwrap();
+    let h = read(&tmp.path().join("a/histograms.parquet"));
+    let (var, idx) = (h.column("variable").unwrap().str().unwrap(), h.column("index").unwrap().i64().unwrap());
+    let mut integrals: std::collections::BTreeMap<(String, Option<i64>), f64> = Default::default();
+    for r in 0..h.height() {
+        let width = get(&h, "hi", r) - get(&h, "lo", r);
+        *integrals.entry((var.get(r).unwrap().to_string(), idx.get(r))).or_default() += get(&h, "density", r) * width;
+    }
+    assert!(integrals.contains_key(&("Y".to_string(), Some(6))), "Y_k histograms with switch times");
+    assert!(integrals.contains_key(&("Q".to_string(), None)));
+    for (key, integral) in &integrals {
+        assert!((integral - 1.0).abs() < 1e-12, "{key:?} integrates to {integral}");
+    }
+    // joint histogram marginals = 1-D histograms on the same bins (every T_2 has a T_1, every
+    // counted D_2 a counted D_1), and the product of marginals integrates to 1
+    for j in &a.joints {
+        let second = a.get(j.pair.1).unwrap();
+        let cols: Vec<u64> = (0..j.y.bins()).map(|c| j.counts.iter().map(|r| r[c]).sum()).collect();
+        assert_eq!(cols, second.histogram.counts, "{} marginal", j.pair.1);
+        assert_eq!(j.y, second.histogram);
+    }
+    let jt = read(&tmp.path().join("a/joint_histograms.parquet"));
+    let area = |r: usize| (get(&jt, "x_hi", r) - get(&jt, "x_lo", r)) * (get(&jt, "y_hi", r) - get(&jt, "y_lo", r));
+    let x = jt.column("x").unwrap().str().unwrap();
+    for pair in ["T_1", "D_1"] {
+        let rows: Vec<usize> = (0..jt.height()).filter(|&r| x.get(r) == Some(pair)).collect();
+        let total: f64 = rows.iter().map(|&r| get(&jt, "density", r) * area(r)).sum();
+        let prod: f64 = rows.iter().map(|&r| get(&jt, "product_density", r) * area(r)).sum();
+        assert!((total - 1.0).abs() < 1e-12 && (prod - 1.0).abs() < 1e-12, "{pair}: {total} {prod}");
+    }
+}
+
+#[test]
+fn paper_table_1_is_reproduced_within_the_stated_tolerances() {
+    // 5,000 realizations (the README reproduction runs the paper's 18,000): means of T_k, L_k, D_k,
+    // H_k within 10 % of Table 1, variances within 15 %, E[S_T] within 3 % of 16.71.
+    let tmp = tempfile::tempdir().unwrap();
+    simulate_into(tmp.path(), &["run.realizations=5000"]);
+    let a = analysis::analyze(tmp.path(), &Options::default()).unwrap();
+    for &(var, k, p) in analysis::paper::TABLE1 {
+        let s = a.get(analysis::series::Series::at(var, k)).unwrap();
+        let (mean, variance) = (s.moments.mean, s.moments.variance().unwrap());
+        assert!((mean / p[0] - 1.0).abs() < 0.10, "{}: mean {mean:.3} vs paper {}", s.series, p[0]);
+        assert!((variance / p[1] - 1.0).abs() < 0.15, "{}: variance {variance:.3} vs paper {}", s.series, p[1]);
+    }
+    let st = a.get(analysis::series::Series::count(analysis::series::Variable::St)).unwrap();
+    assert!((st.moments.mean / 16.71 - 1.0).abs() < 0.03, "E[S_T] = {}", st.moments.mean);
+    // the paper's Fig. 7: Var T_k linear in k
+    let var_t = a.growth.iter().find(|g| g.var == analysis::series::Variable::T && g.statistic == "variance").unwrap();
+    assert!(var_t.line.r2 > 0.99, "R² = {}", var_t.line.r2);
+    // renewal check within 3 %
+    let r = a.renewal.as_ref().unwrap();
+    assert!((r.predicted_mean / r.measured_mean - 1.0).abs() < 0.03);
+    assert!((r.predicted_variance / r.measured_variance - 1.0).abs() < 0.15);
+}
+
+#[test]
+fn sharded_and_unsharded_datasets_give_identical_tables() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sc = scenario(&["run.realizations=2500"]);
+    for (dir, shards) in [("whole", 1u64), ("sharded", 4)] {
+        for i in 0..shards {
+            let opts = simulate::Options { out: tmp.path().join(dir), shard: Shard { index: i, count: shards }, threads: Some(1), progress: false };
+            simulate::run(&sc, &opts).unwrap();
+        }
+        let a = analysis::analyze(&tmp.path().join(dir), &Options::default()).unwrap();
+        output::write(&a, &tmp.path().join(format!("{dir}-a"))).unwrap();
+    }
+    for table in ["moments", "histograms", "joint_histograms", "independence", "growth"] {
+        let one = read(&tmp.path().join(format!("whole-a/{table}.parquet")));
+        let four = read(&tmp.path().join(format!("sharded-a/{table}.parquet")));
+        assert!(one.equals_missing(&four), "{table} differs between the whole and the sharded run");
+    }
+}
+
+#[test]
+fn bad_datasets_name_the_file_and_leave_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    simulate_into(&tmp.path().join("good"), &["run.realizations=300"]);
+    let part = tmp.path().join("good/part-00000-of-00001.parquet");
+    let bytes = std::fs::read(&part).unwrap();
+    let make = |name: &str, content: &[u8]| {
+        let dir = tmp.path().join(name);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("part-00000-of-00001.parquet"), content).unwrap();
+    };
+    make("truncated", &bytes[..bytes.len() / 2]);
+    make("garbage", b"this is not parquet at all");
+    // a valid Parquet file with the wrong columns
+    let wrong = tmp.path().join("wrong");
+    std::fs::create_dir_all(&wrong).unwrap();
+    let mut df = df!("realization" => [1i64, 2], "x0" => [0.1, 0.2]).unwrap();
+    ParquetWriter::new(std::fs::File::create(wrong.join("part-00000-of-00001.parquet")).unwrap()).finish(&mut df).unwrap();
+    std::fs::create_dir_all(tmp.path().join("empty")).unwrap();
+    for (dir, culprit) in [
+        ("truncated", "part-00000-of-00001.parquet"),
+        ("garbage", "part-00000-of-00001.parquet"),
+        ("wrong", "part-00000-of-00001.parquet"),
+        ("empty", "empty"),
+        ("missing", "missing"),
+    ] {
+        let out = format!("{dir}-analysis");
+        let o = stickslip(&["analyze", dir, "--out", &out], tmp.path());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{dir}");
+        assert!(err.contains(culprit) && err.contains(dir), "{dir}: {err}");
+        assert!(!tmp.path().join(&out).exists(), "{dir}: output left behind");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}
