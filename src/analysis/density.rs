@@ -1,12 +1,14 @@
 //! Bin rules and the mode estimator.
 //!
 //! **Bins** (1-D histograms and the grids of joint histograms): equal width over the sample's
-//! range, Scott's rule `h = 3.49 σ n^{-1/3}` (D. W. Scott, "On optimal and data-based
-//! histograms", Biometrika 66, 1979), clamped to 10..200 bins; `--bins N` fixes the count.
-//! Both inputs (σ, range) come from the first, mergeable pass, so bins never need a sort.
+//! range, the width a power of two (so that every grid is a union of the dyadic sketch bins of
+//! [`super::sketch`] — exact counts, identical 1-D and joint grids, mergeable across parts) nearest
+//! to Scott's rule `h = 3.49 σ n^{-1/3}` (D. W. Scott, "On optimal and data-based histograms",
+//! Biometrika 66, 1979), then halved or doubled to keep 10..200 bins; `--bins N` asks for the
+//! power-of-two width nearest to range/N. Never finer than the sketches' own resolution.
 //!
 //! **Mode**: the maximum of a Gaussian kernel density estimate, evaluated on a fine grid of
-//! [`MODE_GRID`] bins from binned counts (binned KDE; M. P. Wand, "Fast computation of multivariate
+//! bins from binned counts (binned KDE; M. P. Wand, "Fast computation of multivariate
 //! kernel density estimates", J. Comput. Graph. Stat. 3, 1994), bandwidth by Silverman's rule of
 //! thumb `0.9 σ n^{-1/5}` (never below one grid bin). All analysed quantities are ≥ 0 and the
 //! durations pile up at 0, so the kernel is reflected at 0 (the density estimate of a variable on
@@ -16,20 +18,33 @@
 
 use super::accum::{Histogram, Moments};
 
-/// Fine grid bins for the mode.
-pub const MODE_GRID: usize = 1024;
+/// Number of bins of the power-of-two grid `2^exp` over [min, max].
+fn bins_at(m: &Moments, exp: i32) -> i64 {
+    let w = (exp as f64).exp2();
+    (m.max / w).floor() as i64 - (m.min / w).floor() as i64 + 1
+}
 
-/// Number of bins by Scott's rule (or `fixed`), for a sample summarized by `m`.
-pub fn bins(m: &Moments, fixed: Option<usize>) -> usize {
-    if let Some(b) = fixed {
-        return b.max(1);
-    }
-    let h = 3.49 * m.std() * (m.n.max(1) as f64).powf(-1.0 / 3.0);
+/// The histogram grid exponent (bin width `2^exp`) for a sample summarized by `m`, no finer than
+/// `finest`; `fixed` asks for about that many bins instead of Scott's rule.
+pub fn grid_exponent(m: &Moments, fixed: Option<usize>, finest: i32) -> i32 {
     let range = m.max - m.min;
-    if !(h > 0.0) || !(range > 0.0) {
-        return 10;
+    let target = match fixed {
+        Some(n) => range / n.max(1) as f64,
+        None => 3.49 * m.std() * (m.n.max(1) as f64).powf(-1.0 / 3.0),
+    };
+    if !(target > 0.0) || !(range > 0.0) {
+        return finest.max(0);
     }
-    ((range / h).ceil() as usize).clamp(10, 200)
+    let mut exp = (target.log2().round() as i32).max(finest);
+    if fixed.is_none() {
+        while bins_at(m, exp) > 200 {
+            exp += 1;
+        }
+        while exp > finest && bins_at(m, exp) < 10 {
+            exp -= 1;
+        }
+    }
+    exp
 }
 
 /// Mode of the reflected Gaussian KDE evaluated on the fine histogram `fine` of a sample with
@@ -40,28 +55,24 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
     }
     let w = fine.width();
     let bw = (0.9 * m.std() * (m.n as f64).powf(-0.2)).max(w);
-    let reach = (6.0 * bw / w).ceil() as isize;
-    let centers: Vec<f64> = (0..fine.bins()).map(|i| fine.lo + w * (i as f64 + 0.5)).collect();
-    let kernel = |d: f64| (-0.5 * (d / bw) * (d / bw)).exp();
+    let reach = (6.0 * bw / w).ceil() as usize;
+    // equal-width bins: the kernel between bin centres depends only on their offset
+    let kernel: Vec<f64> = (0..=reach).map(|d| (-0.5 * (d as f64 * w / bw).powi(2)).exp()).collect();
+    let bins = fine.bins();
+    let center = |i: usize| fine.lo + w * (i as f64 + 0.5);
+    // mirror images about 0 of the mass near it (only when the grid starts at or above 0)
+    let mirrored = if fine.lo >= 0.0 { (0..bins).take_while(|&i| center(i) < 6.0 * bw).count() } else { 0 };
     let mut best = (f64::NEG_INFINITY, None);
-    for (j, &cj) in centers.iter().enumerate() {
-        let lo = (j as isize - reach).max(0) as usize;
-        let hi = ((j as isize + reach) as usize).min(fine.bins() - 1);
-        let mut f = 0.0;
-        for i in lo..=hi {
-            let c = fine.counts[i] as f64;
-            if c > 0.0 {
-                f += c * kernel(cj - centers[i]);
-            }
-        }
-        if cj < 6.0 * bw && fine.lo >= 0.0 {
-            // mirror images of the mass near 0
-            for (i, &ci) in centers.iter().enumerate().take_while(|(_, &ci)| ci < 6.0 * bw) {
-                f += fine.counts[i] as f64 * kernel(cj + ci);
-            }
+    for j in 0..bins {
+        let lo = j.saturating_sub(reach);
+        let hi = (j + reach).min(bins - 1);
+        let mut f: f64 = (lo..=hi).map(|i| fine.counts[i] as f64 * kernel[i.abs_diff(j)]).sum();
+        for i in 0..if j < mirrored { mirrored } else { 0 } {
+            let d = (center(j) + center(i)) / bw;
+            f += fine.counts[i] as f64 * (-0.5 * d * d).exp();
         }
         if f > best.0 {
-            best = (f, Some(cj));
+            best = (f, Some(center(j)));
         }
     }
     best.1
@@ -70,6 +81,16 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn grid_keeps_between_10_and_200_bins() {
+        let mut m = Moments::default();
+        (0..100_000).for_each(|i| m.add((i % 1000) as f64 / 100.0));
+        let e = grid_exponent(&m, None, -60);
+        assert!((10..=200).contains(&bins_at(&m, e)), "{}", bins_at(&m, e));
+        let e = grid_exponent(&m, Some(40), -60);
+        assert!((20..=80).contains(&bins_at(&m, e)), "{}", bins_at(&m, e));
+    }
 
     #[test]
     fn kde_mode_of_a_normal_sample_is_near_its_center() {
@@ -82,7 +103,7 @@ mod tests {
         let x: Vec<f64> = (0..20000).map(|_| 5.0 + (0..12).map(|_| u()).sum::<f64>() - 6.0).collect();
         let mut m = Moments::default();
         x.iter().for_each(|&v| m.add(v));
-        let mut h = Histogram::new(m.min, m.max, MODE_GRID);
+        let mut h = Histogram::new(m.min, m.max, 2048);
         x.iter().for_each(|&v| h.add(v));
         let mode = kde_mode(&h, &m).unwrap();
         assert!((mode - 5.0).abs() < 0.1, "{mode}");
@@ -93,7 +114,7 @@ mod tests {
         let x: Vec<f64> = (0..20000).map(|i| -((i as f64 + 0.5) / 20000.0).ln()).collect();
         let mut m = Moments::default();
         x.iter().for_each(|&v| m.add(v));
-        let mut h = Histogram::new(m.min, m.max, MODE_GRID);
+        let mut h = Histogram::new(m.min, m.max, 2048);
         x.iter().for_each(|&v| h.add(v));
         let mode = kde_mode(&h, &m).unwrap();
         assert!(mode < 0.02, "{mode}");

@@ -1,9 +1,10 @@
 //! The `analyze` stage: a dataset in, tidy statistics tables out.
 //!
-//! Two streaming passes over the dataset (see [`frame`]): the first accumulates mergeable moments
-//! and ranges of every series, which fix the histogram bins; the second fills the 1-D, fine (mode)
-//! and joint histograms. Then the mode, the independence tests and the growth regressions are
-//! computed from those summaries, and everything is written atomically into ADIR.
+//! One streaming pass over the dataset (see [`frame`]) accumulates, in realization order, the
+//! mergeable moments of every series, the exact distributions of the counts, and dyadic histogram
+//! sketches of the continuous series and of the requested pairs ([`sketch`]). The histograms, the
+//! mode, the independence tests and the growth regressions are then computed from those
+//! summaries, and everything is written atomically into ADIR.
 //!
 //! **Truncated intervals.** The interval running at t_a is cut there; its length is a censored
 //! observation, not a draw of D_k or H_k, so it is *excluded* from the statistics of D_k / H_k
@@ -19,6 +20,7 @@ pub mod input;
 pub mod output;
 pub mod paper;
 pub mod series;
+pub mod sketch;
 pub mod special;
 
 use std::collections::BTreeMap;
@@ -29,6 +31,7 @@ use frame::Batch;
 use growth::{Line, Renewal};
 use independence::Independence;
 use input::{Dataset, InputError};
+use sketch::{Sketch, Sketch2};
 use series::{Pair, Series, Variable};
 
 /// How to analyse.
@@ -167,16 +170,16 @@ fn pass<S>(data: &Dataset, series: &[Series], mut state: S, step: fn(&mut S, &[S
     Ok(state)
 }
 
-struct First {
+/// Everything one pass over the data accumulates.
+struct Accumulated {
     moments: Vec<Moments>,
     n_cut: Vec<u64>,
+    /// exact distributions of the counts S_T, S_L, Q
     pmf: Vec<BTreeMap<i64, u64>>,
-}
-
-struct Second {
-    hist: Vec<Histogram>,
-    fine: Vec<Histogram>,
-    joints: Vec<(usize, usize, Vec<Vec<u64>>)>,
+    /// sketches of the continuous series (None for counts)
+    sketches: Vec<Option<Sketch>>,
+    /// (x series, y series, joint sketch) per requested pair
+    joints: Vec<(usize, usize, Sketch2)>,
 }
 
 /// Analyse the dataset below `dir`.
@@ -193,78 +196,76 @@ pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
     }
     let series = series_list(opts, data.switch_times);
     let n = series.len();
+    let scale = data.scenario.belt.duration;
+    let index_of = |s: &Series| series.iter().position(|x| x == s).expect("pair series are analysed");
 
-    // Pass 1: moments, ranges, exact PMFs of the counts.
-    let first = First { moments: vec![Moments::default(); n], n_cut: vec![0; n], pmf: vec![BTreeMap::new(); n] };
-    let first = pass(&data, &series, first, |st, series, b| {
-        let First { moments, n_cut, pmf } = st;
+    // One pass: moments, exact PMFs of the counts, dyadic sketches (see `sketch`).
+    let start = Accumulated {
+        moments: vec![Moments::default(); n],
+        n_cut: vec![0; n],
+        pmf: vec![BTreeMap::new(); n],
+        sketches: series.iter().map(|s| (!s.var.is_count()).then(|| Sketch::new(scale))).collect(),
+        joints: opts.pairs.iter().map(|p| (index_of(&p.0), index_of(&p.1), Sketch2::new(scale))).collect(),
+    };
+    let acc = pass(&data, &series, start, |st, series, b| {
+        let Accumulated { moments, n_cut, pmf, sketches, joints } = st;
         for_each_value(
             series,
             b,
             |i, x| {
                 moments[i].add(x);
-                if series[i].var.is_count() {
-                    *pmf[i].entry(x as i64).or_default() += 1;
+                match &mut sketches[i] {
+                    Some(sketch) => sketch.add(x),
+                    None => *pmf[i].entry(x as i64).or_default() += 1,
                 }
             },
             |i| n_cut[i] += 1,
         );
-    })?;
-
-    // Pass 2: histograms on bins fixed by pass 1.
-    let hist: Vec<Histogram> = series
-        .iter()
-        .zip(&first.moments)
-        .map(|(s, m)| {
-            if s.var.is_count() {
-                let (lo, hi) = if m.n > 0 { (m.min, m.max) } else { (0.0, 0.0) };
-                Histogram::new(lo - 0.5, hi + 0.5, (hi - lo) as usize + 1)
-            } else {
-                Histogram::new(m.min.min(m.max), m.max.max(m.min), density::bins(m, opts.bins))
-            }
-        })
-        .collect();
-    let fine = first.moments.iter().map(|m| Histogram::new(m.min.min(m.max), m.max.max(m.min), density::MODE_GRID)).collect();
-    let index_of = |s: &Series| series.iter().position(|x| x == s).expect("pair series are analysed");
-    let joints = opts
-        .pairs
-        .iter()
-        .map(|p| {
-            let (i, j) = (index_of(&p.0), index_of(&p.1));
-            (i, j, vec![vec![0u64; hist[j].bins()]; hist[i].bins()])
-        })
-        .collect();
-    let second = pass(&data, &series, Second { hist, fine, joints }, |st, series, b| {
-        let Second { hist, fine, joints } = st;
-        for_each_value(
-            series,
-            b,
-            |i, x| {
-                hist[i].add(x);
-                fine[i].add(x);
-            },
-            |_| {},
-        );
-        for (i, j, counts) in joints.iter_mut() {
+        for (i, j, sketch) in joints.iter_mut() {
             for r in 0..b.n_stick.len() {
                 if let (Some(x), Some(y)) = (value(series, *i, b, r), value(series, *j, b, r)) {
-                    counts[hist[*i].bin(x)][hist[*j].bin(y)] += 1;
+                    sketch.add(x, y);
                 }
             }
         }
     })?;
 
+    // Histogram grids: power-of-two widths no finer than any sketch holding the series.
+    let hist: Vec<Histogram> = (0..n)
+        .map(|i| {
+            let m = &acc.moments[i];
+            match &acc.sketches[i] {
+                None => {
+                    // unit bins centred on the integers, filled from the exact distribution
+                    let (lo, hi) = if m.n > 0 { (m.min, m.max) } else { (0.0, 0.0) };
+                    let mut h = Histogram::new(lo - 0.5, hi + 0.5, (hi - lo) as usize + 1);
+                    for (&v, &c) in &acc.pmf[i] {
+                        h.counts[(v - lo as i64) as usize] += c;
+                    }
+                    h
+                }
+                Some(sketch) => {
+                    let mut finest = sketch.exponent();
+                    for (x, y, joint) in &acc.joints {
+                        let (ex, ey) = joint.exponents();
+                        finest = finest.max(if *x == i { ex } else { i32::MIN }).max(if *y == i { ey } else { i32::MIN });
+                    }
+                    sketch.histogram(density::grid_exponent(m, opts.bins, finest))
+                }
+            }
+        })
+        .collect();
+
     let stats: Vec<SeriesStats> = series
         .iter()
         .enumerate()
         .map(|(i, s)| {
-            let m = first.moments[i];
-            let mode = if s.var.is_count() {
-                first.pmf[i].iter().max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0))).map(|(v, _)| *v as f64)
-            } else {
-                density::kde_mode(&second.fine[i], &m)
+            let m = acc.moments[i];
+            let mode = match &acc.sketches[i] {
+                Some(sketch) => density::kde_mode(&sketch.fine(), &m),
+                None => acc.pmf[i].iter().max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0))).map(|(v, _)| *v as f64),
             };
-            SeriesStats { series: *s, moments: m, truncated: first.n_cut[i], mode, histogram: second.hist[i].clone() }
+            SeriesStats { series: *s, moments: m, truncated: acc.n_cut[i], mode, histogram: hist[i].clone() }
         })
         .collect();
 
@@ -274,13 +275,16 @@ pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
     let joints = opts
         .pairs
         .iter()
-        .zip(second.joints)
-        .map(|(p, (i, j, counts))| Joint {
-            pair: *p,
-            x: second.hist[i].clone(),
-            y: second.hist[j].clone(),
-            test: independence::test(&counts, permutations, data.scenario.seed),
-            counts,
+        .zip(&acc.joints)
+        .map(|(p, (i, j, sketch))| {
+            let counts = sketch.table(&hist[*i], &hist[*j]);
+            Joint {
+                pair: *p,
+                x: hist[*i].clone(),
+                y: hist[*j].clone(),
+                test: independence::test(&counts, permutations, data.scenario.seed),
+                counts,
+            }
         })
         .collect();
 
