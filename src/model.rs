@@ -123,7 +123,10 @@ impl Accel {
     /// A slip that starts exactly at belt speed with zero acceleration (`u₀ = a₀ = 0`, the orbit
     /// right after a breakaway) only touches belt speed once per period, tangentially; that
     /// touch is not a crossing and `None` is returned.
-    pub fn belt_speed_crossing(&self, x0: f64, xdot0: f64, a0: f64, v: f64) -> Option<(f64, f64)> {
+    ///
+    /// Crossings at or after `horizon` (e.g. the next belt flip) are reported as `None`; most are
+    /// ruled out without an `atan` by the bound `ωτ = 2 atan h ≥ 2h/√(1+h²)` (as sin α ≤ α).
+    pub fn belt_speed_crossing(&self, x0: f64, xdot0: f64, a0: f64, v: f64, horizon: f64) -> Option<(f64, f64)> {
         let u0 = xdot0 - v;
         let alpha = 0.25 * (xdot0 + v) * self.omega2;
         let beta = -a0;
@@ -136,7 +139,7 @@ impl Accel {
         if q == 0.0 {
             // β = 0 and Δ = 0: either the touch-only orbit (u₀ = 0) or ẋ₀ = −v, a₀ = 0, whose
             // only root is at the half period (r = ∞).
-            return if u0 == 0.0 { None } else { self.at_root(x0, xdot0, a0, f64::INFINITY) };
+            return if u0 == 0.0 { None } else { self.at_root(x0, xdot0, a0, f64::INFINITY, horizon) };
         }
         // Of the two roots, the first in time: ωτ = 2 atan(ω r/2) lies in (0, π) for r > 0 and in
         // (π, 2π) for r < 0 (after the 2π shift), and grows with r within each sign; only the
@@ -145,24 +148,32 @@ impl Accel {
         let (r1, r2) = (q / alpha, gamma / q);
         let key = |r: f64| if r > 0.0 { (0, r) } else { (1, r) };
         let r = if key(r2) < key(r1) { r2 } else { r1 };
-        self.at_root(x0, xdot0, a0, r)
+        self.at_root(x0, xdot0, a0, r, horizon)
     }
 
-    /// Map a root `r` of the crossing quadratic to `(τ, x(τ))`, τ ∈ (0, 2π/ω].
-    fn at_root(&self, x0: f64, xdot0: f64, a0: f64, r: f64) -> Option<(f64, f64)> {
+    /// Map a root `r` of the crossing quadratic to `(τ, x(τ))`, τ ∈ (0, 2π/ω], if τ < horizon.
+    fn at_root(&self, x0: f64, xdot0: f64, a0: f64, r: f64, horizon: f64) -> Option<(f64, f64)> {
         if r.is_nan() {
             return None;
         }
         let h = 0.5 * self.omega * r; // tan(ωτ/2)
         if self.omega == 0.0 || h == 0.0 && r != 0.0 {
             // No spring (or ω r below resolution): uniformly accelerated motion, τ = r.
-            return (r > 0.0 && r.is_finite()).then(|| (r, x0 + xdot0 * r + 0.5 * a0 * r * r));
+            return (r > 0.0 && r.is_finite() && r < horizon).then(|| (r, x0 + xdot0 * r + 0.5 * a0 * r * r));
+        }
+        let phi = self.omega * horizon;
+        if phi <= PI && (h <= 0.0 || h.is_infinite() || 2.0 * h >= phi * (1.0 + h * h).sqrt()) {
+            // ωτ > π ≥ ωΔ for a wrapped root, else ωτ ≥ 2h/√(1+h²) ≥ ωΔ: beyond the horizon
+            return None;
         }
         let mut theta = 2.0 * h.atan();
         if theta <= 0.0 {
             theta += TAU;
         }
         let tau = theta / self.omega;
+        if !(tau < horizon) {
+            return None;
+        }
         let x = if h.is_infinite() || h.abs() > 1e150 {
             // ωτ = π: S = 0, C = 2/ω².
             debug_assert!((theta - PI).abs() < 1e-9);
@@ -215,10 +226,13 @@ mod tests {
         let a = accel(4.0, 5.0);
         for &(x0, xd0, sig, v) in &[(0.2, -1.0, 1.0, 1.0), (-0.9, 3.0, -1.0, 1.0), (0.4, 0.9, 1.0, -1.0)] {
             let a0 = sig * a.friction - a.omega2 * x0;
-            let (tau, x) = a.belt_speed_crossing(x0, xd0, a0, v).expect("crossing");
+            let (tau, x) = a.belt_speed_crossing(x0, xd0, a0, v, f64::INFINITY).expect("crossing");
             let (xr, xdr) = direct(&a, x0, xd0, a0, tau);
             assert!((xdr - v).abs() < 1e-12, "u = {} at tau {tau}", xdr - v);
             assert!((x - xr).abs() < 1e-12);
+            // a horizon just before it hides it, one just after keeps it
+            assert!(a.belt_speed_crossing(x0, xd0, a0, v, tau * (1.0 - 1e-12)).is_none());
+            assert_eq!(a.belt_speed_crossing(x0, xd0, a0, v, tau * (1.0 + 1e-12)).map(|c| c.0), Some(tau));
             // and it is the first one: u keeps its sign on a fine grid before tau
             let s0 = (xd0 - v).signum();
             for i in 1..1000 {
@@ -232,7 +246,7 @@ mod tests {
     fn no_crossing_when_velocity_amplitude_is_below_belt_speed() {
         let a = accel(4.0, 0.0);
         // free oscillation with velocity amplitude 0.5 < v = 1
-        assert!(a.belt_speed_crossing(0.0, 0.5, 0.0, 1.0).is_none());
+        assert!(a.belt_speed_crossing(0.0, 0.5, 0.0, 1.0, f64::INFINITY).is_none());
     }
 
     #[test]
@@ -240,7 +254,7 @@ mod tests {
         // k = 1e-20: ω = 1e-10; the crossing time must approach u₀/a_f without cancellation.
         let a = accel(1e-20, 5.0);
         let a0 = a.friction - a.omega2 * 0.3;
-        let (tau, x) = a.belt_speed_crossing(0.3, -1.0, a0, 1.0).unwrap();
+        let (tau, x) = a.belt_speed_crossing(0.3, -1.0, a0, 1.0, f64::INFINITY).unwrap();
         assert!((tau - 2.0 / a0).abs() < 1e-14, "{tau}");
         assert!((x - (0.3 - 2.0 / a0 + 0.5 * a0 * (2.0 / a0).powi(2))).abs() < 1e-14);
     }

@@ -123,7 +123,7 @@ impl Solver for Exact {
                     phase = self.slip_from(t_stop, x, -v, v, s, obs);
                 }
                 Phase::Slip { t0, x0, xdot0, a0 } => {
-                    if let Some((tau, x1)) = a.belt_speed_crossing(x0, xdot0, a0, v) {
+                    if let Some((tau, x1)) = a.belt_speed_crossing(x0, xdot0, a0, v, t_stop - t0) {
                         if t0 + tau < t_stop {
                             phase = self.at_belt_speed(t0 + tau, x1, v, s, obs);
                             continue;
