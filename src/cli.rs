@@ -28,6 +28,35 @@ pub enum Command {
     /// Analyse a dataset: moments (Table 1), histograms, joint histograms, independence tests,
     /// growth of the start instants with their index; tidy Parquet tables + summary.json in ADIR.
     Analyze(AnalyzeArgs),
+    /// Draw the paper's figures (PNG and SVG) from an analysis directory into --out FIGDIR.
+    Figures(FiguresArgs),
+    /// Write a self-contained HTML report (figures inlined) and its Markdown twin.
+    Report(ReportArgs),
+    /// The whole reproduction in one go: simulate into DIR, then DIR/analysis, DIR/figures and
+    /// DIR/report.html (+ .md). Takes the same scenario options as `simulate`.
+    Reproduce(SimulateArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct FiguresArgs {
+    /// Analysis directory written by `analyze`.
+    pub analysis: PathBuf,
+    /// Output directory for the figures (replaced atomically when complete).
+    #[arg(long, value_name = "FIGDIR")]
+    pub out: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ReportArgs {
+    /// Dataset directory (for provenance).
+    pub dataset: PathBuf,
+    /// Analysis directory.
+    pub analysis: PathBuf,
+    /// Figures directory.
+    pub figures: PathBuf,
+    /// The HTML file to write; the Markdown twin goes next to it with the extension .md.
+    #[arg(long, value_name = "FILE", default_value = "report.html")]
+    pub out: PathBuf,
 }
 
 #[derive(Debug, clap::Args)]
@@ -88,7 +117,45 @@ pub fn main() -> anyhow::Result<()> {
     match Cli::parse().command {
         Command::Simulate(args) => simulate_command(args),
         Command::Analyze(args) => analyze_command(args),
+        Command::Figures(args) => figures_command(&args.analysis, &args.out, false),
+        Command::Report(args) => report_command(&args, false),
+        Command::Reproduce(args) => reproduce_command(args),
     }
+}
+
+fn figures_command(adir: &std::path::Path, out: &std::path::Path, quiet: bool) -> anyhow::Result<()> {
+    let start = std::time::Instant::now();
+    let names = crate::figures::run(adir, out).context("figures")?;
+    if !quiet {
+        eprintln!("drew {} figures (PNG + SVG) in {:.2} s -> {}", names.len(), start.elapsed().as_secs_f64(), out.display());
+    }
+    Ok(())
+}
+
+fn report_command(args: &ReportArgs, quiet: bool) -> anyhow::Result<()> {
+    let [html, md] = crate::report::run(&args.dataset, &args.analysis, &args.figures, &args.out).context("report")?;
+    if !quiet {
+        eprintln!("wrote {} and {}", html.display(), md.display());
+    }
+    Ok(())
+}
+
+fn reproduce_command(args: SimulateArgs) -> anyhow::Result<()> {
+    let (dir, quiet) = (args.out.clone(), args.quiet);
+    simulate_command(args)?;
+    let analysis = dir.join("analysis");
+    analyze_command(AnalyzeArgs {
+        dataset: dir.clone(),
+        out: analysis.clone(),
+        max_index: 6,
+        bins: None,
+        pairs: Vec::new(),
+        permutations: 199,
+        quiet,
+    })?;
+    let figures = dir.join("figures");
+    figures_command(&analysis, &figures, quiet)?;
+    report_command(&ReportArgs { dataset: dir.clone(), analysis, figures, out: dir.join("report.html") }, quiet)
 }
 
 fn analyze_command(args: AnalyzeArgs) -> anyhow::Result<()> {

@@ -9,11 +9,13 @@
 use std::ops::Range;
 
 use crate::dataset::Rows;
-use crate::events::Record;
+use crate::events::{Observer, Record};
 use crate::excitation::{Belt, BeltPath};
+use crate::model::Accel;
 use crate::rng::{realization_rng, unit_f64};
 use crate::scenario::Scenario;
 use crate::solver::{Drive, Exact, SolveError, Solver};
+use crate::trajectory::{Sampler, Tee};
 
 /// A realization that could not be solved.
 #[derive(Debug, thiserror::Error)]
@@ -33,6 +35,13 @@ pub struct Outcome {
     switches: Vec<f64>,
 }
 
+impl Outcome {
+    /// The effective belt flips (see `BeltPath::effective_switches`).
+    pub fn switches(&self) -> &[f64] {
+        &self.switches
+    }
+}
+
 /// A scenario ready to run.
 #[derive(Debug, Clone)]
 pub struct Ensemble {
@@ -41,6 +50,7 @@ pub struct Ensemble {
     velocity: [f64; 2],
     seed: u64,
     store_switch_times: bool,
+    accel: Accel,
     solver: Exact,
 }
 
@@ -52,12 +62,25 @@ impl Ensemble {
             velocity: scenario.velocity,
             seed: scenario.seed,
             store_switch_times: scenario.store_switch_times,
+            accel: scenario.model.per_unit_mass(),
             solver: Exact::new(&scenario.model),
         }
     }
 
     /// Simulate realization `index` into `out` (its buffers are reused).
     pub fn realization(&self, index: u64, out: &mut Outcome) -> Result<(), RunError> {
+        self.run(index, out, &mut ())
+    }
+
+    /// Simulate realization `index` and sample its trajectory every `step` seconds.
+    pub fn trajectory(&self, index: u64, step: f64, out: &mut Outcome) -> Result<Sampler, RunError> {
+        let mut sampler = Sampler::new(self.accel, step);
+        self.run(index, out, &mut sampler)?;
+        Ok(sampler)
+    }
+
+    /// Simulate realization `index`, counting into `out.record` and also showing `extra` the motion.
+    fn run<O: Observer>(&self, index: u64, out: &mut Outcome, extra: &mut O) -> Result<(), RunError> {
         let mut rng = realization_rng(self.seed, index);
         let uniform = |r: [f64; 2], u: f64| r[0] + (r[1] - r[0]) * u;
         out.x0 = uniform(self.position, unit_f64(&mut rng));
@@ -67,7 +90,7 @@ impl Ensemble {
         let drive = Drive { sign0, switches: &out.switches, speed: self.belt.speed, t_end: self.belt.duration };
         out.record.clear();
         self.solver
-            .solve(&drive, out.x0, out.xdot0, &mut out.record)
+            .solve(&drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(self.belt.duration);
         Ok(())

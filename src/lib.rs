@@ -5,7 +5,7 @@
 //!
 //! Dependencies point one way:
 //! [`model`] → [`excitation`] → [`solver`] → [`events`] → [`ensemble`] → [`dataset`] →
-//! [`simulate`] → [`analysis`], with [`scenario`] loading and validating input and [`cli`] on top.
+//! [`simulate`] → [`analysis`] → [`figures`] → [`report`], with [`scenario`] loading and validating input and [`cli`] on top.
 
 pub mod analysis;
 pub mod cli;
@@ -13,8 +13,12 @@ pub mod dataset;
 pub mod ensemble;
 pub mod events;
 pub mod excitation;
+pub mod figures;
 pub mod model;
+pub mod outdir;
+pub mod report;
 pub mod rng;
 pub mod scenario;
 pub mod simulate;
 pub mod solver;
+pub mod trajectory;

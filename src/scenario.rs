@@ -35,6 +35,9 @@ pub struct Scenario {
     pub seed: u64,
     pub solver: String,
     pub store_switch_times: bool,
+    /// Realizations 0..N sampled for trajectories (0: none), every `trajectory_step` seconds.
+    pub trajectories: u64,
+    pub trajectory_step: f64,
     /// The resolved table, for provenance.
     pub table: Table,
 }
@@ -145,6 +148,8 @@ impl Scenario {
                 Value::Boolean(b) => *b,
                 other => return Err(invalid("output.switch_times", other, "must be true or false")),
             },
+            trajectories: g.count("output.trajectories", 0)?,
+            trajectory_step: g.f64("output.trajectory_step", |x| x > 0.0, "must be > 0 (s)")?,
             table,
         };
         scenario.check_derived()?;
@@ -160,6 +165,16 @@ impl Scenario {
                 key: "model".into(),
                 value: format!("k/m = {:e} 1/s², mu n/m = {:e} m/s²", a.omega2, a.friction),
                 reason: "these ratios must be finite".into(),
+            });
+        }
+        if self.trajectories > 1000 || self.trajectories as f64 * self.belt.duration / self.trajectory_step > 1e8 {
+            return Err(ScenarioError::Invalid {
+                key: "output.trajectories".into(),
+                value: self.trajectories.to_string(),
+                reason: format!(
+                    "at most 1000 trajectories and 1e8 samples in all (run.duration / output.trajectory_step = {:e} each)",
+                    self.belt.duration / self.trajectory_step
+                ),
             });
         }
         let expected = self.belt.switch_rate * self.belt.duration;

@@ -13,9 +13,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 use crate::dataset::{DatasetError, PartWriter, Rows, SCHEMA_VERSION};
-use crate::ensemble::{Ensemble, RunError};
+use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::rng::GENERATOR;
 use crate::scenario::Scenario;
+use crate::trajectory;
 
 /// Shard `index` of `count` (`--shard I/N`): the contiguous realization range
 /// `[⌊index·total/count⌋, ⌊(index+1)·total/count⌋)` of the whole run.
@@ -154,8 +155,37 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError
     });
     progress.finish_and_clear();
     computed?;
-    let path = written?.commit()?;
+    let writer = written?;
+    // Trajectories (Fig. 4) of realizations 0..N, written by the shard that holds realization 0.
+    let trajectories = if scenario.trajectories > 0 && range.start == 0 {
+        Some(write_trajectories(&ensemble, scenario, &opts.out)?)
+    } else {
+        None
+    };
+    let path = writer.commit().inspect_err(|_| {
+        if let Some((tmp, _)) = &trajectories {
+            let _ = std::fs::remove_file(tmp);
+        }
+    })?;
+    if let Some((tmp, path)) = trajectories {
+        std::fs::rename(&tmp, &path).map_err(|e| DatasetError::Write { path, source: Box::new(e) })?;
+    }
     Ok(Summary { path, realizations: range.end - range.start, seconds: start.elapsed().as_secs_f64(), total_sticks })
+}
+
+/// Sample the first `output.trajectories` realizations into a temporary CSV in `dir`; returns
+/// (temporary path, final path).
+fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path::Path) -> Result<(PathBuf, PathBuf), SimulateError> {
+    let mut csv = String::from(trajectory::CSV_HEADER);
+    let mut out = Outcome::default();
+    for index in 0..scenario.trajectories.min(scenario.realizations) {
+        let sampler = ensemble.trajectory(index, scenario.trajectory_step, &mut out)?;
+        trajectory::csv_rows(&mut csv, index, &sampler.samples, out.switches(), &out.record);
+    }
+    let path = dir.join("trajectories.csv");
+    let tmp = dir.join(".trajectories.csv.tmp");
+    std::fs::write(&tmp, csv).map_err(|e| DatasetError::Write { path: path.clone(), source: Box::new(e) })?;
+    Ok((tmp, path))
 }
 
 fn progress_bar(len: u64, enabled: bool) -> ProgressBar {

@@ -138,7 +138,7 @@ pub fn stream_file(path: &Path, rows: u64, series: &[Series], sink: &mut dyn FnM
 /// A small tidy table, column by column.
 #[derive(Debug, Clone, Default)]
 pub struct Table {
-    pub columns: Vec<(&'static str, Col)>,
+    pub columns: Vec<(String, Col)>,
 }
 
 #[derive(Debug, Clone)]
@@ -149,8 +149,60 @@ pub enum Col {
 }
 
 impl Table {
-    pub fn push(&mut self, name: &'static str, col: Col) -> &mut Self {
-        self.columns.push((name, col));
+    /// Read a table written by [`Table::write_parquet`] (string, integer and float columns).
+    pub fn read_parquet(path: &Path) -> PolarsResult<Table> {
+        let file = File::open(path).map_err(|e| polars_err!(ComputeError: "{}: {e}", path.display()))?;
+        let df = ParquetReader::new(file).finish()?;
+        let mut t = Table::default();
+        for c in df.columns() {
+            let name = c.name().to_string();
+            let col = match c.dtype() {
+                DataType::String => Col::Str(c.str()?.iter().map(|v| v.unwrap_or_default().to_string()).collect()),
+                DataType::Int64 | DataType::Int32 => Col::Int(c.cast(&DataType::Int64)?.i64()?.iter().collect()),
+                DataType::Float64 => Col::Float(c.f64()?.iter().collect()),
+                other => polars_bail!(SchemaMismatch: "{}: column `{name}` has unsupported type {other}", path.display()),
+            };
+            t.columns.push((name, col));
+        }
+        Ok(t)
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> usize {
+        self.columns.first().map_or(0, |(_, c)| match c {
+            Col::Str(v) => v.len(),
+            Col::Int(v) => v.len(),
+            Col::Float(v) => v.len(),
+        })
+    }
+
+    fn col(&self, name: &str) -> Option<&Col> {
+        self.columns.iter().find(|(n, _)| n == name).map(|(_, c)| c)
+    }
+
+    pub fn strings(&self, name: &str) -> Option<&[String]> {
+        match self.col(name)? {
+            Col::Str(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    pub fn ints(&self, name: &str) -> Option<&[Option<i64>]> {
+        match self.col(name)? {
+            Col::Int(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    pub fn floats(&self, name: &str) -> Option<&[Option<f64>]> {
+        match self.col(name)? {
+            Col::Float(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    pub fn push(&mut self, name: &str, col: Col) -> &mut Self {
+        self.columns.push((name.to_string(), col));
         self
     }
 
@@ -160,9 +212,9 @@ impl Table {
             .columns
             .iter()
             .map(|(name, c)| match c {
-                Col::Str(v) => Column::new((*name).into(), v),
-                Col::Int(v) => Column::new((*name).into(), v),
-                Col::Float(v) => Column::new((*name).into(), v),
+                Col::Str(v) => Column::new(name.as_str().into(), v),
+                Col::Int(v) => Column::new(name.as_str().into(), v),
+                Col::Float(v) => Column::new(name.as_str().into(), v),
             })
             .collect();
         let mut df = DataFrame::new_infer_height(columns)?;

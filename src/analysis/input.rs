@@ -25,6 +25,8 @@ pub struct Dataset {
     pub rows: u64,
     pub scenario: Scenario,
     pub switch_times: bool,
+    /// `DIR/trajectories.csv`, when the simulation sampled trajectories.
+    pub trajectories: Option<PathBuf>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -128,5 +130,6 @@ pub fn open(dir: &Path) -> Result<Dataset, InputError> {
     }
     let rows = file_rows.iter().sum();
     let scenario = Scenario::from_text(Some(&toml), &first, &[]).map_err(|e| bad(&first, format!("its recorded scenario: {e}")))?;
-    Ok(Dataset { files, file_rows, rows, scenario, switch_times })
+    let trajectories = Some(dir.join("trajectories.csv")).filter(|p| p.is_file());
+    Ok(Dataset { files, file_rows, rows, scenario, switch_times, trajectories })
 }

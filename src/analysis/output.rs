@@ -11,11 +11,13 @@
 //!   mutual_information, mi_null_mean, mi_p_value, permutations, verdict;
 //! - `growth.parquet`: variable, statistic, slope, intercept, r2, slope_se, points;
 //! - `summary.json`: provenance, policies, counts, regressions, renewal check, tests;
-//! - `table1.md`: our Table 1 beside the paper's.
+//! - `table1.md`: our Table 1 beside the paper's;
+//! - `trajectories.csv`: copied from the dataset when it has one (the paper's Fig. 4).
 //!
-//! Everything is written into a hidden sibling directory that replaces ADIR only when complete.
+//! Everything is written into a staging directory that replaces ADIR only when complete
+//! ([`crate::outdir`]).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde_json::json;
 
@@ -23,6 +25,7 @@ use super::frame::{Col, Table};
 use super::paper;
 use super::series::Variable;
 use super::{Analysis, AnalysisError};
+use crate::outdir::StagedDir;
 
 /// Significance level of the reported verdicts.
 pub const ALPHA: f64 = 0.05;
@@ -287,14 +290,8 @@ pub fn table1_markdown(a: &Analysis) -> String {
 /// Write everything into `out`, replacing it only once complete.
 pub fn write(a: &Analysis, out: &Path) -> Result<(), AnalysisError> {
     let werr = |path: &Path, e: &dyn std::fmt::Display| AnalysisError::Write { path: path.to_owned(), message: e.to_string() };
-    if out.is_file() {
-        return Err(werr(out, &"exists and is not a directory"));
-    }
-    let name = out.file_name().ok_or_else(|| werr(out, &"not a directory name"))?.to_string_lossy().into_owned();
-    let parent = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).map_err(|e| werr(parent, &e))?;
-    let staging = Staging(parent.join(format!(".{name}.tmp-{}", std::process::id())));
-    std::fs::create_dir_all(&staging.0).map_err(|e| werr(out, &e))?;
+    let staged = StagedDir::new(out).map_err(|e| werr(&e.path, &e.message))?;
+    let dir = staged.path();
     let tables = [
         ("moments.parquet", moments_table(a)),
         ("histograms.parquet", histogram_table(a)),
@@ -303,25 +300,13 @@ pub fn write(a: &Analysis, out: &Path) -> Result<(), AnalysisError> {
         ("growth.parquet", growth_table(a)),
     ];
     for (file, table) in tables {
-        table.write_parquet(&staging.0.join(file)).map_err(|e| werr(&out.join(file), &e))?;
+        table.write_parquet(&dir.join(file)).map_err(|e| werr(&out.join(file), &e))?;
     }
     let json = serde_json::to_string_pretty(&summary(a)).expect("JSON serializes");
-    std::fs::write(staging.0.join("summary.json"), json + "\n").map_err(|e| werr(&out.join("summary.json"), &e))?;
-    std::fs::write(staging.0.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&out.join("table1.md"), &e))?;
-    let old = parent.join(format!(".{name}.old-{}", std::process::id()));
-    if out.exists() {
-        std::fs::rename(out, &old).map_err(|e| werr(out, &e))?;
+    std::fs::write(dir.join("summary.json"), json + "\n").map_err(|e| werr(&out.join("summary.json"), &e))?;
+    std::fs::write(dir.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&out.join("table1.md"), &e))?;
+    if let Some(src) = &a.dataset.trajectories {
+        std::fs::copy(src, dir.join("trajectories.csv")).map_err(|e| werr(&out.join("trajectories.csv"), &e))?;
     }
-    std::fs::rename(&staging.0, out).map_err(|e| werr(out, &e))?;
-    let _ = std::fs::remove_dir_all(&old);
-    Ok(())
-}
-
-/// A staging directory removed unless it was renamed into place.
-struct Staging(PathBuf);
-
-impl Drop for Staging {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
+    staged.commit().map_err(|e| werr(&e.path, &e.message))
 }

@@ -23,7 +23,7 @@
 //! excitation unchanged, so errors never accumulate beyond one belt segment whatever t_a is.
 
 use super::{Drive, SolveError, Solver};
-use crate::events::Observer;
+use crate::events::{Observer, Segment};
 use crate::model::{Accel, Model};
 
 /// Relative width of the band around `p = a_f` treated as a touch at the breakaway point.
@@ -88,8 +88,16 @@ impl Solver for Exact {
         let mut s = drive.sign0;
         let mut v = s * drive.speed;
         if a.friction == 0.0 {
-            // No friction: the mass never sticks and nothing is counted.
+            // No friction: the mass never sticks and nothing is counted; between flips it
+            // oscillates freely (a slip with a0 = −ω² x).
             obs.slip(0.0, x0, xdot0);
+            let (mut t, mut x, mut xdot) = (0.0, x0, xdot0);
+            for t1 in drive.switches.iter().copied().chain(std::iter::once(t_end)) {
+                let seg = Phase::Slip { t0: t, x0: x, xdot0: xdot, a0: -a.omega2 * x };
+                emit(obs, &seg, t1, v);
+                (x, xdot) = a.slip_state(x, xdot, -a.omega2 * x, t1 - t);
+                (t, v) = (t1, -v);
+            }
             return Ok(());
         }
         let mut phase = self.slip_from(0.0, x0, xdot0, v, s, obs);
@@ -109,11 +117,13 @@ impl Solver for Exact {
                 Phase::Stick { t0, x0 } => {
                     let t_b = t0 + (a.friction - s * a.omega2 * x0) / (a.omega2 * drive.speed);
                     if t_b < t_stop {
+                        emit(obs, &phase, t_b, v);
                         let x_b = s * a.friction / a.omega2;
                         obs.slip(t_b, x_b, v);
                         phase = Phase::Slip { t0: t_b, x0: x_b, xdot0: v, a0: 0.0 };
                         continue;
                     }
+                    emit(obs, &phase, t_stop, v);
                     if flip.is_none() || t_stop >= t_end {
                         break;
                     }
@@ -125,10 +135,12 @@ impl Solver for Exact {
                 Phase::Slip { t0, x0, xdot0, a0 } => {
                     if let Some((tau, x1)) = a.belt_speed_crossing(x0, xdot0, a0, v, t_stop - t0) {
                         if t0 + tau < t_stop {
+                            emit(obs, &phase, t0 + tau, v);
                             phase = self.at_belt_speed(t0 + tau, x1, v, s, obs);
                             continue;
                         }
                     }
+                    emit(obs, &phase, t_stop, v);
                     if flip.is_none() || t_stop >= t_end {
                         break;
                     }
@@ -140,6 +152,15 @@ impl Solver for Exact {
         }
         Ok(())
     }
+}
+
+/// Report the piece of motion of `phase` up to `t1` under belt velocity `v`.
+fn emit<O: Observer>(obs: &mut O, phase: &Phase, t1: f64, v: f64) {
+    let segment = match *phase {
+        Phase::Stick { t0, x0 } => Segment { t0, t1, stick: true, x0, xdot0: v, a0: 0.0, v },
+        Phase::Slip { t0, x0, xdot0, a0 } => Segment { t0, t1, stick: false, x0, xdot0, a0, v },
+    };
+    obs.segment(&segment);
 }
 
 fn phase_start(p: &Phase) -> f64 {

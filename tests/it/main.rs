@@ -8,5 +8,6 @@ mod closed_forms;
 mod dataset;
 mod determinism;
 mod extremes;
+mod figures;
 mod invariants;
 mod reference;

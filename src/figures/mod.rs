@@ -1,0 +1,390 @@
+//! The `figures` stage: the paper's figures from the analysis tables (never by re-simulating).
+//!
+//! Each figure is first built as data ([`Figure`] of [`Panel`]s: bars, lines, points, heat cells),
+//! then drawn by [`render`] to PNG and SVG. Files, named after the paper's figure numbers:
+//! `fig02_poisson_pmf`, `fig04_trajectories` (when the dataset sampled trajectories), `fig05_q`,
+//! `fig06_y` (when it stored switch times), `fig07_variance_growth`, `fig08_counts`, `fig09_t`,
+//! `fig10_l`, `fig11_t1_t2`, `fig12_d`, `fig13_d1_d2`, `fig14_h`.
+
+pub mod render;
+
+use std::path::{Path, PathBuf};
+
+use crate::analysis::frame::Table;
+use crate::analysis::special::ln_gamma;
+use crate::outdir::StagedDir;
+use crate::scenario::Scenario;
+
+/// A series of (x, y) points, drawn as a line or as markers.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Series {
+    pub label: String,
+    /// index into [`render::PALETTE`]
+    pub color: usize,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One chart.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    /// (lo, hi, height) bars from 0
+    pub bars: Vec<(f64, f64, f64)>,
+    /// (x0, x1, y0, y1, value) cells of a heat map, coloured by √(value / heat_max)
+    pub heat: Vec<[f64; 5]>,
+    /// the value of the top colour (default: the panel's largest cell)
+    pub heat_max: Option<f64>,
+    pub lines: Vec<Series>,
+    pub points: Vec<Series>,
+    /// vertical guide lines
+    pub vlines: Vec<f64>,
+    pub x_range: Option<(f64, f64)>,
+    pub y_range: Option<(f64, f64)>,
+}
+
+/// A figure: panels on a `rows × cols` grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    pub name: String,
+    pub title: String,
+    pub rows: usize,
+    pub cols: usize,
+    pub size: (u32, u32),
+    pub panels: Vec<Panel>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum FigureError {
+    #[error("reading {}: {message}", path.display())]
+    Read { path: PathBuf, message: String },
+    #[error("drawing {name}: {message}")]
+    Draw { name: String, message: String },
+    #[error(transparent)]
+    Out(#[from] crate::outdir::OutDirError),
+}
+
+/// The analysis tables the figures are drawn from.
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    pub moments: Table,
+    pub histograms: Table,
+    pub joints: Table,
+    pub independence: Table,
+    pub growth: Table,
+    pub scenario: Scenario,
+    /// `trajectories.csv`, if the analysis directory has one
+    pub trajectories: Option<String>,
+}
+
+impl Inputs {
+    /// Read the tables of an analysis directory.
+    pub fn load(adir: &Path) -> Result<Inputs, FigureError> {
+        let read = |name: &str| {
+            let path = adir.join(name);
+            Table::read_parquet(&path).map_err(|e| FigureError::Read { path, message: e.to_string() })
+        };
+        let summary_path = adir.join("summary.json");
+        let bad = |message: String| FigureError::Read { path: summary_path.clone(), message };
+        let text = std::fs::read_to_string(&summary_path).map_err(|e| bad(e.to_string()))?;
+        let summary: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+        let toml = summary["dataset"]["scenario"].as_str().ok_or_else(|| bad("no dataset.scenario".into()))?;
+        let scenario = Scenario::from_text(Some(toml), &summary_path, &[]).map_err(|e| bad(e.to_string()))?;
+        let trajectories = std::fs::read_to_string(adir.join("trajectories.csv")).ok();
+        Ok(Inputs {
+            moments: read("moments.parquet")?,
+            histograms: read("histograms.parquet")?,
+            joints: read("joint_histograms.parquet")?,
+            independence: read("independence.parquet")?,
+            growth: read("growth.parquet")?,
+            scenario,
+            trajectories,
+        })
+    }
+
+    /// Rows of `table` whose `variable` / `index` columns match.
+    fn rows<'a>(table: &'a Table, var: &'a str, index: Option<i64>) -> impl Iterator<Item = usize> + 'a {
+        let vars = table.strings("variable").unwrap_or_default();
+        let idx = table.ints("index").unwrap_or_default();
+        (0..table.height()).filter(move |&r| vars.get(r).map(String::as_str) == Some(var) && idx.get(r).copied().flatten() == index)
+    }
+
+    /// (lo, hi, density) bins of one series' histogram.
+    pub fn histogram(&self, var: &str, index: Option<i64>) -> Vec<(f64, f64, f64)> {
+        let h = &self.histograms;
+        let (lo, hi, d) = (h.floats("lo").unwrap_or_default(), h.floats("hi").unwrap_or_default(), h.floats("density").unwrap_or_default());
+        Self::rows(h, var, index).filter_map(|r| Some((lo[r]?, hi[r]?, d[r]?))).collect()
+    }
+
+    fn moment(&self, var: &str, index: Option<i64>, column: &str) -> Option<f64> {
+        let col = self.moments.floats(column)?;
+        Self::rows(&self.moments, var, index).next().and_then(|r| col[r])
+    }
+}
+
+fn poisson_pmf(mean: f64, q: u32) -> f64 {
+    if mean == 0.0 {
+        return if q == 0 { 1.0 } else { 0.0 };
+    }
+    (q as f64 * mean.ln() - mean - ln_gamma(q as f64 + 1.0)).exp()
+}
+
+fn histogram_panel(title: String, x_label: &str, bars: Vec<(f64, f64, f64)>) -> Panel {
+    Panel { title, x_label: x_label.into(), y_label: "density".into(), bars, ..Default::default() }
+}
+
+/// Figs 6, 9, 10, 12, 14: the densities of X_1..X_6 on a 2 × 3 grid.
+pub fn indexed_histograms(inp: &Inputs, var: &str, name: &str, what: &str) -> Option<Figure> {
+    let panels: Vec<Panel> = (1..=6)
+        .map(|k| histogram_panel(format!("{var}_{k}"), &format!("{var}_{k} [s]"), inp.histogram(var, Some(k))))
+        .collect();
+    panels.iter().any(|p| !p.bars.is_empty()).then(|| Figure {
+        name: name.into(),
+        title: format!("Normalized histograms of {what}"),
+        rows: 2,
+        cols: 3,
+        size: (1200, 720),
+        panels,
+    })
+}
+
+/// Fig 2: the Poisson PMF of the number of belt flips for several λ t_a (and the scenario's).
+pub fn poisson_figure(inp: &Inputs) -> Figure {
+    let own = inp.scenario.belt.switch_rate * inp.scenario.belt.duration;
+    let mut means = vec![1.0, 5.0, 20.0, 50.0];
+    if !means.contains(&own) {
+        means.push(own);
+    }
+    let top = means.iter().fold(0.0f64, |m, &x| m.max(x + 4.0 * x.sqrt() + 4.0)).min(1000.0) as u32;
+    let lines = means
+        .iter()
+        .enumerate()
+        .map(|(i, &m)| Series {
+            label: format!("λ t_a = {m}"),
+            color: i,
+            points: (0..=top).map(|q| (q as f64, poisson_pmf(m, q))).collect(),
+        })
+        .collect();
+    Figure {
+        name: "fig02_poisson_pmf".into(),
+        title: "Probability mass function of Q ~ Poisson(λ t_a)".into(),
+        rows: 1,
+        cols: 1,
+        size: (800, 520),
+        panels: vec![Panel { x_label: "q".into(), y_label: "Pr(Q = q)".into(), lines, ..Default::default() }],
+    }
+}
+
+/// Fig 5: the histogram of Q with the Poisson PMF of mean λ t_a.
+pub fn q_figure(inp: &Inputs) -> Option<Figure> {
+    let bars = inp.histogram("Q", None);
+    let (lo, hi) = (bars.first()?.0, bars.last()?.1);
+    let mean = inp.scenario.belt.switch_rate * inp.scenario.belt.duration;
+    let pmf = (lo.ceil().max(0.0) as u32..=hi.floor() as u32).map(|q| (q as f64, poisson_pmf(mean, q))).collect();
+    Some(Figure {
+        name: "fig05_q".into(),
+        title: "Number of belt sign changes Q".into(),
+        rows: 1,
+        cols: 1,
+        size: (800, 520),
+        panels: vec![Panel {
+            x_label: "Q".into(),
+            y_label: "probability".into(),
+            bars,
+            points: vec![Series { label: format!("Poisson({mean})"), color: 1, points: pmf }],
+            ..Default::default()
+        }],
+    })
+}
+
+/// Fig 7: the variance of T_k and L_k against k, with the OLS line.
+pub fn growth_figure(inp: &Inputs) -> Option<Figure> {
+    let g = &inp.growth;
+    let (vars, stats) = (g.strings("variable")?, g.strings("statistic")?);
+    let (slope, icpt, r2) = (g.floats("slope")?, g.floats("intercept")?, g.floats("r2")?);
+    let panels: Vec<Panel> = ["T", "L"]
+        .iter()
+        .filter_map(|&var| {
+            let r = (0..g.height()).find(|&r| vars[r] == var && stats[r] == "variance")?;
+            let pts: Vec<(f64, f64)> = (1..=64).filter_map(|k| Some((k as f64, inp.moment(var, Some(k), "variance")?))).collect();
+            let (a, b) = (icpt[r]?, slope[r]?);
+            let kmax = pts.last()?.0;
+            Some(Panel {
+                title: format!("Var {var}_k = {a:.3} + {b:.3} k   (R² = {:.4})", r2[r].unwrap_or(f64::NAN)),
+                x_label: "k".into(),
+                y_label: format!("variance of {var}_k [s²]"),
+                points: vec![Series { label: "sample variance".into(), color: 0, points: pts }],
+                lines: vec![Series { label: "OLS fit".into(), color: 1, points: vec![(1.0, a + b), (kmax, a + b * kmax)] }],
+                ..Default::default()
+            })
+        })
+        .collect();
+    (!panels.is_empty()).then(|| Figure {
+        name: "fig07_variance_growth".into(),
+        title: "Variance of the instants at which sticks (a) and slips (b) start".into(),
+        rows: 1,
+        cols: panels.len(),
+        size: (1200, 500),
+        panels,
+    })
+}
+
+/// Fig 8: the distributions of S_T and S_L.
+pub fn counts_figure(inp: &Inputs) -> Figure {
+    let panel = |var: &str, what: &str| Panel {
+        title: format!("{var}: mean {:.2}, variance {:.2}", inp.moment(var, None, "mean").unwrap_or(f64::NAN), inp.moment(var, None, "variance").unwrap_or(f64::NAN)),
+        x_label: what.into(),
+        y_label: "probability".into(),
+        bars: inp.histogram(var, None),
+        ..Default::default()
+    };
+    Figure {
+        name: "fig08_counts".into(),
+        title: "Number of time intervals with stick (a) and slip (b)".into(),
+        rows: 1,
+        cols: 2,
+        size: (1200, 500),
+        panels: vec![panel("S_T", "S_T (sticks)"), panel("S_L", "S_L (slips)")],
+    }
+}
+
+/// Figs 11 and 13: joint density of a pair beside the product of its marginals.
+pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure> {
+    let j = &inp.joints;
+    let (xs, ys) = (j.strings("x")?, j.strings("y")?);
+    let col = |c: &str| j.floats(c);
+    let (x0, x1, y0, y1) = (col("x_lo")?, col("x_hi")?, col("y_lo")?, col("y_hi")?);
+    let (dens, prod) = (col("density")?, col("product_density")?);
+    let rows: Vec<usize> = (0..j.height()).filter(|&r| xs[r] == x && ys[r] == y).collect();
+    if rows.is_empty() {
+        return None;
+    }
+    let cells = |v: &[Option<f64>]| -> Vec<[f64; 5]> {
+        rows.iter().filter_map(|&r| Some([x0[r]?, x1[r]?, y0[r]?, y1[r]?, v[r]?])).filter(|c| c[4] > 0.0).collect()
+    };
+    let it = &inp.independence;
+    let test = (0..it.height())
+        .find(|&r| it.strings("x").is_some_and(|v| v[r] == x) && it.strings("y").is_some_and(|v| v[r] == y))
+        .map(|r| {
+            let f = |c: &str| it.floats(c).and_then(|v| v[r]).unwrap_or(f64::NAN);
+            let verdict = it.strings("verdict").map_or("", |v| v[r].as_str()).to_string();
+            format!(": χ² p = {:.3}, G p = {:.3}, MI permutation p = {:.3} → {verdict}", f("chi2_p_value"), f("g_p_value"), f("mi_p_value"))
+        })
+        .unwrap_or_default();
+    // one colour scale for both panels, so that they compare cell by cell
+    let top = dens.iter().chain(prod.iter()).flatten().copied().fold(0.0, f64::max);
+    let panel = |title: &str, v| Panel {
+        title: title.into(),
+        x_label: format!("{x} [s]"),
+        y_label: format!("{y} [s]"),
+        heat: cells(v),
+        heat_max: Some(top),
+        ..Default::default()
+    };
+    Some(Figure {
+        name: name.into(),
+        title: format!("({x}, {y}){test}"),
+        rows: 1,
+        cols: 2,
+        size: (1300, 600),
+        panels: vec![panel("(a) joint density", dens), panel("(b) product of the marginals", prod)],
+    })
+}
+
+/// Fig 4: mass and belt velocity of the first sampled realization, whole window and first 2 s,
+/// with belt flips (grey), stick starts (black) and stick ends (green).
+pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
+    let csv = inp.trajectories.as_ref()?;
+    let (mut mass, mut belt, mut flips, mut starts, mut ends) = (vec![], vec![], vec![], vec![], vec![]);
+    for line in csv.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() < 6 || f[0] != "0" {
+            continue;
+        }
+        let num = |s: &str| s.parse::<f64>().ok();
+        let Some(t) = num(f[2]) else { continue };
+        match f[1] {
+            "sample" => {
+                mass.push((t, num(f[4])?));
+                belt.push((t, num(f[5])?));
+            }
+            "switch" => flips.push(t),
+            "stick_start" => starts.push(t),
+            "stick_end" => ends.push(t),
+            _ => {}
+        }
+    }
+    let t_end = mass.last()?.0;
+    // The belt as an exact step function through its flips (few, truly vertical segments).
+    let v0 = belt.first()?.1;
+    let mut step = vec![(0.0, v0)];
+    for (i, &t) in flips.iter().enumerate() {
+        let v = if i % 2 == 0 { v0 } else { -v0 };
+        step.extend([(t, v), (t, -v)]);
+    }
+    step.push((t_end, if flips.len() % 2 == 0 { v0 } else { -v0 }));
+    // belt velocity just after t (stick starts) or just before t (stick ends, which a flip may cause)
+    let after = |t: f64| step.iter().rev().find(|p| p.0 <= t).map_or(v0, |p| p.1);
+    let before = |t: f64| step.iter().rev().find(|p| p.0 < t).map_or(v0, |p| p.1);
+    let mark = |ts: &[f64], at: &dyn Fn(f64) -> f64| ts.iter().map(|&t| (t, at(t))).collect::<Vec<_>>();
+    let panel = |title: &str, until: f64| {
+        let keep = |v: &[(f64, f64)]| v.iter().copied().filter(|p| p.0 <= until).collect::<Vec<_>>();
+        // about one sample per pixel column of a 1200-pixel figure
+        let shown = keep(&mass);
+        let stride = shown.len().div_ceil(1000).max(1);
+        Panel {
+            title: title.into(),
+            x_label: "t [s]".into(),
+            y_label: "velocity [m/s]".into(),
+            lines: vec![
+                Series { label: "mass".into(), color: 0, points: shown.iter().copied().step_by(stride).collect() },
+                Series { label: "belt".into(), color: 1, points: keep(&step) },
+            ],
+            points: vec![
+                Series { label: "stick starts".into(), color: 6, points: keep(&mark(&starts, &after)) },
+                Series { label: "stick ends".into(), color: 2, points: keep(&mark(&ends, &before)) },
+            ],
+            vlines: flips.iter().copied().filter(|&t| t <= until).collect(),
+            x_range: Some((0.0, until)),
+            ..Default::default()
+        }
+    };
+    Some(Figure {
+        name: "fig04_trajectories".into(),
+        title: "A realization of the mass velocity (realization 0)".into(),
+        rows: 2,
+        cols: 1,
+        size: (1200, 900),
+        panels: vec![panel("(a) whole window", t_end), panel("(b) first 2 s", t_end.min(2.0))],
+    })
+}
+
+/// Every figure the inputs allow.
+pub fn all(inp: &Inputs) -> Vec<Figure> {
+    let mut out = vec![poisson_figure(inp)];
+    out.extend(trajectory_figure(inp));
+    out.extend(q_figure(inp));
+    out.extend(indexed_histograms(inp, "Y", "fig06_y", "the first six belt sign changes Y_1..Y_6"));
+    out.extend(growth_figure(inp));
+    out.push(counts_figure(inp));
+    out.extend(indexed_histograms(inp, "T", "fig09_t", "the first six stick starts T_1..T_6"));
+    out.extend(indexed_histograms(inp, "L", "fig10_l", "the first six slip starts L_1..L_6"));
+    out.extend(joint_figure(inp, "T_1", "T_2", "fig11_t1_t2"));
+    out.extend(indexed_histograms(inp, "D", "fig12_d", "the first six stick durations D_1..D_6"));
+    out.extend(joint_figure(inp, "D_1", "D_2", "fig13_d1_d2"));
+    out.extend(indexed_histograms(inp, "H", "fig14_h", "the first six slip durations H_1..H_6"));
+    out
+}
+
+/// Render every figure of the analysis in `adir` into `out` (replaced when complete).
+pub fn run(adir: &Path, out: &Path) -> Result<Vec<String>, FigureError> {
+    let inputs = Inputs::load(adir)?;
+    let staged = StagedDir::new(out)?;
+    let figures = all(&inputs);
+    for f in &figures {
+        render::save(f, staged.path()).map_err(|message| FigureError::Draw { name: f.name.clone(), message })?;
+    }
+    staged.commit()?;
+    Ok(figures.into_iter().map(|f| f.name).collect())
+}

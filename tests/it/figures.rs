@@ -1,0 +1,152 @@
+//! Figures and report: the data path from analysis tables, valid files, a well-formed report.
+
+use std::path::Path;
+
+use stickslip::analysis::frame::{Col, Table};
+use stickslip::figures::{self, Inputs};
+use stickslip::scenario::PAPER_TOML;
+
+use crate::common::stickslip;
+
+fn float(v: &[f64]) -> Col {
+    Col::Float(v.iter().map(|&x| Some(x)).collect())
+}
+
+fn strs(v: &[&str]) -> Col {
+    Col::Str(v.iter().map(|s| s.to_string()).collect())
+}
+
+/// A tiny analysis directory written by hand: known histograms, variances, a joint table.
+fn hand_made(dir: &Path) {
+    std::fs::create_dir_all(dir).unwrap();
+    let mut m = Table::default();
+    m.push("variable", strs(&["T", "T", "T", "S_T", "S_L"]))
+        .push("index", Col::Int(vec![Some(1), Some(2), Some(3), None, None]))
+        .push("mean", float(&[0.4, 1.0, 1.6, 16.0, 15.5]))
+        .push("variance", float(&[0.1, 0.3, 0.5, 7.0, 6.9]));
+    m.write_parquet(&dir.join("moments.parquet")).unwrap();
+    let mut h = Table::default();
+    h.push("variable", strs(&["T", "T", "Q", "Q"]))
+        .push("index", Col::Int(vec![Some(1), Some(1), None, None]))
+        .push("lo", float(&[0.0, 0.5, 49.5, 50.5]))
+        .push("hi", float(&[0.5, 1.0, 50.5, 51.5]))
+        .push("density", float(&[1.2, 0.8, 0.6, 0.4]));
+    h.write_parquet(&dir.join("histograms.parquet")).unwrap();
+    let mut j = Table::default();
+    j.push("x", strs(&["T_1", "T_1"]))
+        .push("y", strs(&["T_2", "T_2"]))
+        .push("x_lo", float(&[0.0, 0.5]))
+        .push("x_hi", float(&[0.5, 1.0]))
+        .push("y_lo", float(&[1.0, 1.0]))
+        .push("y_hi", float(&[2.0, 2.0]))
+        .push("density", float(&[1.5, 0.5]))
+        .push("product_density", float(&[1.0, 1.0]));
+    j.write_parquet(&dir.join("joint_histograms.parquet")).unwrap();
+    let mut i = Table::default();
+    i.push("x", strs(&["T_1"]))
+        .push("y", strs(&["T_2"]))
+        .push("chi2_p_value", float(&[0.01]))
+        .push("g_p_value", float(&[0.02]))
+        .push("mi_p_value", float(&[0.03]))
+        .push("verdict", strs(&["dependent"]));
+    i.write_parquet(&dir.join("independence.parquet")).unwrap();
+    let mut g = Table::default();
+    g.push("variable", strs(&["T"]))
+        .push("statistic", strs(&["variance"]))
+        .push("slope", float(&[0.2]))
+        .push("intercept", float(&[-0.1]))
+        .push("r2", float(&[1.0]));
+    g.write_parquet(&dir.join("growth.parquet")).unwrap();
+    let summary = serde_json::json!({"dataset": {"scenario": PAPER_TOML}});
+    std::fs::write(dir.join("summary.json"), summary.to_string()).unwrap();
+}
+
+#[test]
+fn figures_draw_exactly_the_analysis_tables() {
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let inp = Inputs::load(tmp.path()).unwrap();
+    let t = figures::indexed_histograms(&inp, "T", "fig09_t", "T").unwrap();
+    assert_eq!(t.panels[0].bars, [(0.0, 0.5, 1.2), (0.5, 1.0, 0.8)]);
+    assert!(t.panels[1..].iter().all(|p| p.bars.is_empty()));
+    let g = figures::growth_figure(&inp).unwrap();
+    assert_eq!(g.panels[0].points[0].points, [(1.0, 0.1), (2.0, 0.3), (3.0, 0.5)]);
+    let line = &g.panels[0].lines[0].points;
+    assert!(line.len() == 2 && (line[0].1 - 0.1).abs() < 1e-15 && (line[1].1 - 0.5).abs() < 1e-15, "{line:?}");
+    let j = figures::joint_figure(&inp, "T_1", "T_2", "fig11_t1_t2").unwrap();
+    assert_eq!(j.panels[0].heat, [[0.0, 0.5, 1.0, 2.0, 1.5], [0.5, 1.0, 1.0, 2.0, 0.5]]);
+    assert_eq!(j.panels[1].heat.len(), 2);
+    assert!(j.title.contains("0.010") && j.title.contains("dependent"), "{}", j.title);
+    let q = figures::q_figure(&inp).unwrap();
+    assert_eq!(q.panels[0].bars, [(49.5, 50.5, 0.6), (50.5, 51.5, 0.4)]);
+    // Poisson(λ t_a = 50) at 50 and 51: 50^q e^-50 / q!
+    let pmf50 = (50.0f64.ln() * 50.0 - 50.0 - (1..=50).map(|k| (k as f64).ln()).sum::<f64>()).exp();
+    assert!((q.panels[0].points[0].points[0].1 - pmf50).abs() < 1e-12);
+    // each plotted PMF spans 0..mean + 4√mean + 4: all but < 1e-4 of its mass
+    let p = figures::poisson_figure(&inp);
+    for line in &p.panels[0].lines {
+        let total: f64 = line.points.iter().map(|pt| pt.1).sum();
+        assert!(total <= 1.0 + 1e-12 && total > 1.0 - 1e-4, "{}: {total}", line.label);
+    }
+    assert!(figures::trajectory_figure(&inp).is_none() && figures::indexed_histograms(&inp, "Y", "fig06_y", "Y").is_none());
+}
+
+/// Balanced tags (void elements and self-closing tags aside); returns the first problem.
+fn check_tags(html: &str) -> Result<(), String> {
+    const VOID: [&str; 6] = ["meta", "br", "hr", "img", "link", "input"];
+    let mut stack: Vec<String> = Vec::new();
+    let mut rest = html;
+    while let Some(i) = rest.find('<') {
+        rest = &rest[i + 1..];
+        let end = rest.find('>').ok_or("unterminated tag")?;
+        let tag = &rest[..end];
+        rest = &rest[end + 1..];
+        if tag.starts_with('!') || tag.starts_with('?') || tag.ends_with('/') {
+            continue;
+        }
+        let name: String = tag.trim_start_matches('/').chars().take_while(|c| c.is_alphanumeric()).collect::<String>().to_lowercase();
+        if VOID.contains(&name.as_str()) {
+            continue;
+        }
+        if tag.starts_with('/') {
+            match stack.pop() {
+                Some(open) if open == name => {}
+                other => return Err(format!("</{name}> closes {other:?}")),
+            }
+        } else {
+            stack.push(name);
+        }
+    }
+    if stack.is_empty() { Ok(()) } else { Err(format!("unclosed {stack:?}")) }
+}
+
+#[test]
+fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
+    let tmp = tempfile::tempdir().unwrap();
+    let args = ["reproduce", "--out", "run", "--realizations", "600", "--set", "output.switch_times=true", "--set", "output.trajectories=2", "--quiet"];
+    let o = stickslip(&args, tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let figs = tmp.path().join("run/figures");
+    let names = [
+        "fig02_poisson_pmf", "fig04_trajectories", "fig05_q", "fig06_y", "fig07_variance_growth", "fig08_counts",
+        "fig09_t", "fig10_l", "fig11_t1_t2", "fig12_d", "fig13_d1_d2", "fig14_h",
+    ];
+    for name in names {
+        let png = std::fs::read(figs.join(format!("{name}.png"))).unwrap_or_else(|e| panic!("{name}.png: {e}"));
+        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 20_000, "{name}.png: {} bytes", png.len());
+        let svg = std::fs::read_to_string(figs.join(format!("{name}.svg"))).unwrap();
+        assert!(svg.contains("<svg") && svg.trim_end().ends_with("</svg>") && svg.len() > 5_000, "{name}.svg");
+        check_tags(&svg).unwrap_or_else(|e| panic!("{name}.svg: {e}"));
+    }
+    let html = std::fs::read_to_string(tmp.path().join("run/report.html")).unwrap();
+    check_tags(&html).unwrap();
+    for name in names {
+        assert!(html.contains(&format!("<figure id=\"{name}\">")), "{name} missing from the report");
+    }
+    for external in ["<img", "<link", "<script", "src=\"http", "href=\"http"] {
+        assert!(!html.contains(external), "the report loads {external}");
+    }
+    assert!(html.contains("T_1") && html.contains("16.71") && html.contains("renewal"));
+    let md = std::fs::read_to_string(tmp.path().join("run/report.md")).unwrap();
+    assert!(md.contains("| T_1 |") && md.contains("fig13_d1_d2.png"));
+}
