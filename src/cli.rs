@@ -33,7 +33,8 @@ pub enum Command {
     /// Write a self-contained HTML report (figures inlined) and its Markdown twin.
     Report(ReportArgs),
     /// The whole reproduction in one go: simulate into DIR, then DIR/analysis, DIR/figures and
-    /// DIR/report.html (+ .md). Takes the same scenario options as `simulate`.
+    /// DIR/report.html (+ .md). Takes the same scenario options as `simulate`; stores the switch
+    /// times and samples 3 trajectories (Figs 6 and 4 need them) unless --set says otherwise.
     Reproduce(SimulateArgs),
 }
 
@@ -140,8 +141,12 @@ fn report_command(args: &ReportArgs, quiet: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn reproduce_command(args: SimulateArgs) -> anyhow::Result<()> {
+/// Scenario overrides `reproduce` applies first (the user's --set come after and win).
+pub const REPRODUCE_SETS: [&str; 2] = ["output.switch_times=true", "output.trajectories=3"];
+
+fn reproduce_command(mut args: SimulateArgs) -> anyhow::Result<()> {
     let (dir, quiet) = (args.out.clone(), args.quiet);
+    args.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
     simulate_command(args)?;
     let analysis = dir.join("analysis");
     analyze_command(AnalyzeArgs {

@@ -225,7 +225,7 @@ fn summary(a: &Analysis) -> serde_json::Value {
         "policies": {
             "truncated_intervals": "The interval running at t_a is cut there and flagged; its length is censored, so it is excluded from D_k and H_k (moments.n_truncated_excluded counts them). T_k and L_k always include every realization that has a k-th event.",
             "moments": "variance unbiased (n-1); skewness m3/m2^1.5 and kurtosis m4/m2^2 (Pearson, 3 for a normal) with population moments, as MATLAB's skewness/kurtosis; mean_se = sqrt(s^2/n); variance_se = sqrt((m4 - (n-3)/(n-1) s^4)/n)",
-            "mode": "maximum of a Gaussian KDE (Silverman bandwidth 0.9 sigma n^-1/5, reflected at 0) on a 1024-bin grid; counts: most frequent value",
+            "mode": "maximum of a Gaussian KDE (Silverman bandwidth 0.9 sigma n^-1/5, reflected at 0) evaluated on the (up to 4096) bins of the one-pass sketch; counts: most frequent value",
             "bins": "equal width over the sample range; Scott's rule 3.49 sigma n^-1/3 clamped to 10..200 bins, or --bins",
             "independence": "contingency table of the joint histogram merged to <= 10x10 cells of ~equal marginal mass; Pearson chi2 and G tests; mutual information with a permutation null",
         },
