@@ -170,28 +170,48 @@ fn analyze_command(args: AnalyzeArgs) -> anyhow::Result<()> {
     }
     anyhow::ensure!(opts.bins != Some(0), "--bins must be at least 1");
     let start = std::time::Instant::now();
-    let a = analysis::analyze(&args.dataset, &opts).context("analyze")?;
-    analysis::output::write(&a, &args.out).context("analyze")?;
-    if !args.quiet {
-        println!("{}", analysis::output::table1_markdown(&a));
-        for j in &a.joints {
-            if let Some(t) = &j.test {
-                println!(
-                    "{} vs {}: chi2 = {:.1} (df {}), p = {:.3}; G p = {:.3}; MI = {:.2e} nats, permutation p = {:.3} -> {}",
-                    j.pair.0, j.pair.1, t.chi2, t.df, t.chi2_p_value, t.g_p_value, t.mutual_information, t.mi_p_value,
-                    analysis::output::verdict(t.chi2_p_value)
-                );
-            }
+    let cells = analysis::sweep::analyze_all(&args.dataset, &opts, &args.out).context("analyze")?;
+    if args.quiet {
+        return Ok(());
+    }
+    if let [(path, a)] = cells.as_slice() {
+        if path.is_empty() {
+            print_analysis(a);
         }
-        if let Some(r) = &a.renewal {
+    }
+    if cells.len() > 1 || cells.iter().any(|(p, _)| !p.is_empty()) {
+        println!("| cell | realizations | mean S_T | stick fraction | mean D | mean H | slope of Var T_k |\n|---|---|---|---|---|---|---|");
+        for (path, a) in &cells {
+            let c = analysis::sweep::summarize(path, a);
+            let f = |v: Option<f64>| v.map_or("–".into(), |x| format!("{x:.4}"));
             println!(
-                "renewal check: E[S_T] predicted {:.2}, measured {:.2}; Var[S_T] predicted {:.2}, measured {:.2}",
-                r.predicted_mean, r.measured_mean, r.predicted_variance, r.measured_variance
+                "| {path} | {} | {:.3} | {:.4} | {} | {} | {} |",
+                c.realizations, c.mean_st, c.stick_fraction, f(c.mean_d), f(c.mean_h), f(c.var_t_slope)
             );
         }
-        eprintln!("analysed {} realizations in {:.2} s -> {}", a.dataset.rows, start.elapsed().as_secs_f64(), args.out.display());
     }
+    let rows: u64 = cells.iter().map(|(_, a)| a.dataset.rows).sum();
+    eprintln!("analysed {rows} realizations in {:.2} s -> {}", start.elapsed().as_secs_f64(), args.out.display());
     Ok(())
+}
+
+fn print_analysis(a: &analysis::Analysis) {
+    println!("{}", analysis::output::table1_markdown(a));
+    for j in &a.joints {
+        if let Some(t) = &j.test {
+            println!(
+                "{} vs {}: chi2 = {:.1} (df {}), p = {:.3}; G p = {:.3}; MI = {:.2e} nats, permutation p = {:.3} -> {}",
+                j.pair.0, j.pair.1, t.chi2, t.df, t.chi2_p_value, t.g_p_value, t.mutual_information, t.mi_p_value,
+                analysis::output::verdict(t.chi2_p_value)
+            );
+        }
+    }
+    if let Some(r) = &a.renewal {
+        println!(
+            "renewal check: E[S_T] predicted {:.2}, measured {:.2}; Var[S_T] predicted {:.2}, measured {:.2}",
+            r.predicted_mean, r.measured_mean, r.predicted_variance, r.measured_variance
+        );
+    }
 }
 
 fn simulate_command(args: SimulateArgs) -> anyhow::Result<()> {
@@ -203,24 +223,46 @@ fn simulate_command(args: SimulateArgs) -> anyhow::Result<()> {
         anyhow::ensure!(s <= i64::MAX as u64, "--seed {s}: must be at most {}", i64::MAX);
         sets.push(format!("run.seed={s}"));
     }
-    let scenario = Scenario::resolve(args.scenario.as_deref(), &sets)?;
-    let opts = simulate::Options {
-        out: args.out,
-        shard: args.shard,
-        threads: args.threads,
-        progress: !args.quiet && std::io::stderr().is_terminal(),
-    };
-    let summary = simulate::run(&scenario, &opts).context("simulate")?;
-    if !args.quiet {
-        let n = summary.realizations.max(1) as f64;
-        eprintln!(
-            "wrote {} realizations to {} in {:.2} s ({:.0} realizations/s); mean S_T = {:.3}",
-            summary.realizations,
-            summary.path.display(),
-            summary.seconds,
-            summary.realizations as f64 / summary.seconds,
-            summary.total_sticks as f64 / n,
-        );
+    let cells = Scenario::resolve_sweep(args.scenario.as_deref(), &sets)?;
+    let progress = !args.quiet && std::io::stderr().is_terminal();
+    let mut written: Vec<std::path::PathBuf> = Vec::new();
+    for cell in &cells {
+        let out = if cell.path.is_empty() { args.out.clone() } else { args.out.join(&cell.path) };
+        let opts = simulate::Options { out, shard: args.shard, threads: args.threads, progress };
+        let summary = match simulate::run(&cell.scenario, &opts) {
+            Ok(s) => s,
+            Err(e) => {
+                remove_parts(&written, &args.out);
+                let cell = if cell.path.is_empty() { String::new() } else { format!(" (sweep cell {})", cell.path) };
+                return Err(anyhow::Error::new(e).context(format!("simulate{cell}")));
+            }
+        };
+        if !args.quiet {
+            let n = summary.realizations.max(1) as f64;
+            eprintln!(
+                "wrote {} realizations to {} in {:.2} s ({:.0} realizations/s); mean S_T = {:.3}",
+                summary.realizations,
+                summary.path.display(),
+                summary.seconds,
+                summary.realizations as f64 / summary.seconds,
+                summary.total_sticks as f64 / n,
+            );
+        }
+        written.push(summary.path);
     }
     Ok(())
+}
+
+/// Undo a failed sweep: remove the part files it wrote and the directories left empty below `top`.
+fn remove_parts(parts: &[std::path::PathBuf], top: &std::path::Path) {
+    for path in parts {
+        let _ = std::fs::remove_file(path);
+        let mut dir = path.parent();
+        while let Some(d) = dir.filter(|d| d.starts_with(top)) {
+            if std::fs::remove_dir(d).is_err() {
+                break;
+            }
+            dir = d.parent();
+        }
+    }
 }

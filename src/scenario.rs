@@ -42,6 +42,16 @@ pub struct Scenario {
     pub table: Table,
 }
 
+/// One cell of a parameter sweep: the swept keys' values, its hive path and its scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cell {
+    /// (dotted key, value) of each swept key, in file order
+    pub values: Vec<(String, f64)>,
+    /// `name=value/...` with the last component of each key (empty without a sweep)
+    pub path: String,
+    pub scenario: Scenario,
+}
+
 /// Everything that can be wrong with a scenario, each naming its culprit.
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
@@ -79,32 +89,106 @@ impl Scenario {
 
     /// Resolve a scenario from an optional file and `KEY=VALUE` overrides.
     pub fn resolve(file: Option<&Path>, sets: &[String]) -> Result<Scenario, ScenarioError> {
-        let text = match file {
-            Some(path) => {
-                Some(std::fs::read_to_string(path).map_err(|source| ScenarioError::Read { path: path.to_owned(), source })?)
-            }
-            None => None,
-        };
-        Scenario::from_text(text.as_deref(), file.unwrap_or(Path::new("<scenario>")), sets)
+        Scenario::from_text(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), sets)
     }
 
     /// Resolve a scenario from TOML text (`origin` names it in errors) and overrides.
     pub fn from_text(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Scenario, ScenarioError> {
-        let mut table: Table = PAPER_TOML.parse().expect("embedded scenario parses");
-        if let Some(text) = text {
-            let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax {
-                path: origin.to_owned(),
-                message: e.to_string().trim_end().to_owned(),
-            })?;
-            merge(&mut table, user, "")?;
-        }
-        for arg in sets {
-            let (key, value) = arg.split_once('=').ok_or_else(|| ScenarioError::BadSet { arg: arg.clone() })?;
-            set(&mut table, key.trim(), parse_value(value.trim()))?;
-        }
-        Scenario::from_table(table)
+        Scenario::from_table(merged(text, origin, sets)?)
     }
 
+    /// Resolve a scenario that may give lists for numeric keys (a sweep) into its cells: the
+    /// Cartesian product of the lists, in file order. Each cell's `run.seed` is derived from the
+    /// base seed and the cell's path (SplitMix64 of seed ⊕ FNV-1a(path)), so cells draw
+    /// independent streams, and re-running one cell's recorded scenario reproduces it.
+    pub fn resolve_sweep(file: Option<&Path>, sets: &[String]) -> Result<Vec<Cell>, ScenarioError> {
+        let table = merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), sets)?;
+        let defaults: Table = PAPER_TOML.parse().expect("embedded scenario parses");
+        let mut axes: Vec<(String, Vec<Value>)> = Vec::new();
+        for (section, entries) in &table {
+            let Value::Table(entries) = entries else { continue };
+            for (key, value) in entries {
+                let numeric_default = matches!(defaults[section][key], Value::Float(_) | Value::Integer(_));
+                if let (true, Value::Array(list)) = (numeric_default, value) {
+                    let dotted = format!("{section}.{key}");
+                    if list.is_empty() {
+                        return Err(invalid(&dotted, value, "a swept key needs at least one value"));
+                    }
+                    axes.push((dotted, list.clone()));
+                }
+            }
+        }
+        let base_seed = Getter(&table).count("run.seed", 0)?;
+        let mut cells = Vec::new();
+        let total: usize = axes.iter().map(|a| a.1.len()).product();
+        for n in 0..total {
+            let (mut t, mut values, mut parts, mut rest) = (table.clone(), Vec::new(), Vec::new(), n);
+            for (key, list) in axes.iter().rev() {
+                let v = &list[rest % list.len()];
+                rest /= list.len();
+                let x = Getter(&t).number(key, v)?;
+                set(&mut t, key, v.clone())?;
+                values.push((key.clone(), x));
+                parts.push(format!("{}={}", key.rsplit('.').next().unwrap_or(key), hive_value(v)));
+            }
+            values.reverse();
+            parts.reverse();
+            let path = parts.join("/");
+            if !axes.is_empty() {
+                let seed = cell_seed(base_seed, &path);
+                set(&mut t, "run.seed", Value::Integer(seed as i64))?;
+            }
+            cells.push(Cell { values, path, scenario: Scenario::from_table(t)? });
+        }
+        Ok(cells)
+    }
+}
+
+/// A hive partition value: the number as TOML writes it (5, 0.51, 1e-5).
+fn hive_value(v: &Value) -> String {
+    match v {
+        Value::Integer(i) => i.to_string(),
+        Value::Float(f) => format!("{f}"),
+        other => other.to_string(),
+    }
+}
+
+/// The seed of a sweep cell: SplitMix64(seed ⊕ FNV-1a 64(path)), kept below 2^63.
+pub fn cell_seed(seed: u64, path: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in path.bytes() {
+        h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+    }
+    let mut z = (seed ^ h).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    (z ^ (z >> 31)) >> 1
+}
+
+/// The text of an optional scenario file.
+fn read(file: Option<&Path>) -> Result<Option<String>, ScenarioError> {
+    file.map(|path| std::fs::read_to_string(path).map_err(|source| ScenarioError::Read { path: path.to_owned(), source }))
+        .transpose()
+}
+
+/// The paper scenario ← the user's text ← `--set` overrides, as a table (not yet validated).
+fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, ScenarioError> {
+    let mut table: Table = PAPER_TOML.parse().expect("embedded scenario parses");
+    if let Some(text) = text {
+        let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax {
+            path: origin.to_owned(),
+            message: e.to_string().trim_end().to_owned(),
+        })?;
+        merge(&mut table, user, "")?;
+    }
+    for arg in sets {
+        let (key, value) = arg.split_once('=').ok_or_else(|| ScenarioError::BadSet { arg: arg.clone() })?;
+        set(&mut table, key.trim(), parse_value(value.trim()))?;
+    }
+    Ok(table)
+}
+
+impl Scenario {
     /// Override one key by its dotted name (the value as TOML, or a bare string).
     pub fn with(self, key: &str, value: &str) -> Result<Scenario, ScenarioError> {
         let mut table = self.table;

@@ -14,7 +14,7 @@ use std::path::Path;
 use polars::prelude::*;
 use polars_arrow::array::PrimitiveArray;
 
-use super::series::Series;
+use super::series::{Series, Variable};
 
 /// One batch of realizations, in dataset order: the value of each requested series (`None`
 /// where a realization has no k-th event) and the columns that tell truncation.
@@ -62,11 +62,23 @@ fn to_batch(df: &DataFrame, series: &[Series]) -> PolarsResult<Batch> {
         n_slip: ints(df, "n_slip")?,
         last_truncated: df.column("last_truncated")?.bool()?.iter().map(|v| v.unwrap_or(false)).collect(),
     };
-    let mut columns: Vec<&'static str> = series.iter().map(|s| s.var.column()).collect();
+    for (i, s) in series.iter().enumerate().filter(|(_, s)| s.var == Variable::StickTime) {
+        let ca = df.column(s.var.column())?.list()?;
+        let mut sums = Vec::with_capacity(ca.len());
+        for arr in ca.downcast_iter() {
+            let offsets = arr.offsets().as_slice();
+            let values = arr.values().as_any().downcast_ref::<PrimitiveArray<f64>>().map(|a| a.values().as_slice()).unwrap_or(&[]);
+            sums.extend((0..arr.len()).map(|r| Some(values[offsets[r] as usize..offsets[r + 1] as usize].iter().sum::<f64>())));
+        }
+        batch.values[i] = sums;
+    }
+    let mut columns: Vec<&'static str> =
+        series.iter().filter(|s| s.var != Variable::StickTime).map(|s| s.var.column()).collect();
     columns.sort_unstable();
     columns.dedup();
     for name in columns {
-        let members: Vec<usize> = (0..series.len()).filter(|&i| series[i].var.column() == name).collect();
+        let members: Vec<usize> =
+            (0..series.len()).filter(|&i| series[i].var.column() == name && series[i].var != Variable::StickTime).collect();
         match series[members[0]].index {
             Some(_) => {
                 let ks: Vec<u32> = members.iter().map(|&i| series[i].index.expect("indexed")).collect();

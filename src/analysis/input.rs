@@ -37,6 +37,8 @@ pub enum InputError {
     Empty { path: PathBuf },
     #[error("{}: {reason}", path.display())]
     File { path: PathBuf, reason: String },
+    #[error("{} is a parameter sweep of {cells} cells (key=value/ directories); `analyze` analyses each cell and writes sweep.parquet", path.display())]
+    Sweep { path: PathBuf, cells: usize },
 }
 
 fn bad(path: &Path, reason: impl Into<String>) -> InputError {
@@ -110,12 +112,40 @@ fn check(path: &Path) -> Result<(u64, String, bool), InputError> {
     Ok((meta.num_rows() as u64, scenario, switch_times))
 }
 
-/// Find and check the dataset below `dir`.
+/// Find and check the dataset below `dir` (a single scenario).
 pub fn open(dir: &Path) -> Result<Dataset, InputError> {
+    let mut cells = open_cells(dir)?;
+    if cells.len() > 1 {
+        return Err(InputError::Sweep { path: dir.to_owned(), cells: cells.len() });
+    }
+    Ok(cells.remove(0).1)
+}
+
+/// Find and check the datasets below `dir`, one per directory holding part files (the cells of a
+/// sweep, `key=value/…` paths relative to `dir`; the empty path for a plain dataset).
+pub fn open_cells(dir: &Path) -> Result<Vec<(String, Dataset)>, InputError> {
     let mut files = Vec::new();
     discover(dir, &mut files)?;
+    if files.is_empty() {
+        return Err(InputError::Empty { path: dir.to_owned() });
+    }
     files.sort();
-    let first = files.first().ok_or_else(|| InputError::Empty { path: dir.to_owned() })?.clone();
+    let mut groups: std::collections::BTreeMap<PathBuf, Vec<PathBuf>> = Default::default();
+    for f in files {
+        groups.entry(f.parent().unwrap_or(dir).to_owned()).or_default().push(f);
+    }
+    groups
+        .into_iter()
+        .map(|(cell_dir, files)| {
+            let rel = cell_dir.strip_prefix(dir).unwrap_or(&cell_dir).to_string_lossy().replace('\\', "/");
+            Ok((rel, checked(&cell_dir, files)?))
+        })
+        .collect()
+}
+
+/// Check the part files of one directory as one dataset.
+fn checked(dir: &Path, files: Vec<PathBuf>) -> Result<Dataset, InputError> {
+    let first = files[0].clone();
     let (rows, toml, switch_times) = check(&first)?;
     let mut file_rows = vec![rows];
     for f in &files[1..] {

@@ -22,6 +22,7 @@ pub mod paper;
 pub mod series;
 pub mod sketch;
 pub mod special;
+pub mod sweep;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -129,6 +130,7 @@ fn series_list(opts: &Options, switch_times: bool) -> Vec<Series> {
         }
     }
     out.extend(Variable::COUNTS.map(Series::count));
+    out.push(Series::count(Variable::StickTime));
     out
 }
 
@@ -182,12 +184,16 @@ struct Accumulated {
     joints: Vec<(usize, usize, Sketch2)>,
 }
 
-/// Analyse the dataset below `dir`.
+/// Analyse the dataset below `dir` (one scenario; see [`sweep`] for parameter sweeps).
 pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
+    analyze_dataset(input::open(dir)?, opts)
+}
+
+/// Analyse one checked dataset.
+pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, AnalysisError> {
     if opts.max_index == 0 {
         return Err(AnalysisError::Options("--max-index must be at least 1".into()));
     }
-    let data = input::open(dir)?;
     if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.var == Variable::Y) && !data.switch_times) {
         return Err(AnalysisError::Options(format!(
             "--pair {},{}: the dataset has no switch_times (simulate with output.switch_times = true)",

@@ -289,9 +289,17 @@ pub fn table1_markdown(a: &Analysis) -> String {
 
 /// Write everything into `out`, replacing it only once complete.
 pub fn write(a: &Analysis, out: &Path) -> Result<(), AnalysisError> {
-    let werr = |path: &Path, e: &dyn std::fmt::Display| AnalysisError::Write { path: path.to_owned(), message: e.to_string() };
     let staged = StagedDir::new(out).map_err(|e| werr(&e.path, &e.message))?;
-    let dir = staged.path();
+    write_into(a, staged.path(), out)?;
+    staged.commit().map_err(|e| werr(&e.path, &e.message))
+}
+
+fn werr(path: &Path, e: &dyn std::fmt::Display) -> AnalysisError {
+    AnalysisError::Write { path: path.to_owned(), message: e.to_string() }
+}
+
+/// Write the files of an analysis into the existing directory `dir` (named `shown` in errors).
+pub fn write_into(a: &Analysis, dir: &Path, shown: &Path) -> Result<(), AnalysisError> {
     let tables = [
         ("moments.parquet", moments_table(a)),
         ("histograms.parquet", histogram_table(a)),
@@ -300,13 +308,13 @@ pub fn write(a: &Analysis, out: &Path) -> Result<(), AnalysisError> {
         ("growth.parquet", growth_table(a)),
     ];
     for (file, table) in tables {
-        table.write_parquet(&dir.join(file)).map_err(|e| werr(&out.join(file), &e))?;
+        table.write_parquet(&dir.join(file)).map_err(|e| werr(&shown.join(file), &e))?;
     }
     let json = serde_json::to_string_pretty(&summary(a)).expect("JSON serializes");
-    std::fs::write(dir.join("summary.json"), json + "\n").map_err(|e| werr(&out.join("summary.json"), &e))?;
-    std::fs::write(dir.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&out.join("table1.md"), &e))?;
+    std::fs::write(dir.join("summary.json"), json + "\n").map_err(|e| werr(&shown.join("summary.json"), &e))?;
+    std::fs::write(dir.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&shown.join("table1.md"), &e))?;
     if let Some(src) = &a.dataset.trajectories {
-        std::fs::copy(src, dir.join("trajectories.csv")).map_err(|e| werr(&out.join("trajectories.csv"), &e))?;
+        std::fs::copy(src, dir.join("trajectories.csv")).map_err(|e| werr(&shown.join("trajectories.csv"), &e))?;
     }
-    staged.commit().map_err(|e| werr(&e.path, &e.message))
+    Ok(())
 }

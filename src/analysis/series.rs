@@ -22,6 +22,8 @@ pub enum Variable {
     Sl,
     /// Q, number of belt switches
     Q,
+    /// total time spent stuck in [0, t_a] (Σ D_k, the truncated last stick included)
+    StickTime,
 }
 
 impl Variable {
@@ -38,6 +40,7 @@ impl Variable {
             Variable::St => "S_T",
             Variable::Sl => "S_L",
             Variable::Q => "Q",
+            Variable::StickTime => "stick_time",
         }
     }
 
@@ -52,6 +55,7 @@ impl Variable {
             Variable::St => "n_stick",
             Variable::Sl => "n_slip",
             Variable::Q => "n_switches",
+            Variable::StickTime => "stick_duration",
         }
     }
 

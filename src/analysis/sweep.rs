@@ -1,0 +1,106 @@
+//! Parameter sweeps: one full analysis per cell, and a table of per-cell summaries.
+//!
+//! A sweep dataset holds one directory per cell, `DIR/key=value/…/part-*.parquet` (hive layout).
+//! `analyze` writes each cell's analysis to `ADIR/key=value/…/` (so `ADIR/**/moments.parquet`
+//! reads as one table with the keys as hive columns) and `ADIR/sweep.parquet`, one row per cell:
+//! the swept keys, `realizations`, `mean_S_T` (± `mean_S_T_se`), `stick_fraction` (mean time
+//! stuck / t_a), `mean_D` and `mean_H` (D_1..D_K and H_1..H_K pooled: they are identically
+//! distributed), `var_T_slope` (± `var_T_slope_se`, the growth of Var T_k with k), and
+//! `mean_T_slope` (the mean cycle length).
+
+use std::path::Path;
+
+use super::accum::Moments;
+use super::frame::{Col, Table};
+use super::input::open_cells;
+use super::series::{Series, Variable};
+use super::{analyze_dataset, output, Analysis, AnalysisError, Options};
+use crate::outdir::StagedDir;
+
+/// The summary of one sweep cell.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellSummary {
+    /// (key, value) parsed from the cell path
+    pub keys: Vec<(String, f64)>,
+    pub realizations: u64,
+    pub mean_st: f64,
+    pub mean_st_se: Option<f64>,
+    pub stick_fraction: f64,
+    pub mean_d: Option<f64>,
+    pub mean_h: Option<f64>,
+    pub var_t_slope: Option<f64>,
+    pub var_t_slope_se: Option<f64>,
+    pub mean_t_slope: Option<f64>,
+}
+
+fn pooled(a: &Analysis, var: Variable) -> Option<f64> {
+    let m = a.stats.iter().filter(|s| s.series.var == var && s.series.index.is_some()).fold(Moments::default(), |acc, s| acc.merge(&s.moments));
+    (m.n > 0).then_some(m.mean)
+}
+
+/// Summarize one cell's analysis.
+pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
+    let keys = path
+        .split('/')
+        .filter_map(|part| part.split_once('='))
+        .map(|(k, v)| (k.to_string(), v.parse().unwrap_or(f64::NAN)))
+        .collect();
+    let st = a.get(Series::count(Variable::St)).map(|s| s.moments).unwrap_or_default();
+    let stick = a.get(Series::count(Variable::StickTime)).map(|s| s.moments).unwrap_or_default();
+    let line = |stat: &str| a.growth.iter().find(|g| g.var == Variable::T && g.statistic == stat).map(|g| g.line.clone());
+    CellSummary {
+        keys,
+        realizations: a.dataset.rows,
+        mean_st: st.mean,
+        mean_st_se: st.mean_se(),
+        stick_fraction: stick.mean / a.dataset.scenario.belt.duration,
+        mean_d: pooled(a, Variable::D),
+        mean_h: pooled(a, Variable::H),
+        var_t_slope: line("variance").map(|l| l.slope),
+        var_t_slope_se: line("variance").and_then(|l| l.slope_se),
+        mean_t_slope: line("mean").map(|l| l.slope),
+    }
+}
+
+/// The per-cell summaries as a table.
+pub fn table(cells: &[CellSummary]) -> Table {
+    let mut t = Table::default();
+    for (i, (key, _)) in cells.first().map(|c| c.keys.clone()).unwrap_or_default().iter().enumerate() {
+        t.push(key, Col::Float(cells.iter().map(|c| c.keys.get(i).map(|k| k.1)).collect()));
+    }
+    let f = |g: &dyn Fn(&CellSummary) -> Option<f64>| Col::Float(cells.iter().map(|c| g(c).filter(|x| x.is_finite())).collect());
+    t.push("realizations", Col::Int(cells.iter().map(|c| Some(c.realizations as i64)).collect()))
+        .push("mean_S_T", f(&|c| Some(c.mean_st)))
+        .push("mean_S_T_se", f(&|c| c.mean_st_se))
+        .push("stick_fraction", f(&|c| Some(c.stick_fraction)))
+        .push("mean_D", f(&|c| c.mean_d))
+        .push("mean_H", f(&|c| c.mean_h))
+        .push("var_T_slope", f(&|c| c.var_t_slope))
+        .push("var_T_slope_se", f(&|c| c.var_t_slope_se))
+        .push("mean_T_slope", f(&|c| c.mean_t_slope));
+    t
+}
+
+/// Analyse every cell of the dataset below `dir` into `out` (replaced when complete). A plain
+/// dataset (one cell at `dir` itself) gets the ordinary analysis; returns the analyses by cell.
+pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String, Analysis)>, AnalysisError> {
+    let cells = open_cells(dir)?;
+    let staged = StagedDir::new(out).map_err(|e| AnalysisError::Write { path: e.path, message: e.message })?;
+    let mut done = Vec::with_capacity(cells.len());
+    for (path, data) in cells {
+        let a = analyze_dataset(data, opts)?;
+        let cell_dir = staged.path().join(&path);
+        std::fs::create_dir_all(&cell_dir).map_err(|e| AnalysisError::Write { path: out.join(&path), message: e.to_string() })?;
+        output::write_into(&a, &cell_dir, &out.join(&path))?;
+        done.push((path, a));
+    }
+    if done.len() > 1 || done.first().is_some_and(|(p, _)| !p.is_empty()) {
+        let summaries: Vec<CellSummary> = done.iter().map(|(p, a)| summarize(p, a)).collect();
+        let path = out.join("sweep.parquet");
+        table(&summaries)
+            .write_parquet(&staged.path().join("sweep.parquet"))
+            .map_err(|e| AnalysisError::Write { path, message: e.to_string() })?;
+    }
+    staged.commit().map_err(|e| AnalysisError::Write { path: e.path, message: e.message })?;
+    Ok(done)
+}
