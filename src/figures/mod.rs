@@ -377,14 +377,99 @@ pub fn all(inp: &Inputs) -> Vec<Figure> {
     out
 }
 
-/// Render every figure of the analysis in `adir` into `out` (replaced when complete).
+/// The per-cell metrics of `sweep.parquet` drawn by [`sweep_figure`]: (column, panel title).
+pub const SWEEP_METRICS: [(&str, &str); 6] = [
+    ("mean_S_T", "E[S_T]"),
+    ("stick_fraction", "fraction of time in stick"),
+    ("mean_D", "E[D] [s]"),
+    ("mean_H", "E[H] [s]"),
+    ("var_T_slope", "slope of Var T_k [s²]"),
+    ("mean_T_slope", "mean cycle E[D] + E[H] [s]"),
+];
+
+/// Maps of a sweep: each metric against the first swept key, one line per value of the second.
+pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
+    let keys: Vec<&str> = sweep.columns.iter().map(|(n, _)| n.as_str()).take_while(|n| *n != "realizations").collect();
+    let x = *keys.first()?;
+    let xs = sweep.floats(x)?;
+    let groups: Vec<Option<f64>> = match keys.get(1) {
+        Some(k) => {
+            let mut v: Vec<f64> = sweep.floats(k)?.iter().flatten().copied().collect();
+            v.sort_by(f64::total_cmp);
+            v.dedup();
+            v.into_iter().map(Some).collect()
+        }
+        None => vec![None],
+    };
+    let panels = SWEEP_METRICS
+        .iter()
+        .filter_map(|&(col, title)| {
+            let ys = sweep.floats(col)?;
+            let lines: Vec<Series> = groups
+                .iter()
+                .enumerate()
+                .map(|(i, g)| {
+                    let mut points: Vec<(f64, f64)> = (0..sweep.height())
+                        .filter(|&r| g.is_none_or(|g| keys.get(1).and_then(|k| sweep.floats(k)).is_some_and(|v| v[r] == Some(g))))
+                        .filter_map(|r| Some((xs[r]?, ys[r]?)))
+                        .collect();
+                    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    let label = g.map_or(String::new(), |g| format!("{} = {g}", keys[1]));
+                    Series { label, color: i, points }
+                })
+                .collect();
+            let points = lines.iter().map(|l: &Series| Series { label: String::new(), ..l.clone() }).collect();
+            Some(Panel { title: title.into(), x_label: x.into(), y_label: title.into(), points, lines, ..Default::default() })
+        })
+        .collect::<Vec<_>>();
+    Some(Figure { name: "sweep_maps".into(), title: format!("Sweep over {}", keys.join(" × ")), rows: 2, cols: 3, size: (1400, 820), panels })
+}
+
+/// Render every figure of the analysis in `adir` into `out` (replaced when complete). For a sweep
+/// (`adir/sweep.parquet`), the sweep maps and every cell's figures under `out/key=value/…`.
 pub fn run(adir: &Path, out: &Path) -> Result<Vec<String>, FigureError> {
-    let inputs = Inputs::load(adir)?;
     let staged = StagedDir::new(out)?;
-    let figures = all(&inputs);
-    for f in &figures {
-        render::save(f, staged.path()).map_err(|message| FigureError::Draw { name: f.name.clone(), message })?;
+    let mut names = Vec::new();
+    let sweep_path = adir.join("sweep.parquet");
+    if sweep_path.is_file() {
+        let sweep = Table::read_parquet(&sweep_path).map_err(|e| FigureError::Read { path: sweep_path.clone(), message: e.to_string() })?;
+        if let Some(f) = sweep_figure(&sweep) {
+            render::save(&f, staged.path()).map_err(|message| FigureError::Draw { name: f.name.clone(), message })?;
+            names.push(f.name);
+        }
+        let mut cells = Vec::new();
+        find_cells(adir, adir, &mut cells);
+        for cell in cells {
+            let dir = staged.path().join(&cell);
+            std::fs::create_dir_all(&dir).map_err(|e| FigureError::Draw { name: cell.display().to_string(), message: e.to_string() })?;
+            names.extend(draw_all(&adir.join(&cell), &dir)?.into_iter().map(|n| format!("{}/{n}", cell.display())));
+        }
+    } else {
+        names = draw_all(adir, staged.path())?;
     }
     staged.commit()?;
+    Ok(names)
+}
+
+/// Directories below `root` that hold an analysis (a `summary.json`), relative to `root`.
+fn find_cells(root: &Path, dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let mut subdirs: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.is_dir()).collect();
+    subdirs.sort();
+    for d in subdirs {
+        if d.join("summary.json").is_file() {
+            out.push(d.strip_prefix(root).unwrap_or(&d).to_owned());
+        }
+        find_cells(root, &d, out);
+    }
+}
+
+/// Draw every figure of one analysis directory into `dir`.
+fn draw_all(adir: &Path, dir: &Path) -> Result<Vec<String>, FigureError> {
+    let inputs = Inputs::load(adir)?;
+    let figures = all(&inputs);
+    for f in &figures {
+        render::save(f, dir).map_err(|message| FigureError::Draw { name: f.name.clone(), message })?;
+    }
     Ok(figures.into_iter().map(|f| f.name).collect())
 }

@@ -10,4 +10,5 @@ mod determinism;
 mod extremes;
 mod figures;
 mod invariants;
+mod pipelines;
 mod reference;

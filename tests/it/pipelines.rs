@@ -1,0 +1,160 @@
+//! Pipelines and scale: sweeps, the make pipeline, real clients (Python polars and DuckDB).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use stickslip::analysis::frame::Table;
+
+use crate::common::stickslip;
+
+fn ok(o: &std::process::Output) {
+    assert!(o.status.success(), "{}\n{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+}
+
+/// Simulate and analyse a 3 × 2 sweep of (λ, μ) into `tmp/sweep`, `tmp/sweep-a`.
+fn sweep(tmp: &Path) -> Table {
+    let args = ["simulate", "--out", "sweep", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[1, 5, 20]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
+    ok(&stickslip(&args, tmp));
+    ok(&stickslip(&["analyze", "sweep", "--out", "sweep-a", "--quiet"], tmp));
+    Table::read_parquet(&tmp.join("sweep-a/sweep.parquet")).unwrap()
+}
+
+#[test]
+fn sweep_maps_show_the_expected_trends() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = sweep(tmp.path());
+    assert_eq!(t.height(), 6);
+    let (lam, mu) = (t.floats("switch_rate").unwrap(), t.floats("friction_coefficient").unwrap());
+    let (d, frac) = (t.floats("mean_D").unwrap(), t.floats("stick_fraction").unwrap());
+    let at = |l: f64, m: f64, v: &[Option<f64>]| (0..t.height()).find(|&r| lam[r] == Some(l) && mu[r] == Some(m)).and_then(|r| v[r]).unwrap();
+    for m in [0.3, 1.0] {
+        // more switches → shorter sticks
+        assert!(at(1.0, m, d) > at(5.0, m, d) && at(5.0, m, d) > at(20.0, m, d), "E[D] at μ = {m}");
+    }
+    for l in [1.0, 5.0, 20.0] {
+        // more friction → more time in stick
+        assert!(at(l, 1.0, frac) > at(l, 0.3, frac), "stick fraction at λ = {l}");
+    }
+    // each cell is a complete analysis, and has its own, reproducible stream
+    assert!(tmp.path().join("sweep-a/switch_rate=5/friction_coefficient=1/moments.parquet").is_file());
+    let part = |dir: &str| std::fs::read(tmp.path().join(dir).join("switch_rate=5/friction_coefficient=0.3/part-00000-of-00001.parquet")).unwrap();
+    let args = ["simulate", "--out", "again", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[5, 1, 20]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
+    ok(&stickslip(&args, tmp.path()));
+    assert!(part("sweep") == part("again"), "a cell's output must not depend on the grid's order");
+    let x0 = |cell: &str| {
+        let df = crate::dataset::read_dir(&tmp.path().join("sweep").join(cell));
+        df.column("x0").unwrap().f64().unwrap().get(0).unwrap()
+    };
+    assert_ne!(x0("switch_rate=1/friction_coefficient=0.3"), x0("switch_rate=5/friction_coefficient=0.3"));
+}
+
+#[test]
+fn make_paper_is_incremental() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenario = tmp.path().join("small.toml");
+    std::fs::write(&scenario, "[run]\nrealizations = 400\n").unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let make = |jobs: &str| {
+        let o = Command::new("make")
+            .current_dir(root)
+            .args([jobs, "-f", "pipelines/Makefile", "paper"])
+            .arg(format!("BIN={}", env!("CARGO_BIN_EXE_stickslip")))
+            .arg(format!("SCENARIO={}", scenario.display()))
+            .arg(format!("OUT={}", tmp.path().join("paper").display()))
+            .output()
+            .expect("make runs");
+        ok(&o);
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let first = make("-j2");
+    for stage in [" simulate ", " analyze ", " figures ", " report "] {
+        assert!(first.contains(stage), "first run misses{stage}: {first}");
+    }
+    assert!(tmp.path().join("paper/report.html").is_file() && tmp.path().join("paper/figures/fig04_trajectories.png").is_file());
+    let second = make("-j2");
+    assert!(second.contains("Nothing to be done"), "second run: {second}");
+    // touching the scenario re-runs everything
+    std::thread::sleep(std::time::Duration::from_millis(1100));
+    std::fs::write(&scenario, "[run]\nrealizations = 400\n").unwrap();
+    let third = make("-j1");
+    for stage in [" simulate ", " analyze ", " figures ", " report "] {
+        assert!(third.contains(stage), "after touching the scenario, no{stage}: {third}");
+    }
+}
+
+/// Run a Python script (polars and duckdb must be installed: `.ci/run` does it) and parse
+/// `name value` lines.
+fn python(script: &str) -> Vec<(String, f64)> {
+    let o = Command::new("python3").arg("-c").arg(script).output().expect("python3 runs");
+    assert!(
+        o.status.success(),
+        "python failed (are polars and duckdb installed? `pip install polars duckdb`, see .ci/run):\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .filter_map(|l| l.rsplit_once(' ').map(|(k, v)| (k.to_string(), v.parse().unwrap())))
+        .collect()
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * b.abs().max(1.0)
+}
+
+#[test]
+fn polars_and_duckdb_clients_agree_with_analyze() {
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "3000", "--quiet"], tmp.path()));
+    ok(&stickslip(&["analyze", "d", "--out", "a", "--quiet"], tmp.path()));
+    let dir: PathBuf = tmp.path().join("d");
+    let script = format!(
+        r#"
+import polars as pl, duckdb
+g = "{d}/part-*.parquet"
+df = pl.scan_parquet(g).select(pl.col("n_stick").mean().alias("st"), pl.col("stick_start").list.get(1, null_on_oob=True).var().alias("v")).collect()
+print("polars_mean_S_T", df["st"][0]); print("polars_var_T_2", df["v"][0])
+st, v = duckdb.sql(f"SELECT avg(n_stick), var_samp(stick_start[2]) FROM read_parquet('{{g}}')").fetchall()[0]
+print("duckdb_mean_S_T", st); print("duckdb_var_T_2", v)
+"#,
+        d = dir.display()
+    );
+    let got = python(&script);
+    let m = Table::read_parquet(&tmp.path().join("a/moments.parquet")).unwrap();
+    let (var, idx) = (m.strings("variable").unwrap(), m.ints("index").unwrap());
+    let row = |v: &str, i: Option<i64>| (0..m.height()).find(|&r| var[r] == v && idx[r] == i).unwrap();
+    let ours_st = m.floats("mean").unwrap()[row("S_T", None)].unwrap();
+    let ours_v = m.floats("variance").unwrap()[row("T", Some(2))].unwrap();
+    for (name, value) in &got {
+        let ours = if name.ends_with("S_T") { ours_st } else { ours_v };
+        assert!(close(*value, ours), "{name} = {value}, analyze says {ours}");
+    }
+    assert_eq!(got.len(), 4);
+}
+
+#[test]
+fn clients_read_a_hive_partitioned_sweep() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = sweep(tmp.path());
+    let script = format!(
+        r#"
+import polars as pl, duckdb
+g = "{d}/**/*.parquet"
+df = pl.scan_parquet(g, hive_partitioning=True).group_by("switch_rate", "friction_coefficient").agg(pl.col("n_stick").mean()).collect()
+for r in df.iter_rows(named=True):
+    print(f"polars {{float(r['switch_rate'])}}/{{float(r['friction_coefficient'])}}", r["n_stick"])
+rows = duckdb.sql(f"SELECT switch_rate, friction_coefficient, avg(n_stick) FROM read_parquet('{{g}}', hive_partitioning = true) GROUP BY ALL").fetchall()
+for a, b, c in rows:
+    print(f"duckdb {{float(a)}}/{{float(b)}}", c)
+"#,
+        d = tmp.path().join("sweep").display()
+    );
+    let got = python(&script);
+    assert_eq!(got.len(), 12, "{got:?}");
+    let (lam, mu, st) = (t.floats("switch_rate").unwrap(), t.floats("friction_coefficient").unwrap(), t.floats("mean_S_T").unwrap());
+    for (name, value) in &got {
+        let (l, m) = name.split_once(' ').unwrap().1.split_once('/').unwrap();
+        let (l, m): (f64, f64) = (l.parse().unwrap(), m.parse().unwrap());
+        let r = (0..t.height()).find(|&r| lam[r] == Some(l) && mu[r] == Some(m)).unwrap_or_else(|| panic!("no cell {l}/{m}"));
+        assert!(close(*value, st[r].unwrap()), "{name} = {value}, sweep.parquet says {:?}", st[r]);
+    }
+}
