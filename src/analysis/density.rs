@@ -53,8 +53,20 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
     if m.n == 0 {
         return None;
     }
+    let bw = (0.9 * m.std() * (m.n as f64).powf(-0.2)).max(fine.width());
+    // No finer than an eighth of the bandwidth: merge neighbouring bins (the estimate's own
+    // resolution is the bandwidth; this bounds the work at ~100 kernel terms per grid point).
+    let merge = ((bw / fine.width()) / 8.0).floor().max(1.0) as usize;
+    let merged;
+    let fine = if merge > 1 {
+        let counts: Vec<u64> = fine.counts.chunks(merge).map(|c| c.iter().sum()).collect();
+        let hi = fine.lo + fine.width() * (merge * counts.len()) as f64;
+        merged = Histogram { lo: fine.lo, hi, counts };
+        &merged
+    } else {
+        fine
+    };
     let w = fine.width();
-    let bw = (0.9 * m.std() * (m.n as f64).powf(-0.2)).max(w);
     let reach = (6.0 * bw / w).ceil() as usize;
     // equal-width bins: the kernel between bin centres depends only on their offset
     let kernel: Vec<f64> = (0..=reach).map(|d| (-0.5 * (d as f64 * w / bw).powi(2)).exp()).collect();
