@@ -92,6 +92,39 @@ impl Sketch {
         self.counts[j] += 1;
     }
 
+    /// The sketch of the union of both samples (parts of a dataset reduced independently): both
+    /// are re-binned to the coarser width, doubled further if the union needs more than the cap.
+    pub fn merge(&self, other: &Sketch) -> Sketch {
+        if other.counts.is_empty() {
+            return self.clone();
+        }
+        if self.counts.is_empty() {
+            return other.clone();
+        }
+        let mut exp = self.axis.exp.max(other.axis.exp);
+        let span = |s: &Sketch, e: i32| {
+            let k = (e - s.axis.exp) as f64;
+            ((s.axis.lo * (-k).exp2()).floor(), ((s.axis.lo + s.axis.len as f64 - 1.0) * (-k).exp2()).floor())
+        };
+        let (mut lo, mut hi);
+        loop {
+            let (a, b) = (span(self, exp), span(other, exp));
+            (lo, hi) = (a.0.min(b.0), a.1.max(b.1));
+            if (hi - lo) as usize + 1 <= CAP_1D {
+                break;
+            }
+            exp += 1;
+        }
+        let mut counts = vec![0u64; (hi - lo) as usize + 1];
+        for s in [self, other] {
+            let k = exp - s.axis.exp;
+            for (j, &c) in s.counts.iter().enumerate() {
+                counts[remap(&s.axis, j, k, lo)] += c;
+            }
+        }
+        Sketch { axis: Axis { exp, lo, len: counts.len() }, counts }
+    }
+
     /// The sketch's own bins as a histogram (the fine grid of the mode estimator).
     pub fn fine(&self) -> Histogram {
         let w = (self.axis.exp as f64).exp2();
@@ -222,6 +255,21 @@ mod tests {
                 assert_eq!(c, direct, "exp {exp} bin {b}");
             }
             assert_eq!(h.total(), x.len() as u64);
+        }
+    }
+
+    #[test]
+    fn merged_parts_equal_the_whole_on_every_common_grid() {
+        let mut u = lcg(3);
+        let x: Vec<f64> = (0..30_000).map(|i| if i < 20_000 { 2.0 * u() } else { 5.0 + 40.0 * u() * u() }).collect();
+        let (mut whole, mut a, mut b) = (Sketch::new(50.0), Sketch::new(50.0), Sketch::new(50.0));
+        x.iter().for_each(|&v| whole.add(v));
+        x[..20_000].iter().for_each(|&v| a.add(v));
+        x[20_000..].iter().for_each(|&v| b.add(v));
+        let merged = a.merge(&b);
+        assert!(merged.counts.len() <= CAP_1D);
+        for exp in [merged.exponent().max(whole.exponent()), -2, 0, 3] {
+            assert_eq!(merged.histogram(exp), whole.histogram(exp), "exp {exp}");
         }
     }
 

@@ -142,19 +142,23 @@ g = "{d}/**/*.parquet"
 df = pl.scan_parquet(g, hive_partitioning=True).group_by("switch_rate", "friction_coefficient").agg(pl.col("n_stick").mean()).collect()
 for r in df.iter_rows(named=True):
     print(f"polars {{float(r['switch_rate'])}}/{{float(r['friction_coefficient'])}}", r["n_stick"])
-rows = duckdb.sql(f"SELECT switch_rate, friction_coefficient, avg(n_stick) FROM read_parquet('{{g}}', hive_partitioning = true) GROUP BY ALL").fetchall()
-for a, b, c in rows:
+rows = duckdb.sql(f"SELECT switch_rate, friction_coefficient, avg(n_stick), avg(coalesce(list_sum(stick_duration), 0)) / 10 FROM read_parquet('{{g}}', hive_partitioning = true) GROUP BY ALL").fetchall()
+for a, b, c, f in rows:
     print(f"duckdb {{float(a)}}/{{float(b)}}", c)
+    print(f"fraction {{float(a)}}/{{float(b)}}", f)
 "#,
         d = tmp.path().join("sweep").display()
     );
     let got = python(&script);
-    assert_eq!(got.len(), 12, "{got:?}");
-    let (lam, mu, st) = (t.floats("switch_rate").unwrap(), t.floats("friction_coefficient").unwrap(), t.floats("mean_S_T").unwrap());
+    assert_eq!(got.len(), 18, "{got:?}");
+    let (lam, mu) = (t.floats("switch_rate").unwrap(), t.floats("friction_coefficient").unwrap());
+    let (st, frac) = (t.floats("mean_S_T").unwrap(), t.floats("stick_fraction").unwrap());
     for (name, value) in &got {
-        let (l, m) = name.split_once(' ').unwrap().1.split_once('/').unwrap();
+        let (client, cell) = name.split_once(' ').unwrap();
+        let (l, m) = cell.split_once('/').unwrap();
         let (l, m): (f64, f64) = (l.parse().unwrap(), m.parse().unwrap());
         let r = (0..t.height()).find(|&r| lam[r] == Some(l) && mu[r] == Some(m)).unwrap_or_else(|| panic!("no cell {l}/{m}"));
-        assert!(close(*value, st[r].unwrap()), "{name} = {value}, sweep.parquet says {:?}", st[r]);
+        let ours = if client == "fraction" { frac[r] } else { st[r] }.unwrap();
+        assert!(close(*value, ours), "{name} = {value}, sweep.parquet says {ours}");
     }
 }
