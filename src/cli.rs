@@ -160,7 +160,13 @@ fn reproduce_command(mut args: SimulateArgs) -> anyhow::Result<()> {
     })?;
     let figures = dir.join("figures");
     figures_command(&analysis, &figures, quiet)?;
-    report_command(&ReportArgs { dataset: dir.clone(), analysis, figures, out: dir.join("report.html") }, quiet)
+    // one report per sweep cell (a plain dataset is the single cell with the empty path)
+    for (cell, _) in analysis::input::open_cells(&dir)? {
+        let report = dir.join(&cell).join("report.html");
+        let args = ReportArgs { dataset: dir.join(&cell), analysis: analysis.join(&cell), figures: figures.join(&cell), out: report };
+        report_command(&args, quiet)?;
+    }
+    Ok(())
 }
 
 fn analyze_command(args: AnalyzeArgs) -> anyhow::Result<()> {

@@ -43,11 +43,6 @@ impl StagedDir {
         &self.staging
     }
 
-    /// The final location (for messages).
-    pub fn target(&self) -> &Path {
-        &self.target
-    }
-
     /// Move the staging directory into place.
     pub fn commit(mut self) -> Result<(), OutDirError> {
         let old = self.staging.with_file_name(format!(
