@@ -14,7 +14,7 @@ use crate::excitation::{Belt, BeltPath};
 use crate::model::Accel;
 use crate::rng::{realization_rng, unit_f64};
 use crate::scenario::Scenario;
-use crate::solver::{Drive, Exact, SolveError, Solver};
+use crate::solver::{AnySolver, Drive, SolveError, Solver};
 use crate::trajectory::{Sampler, Tee};
 
 /// A realization that could not be solved.
@@ -51,7 +51,7 @@ pub struct Ensemble {
     seed: u64,
     store_switch_times: bool,
     accel: Accel,
-    solver: Exact,
+    solver: AnySolver,
 }
 
 impl Ensemble {
@@ -63,7 +63,7 @@ impl Ensemble {
             seed: scenario.seed,
             store_switch_times: scenario.store_switch_times,
             accel: scenario.model.per_unit_mass(),
-            solver: Exact::new(&scenario.model),
+            solver: AnySolver::new(&scenario.solver, &scenario.model, scenario.numerics),
         }
     }
 

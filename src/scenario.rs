@@ -21,7 +21,19 @@ pub const PAPER_TOML: &str = include_str!("../pipelines/paper.toml");
 pub const MAX_EXPECTED_SWITCHES: f64 = 1e7;
 
 /// The solvers `run.solver` may name.
-pub const SOLVERS: &[&str] = &["exact"];
+pub const SOLVERS: &[&str] = &["exact", "rk45", "rk4", "moreau", "smooth"];
+
+/// Settings of the numerical solvers (see `pipelines/paper.toml`, table `[numerics]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Numerics {
+    pub rtol: f64,
+    pub atol: f64,
+    pub max_step: f64,
+    pub step: f64,
+    pub epsilon: f64,
+    pub stick_velocity: f64,
+    pub step_budget: u64,
+}
 
 /// A fully resolved and validated scenario.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,6 +46,8 @@ pub struct Scenario {
     pub realizations: u64,
     pub seed: u64,
     pub solver: String,
+    /// Settings of the numerical solvers (`[numerics]`).
+    pub numerics: Numerics,
     pub store_switch_times: bool,
     /// Realizations 0..N sampled for trajectories (0: none), every `trajectory_step` seconds.
     pub trajectories: u64,
@@ -228,6 +242,15 @@ impl Scenario {
             realizations: g.count("run.realizations", 1)?,
             seed: g.count("run.seed", 0)?,
             solver,
+            numerics: Numerics {
+                rtol: g.f64("numerics.rtol", |x| x > 0.0, "must be > 0")?,
+                atol: g.f64("numerics.atol", |x| x > 0.0, "must be > 0")?,
+                max_step: g.f64("numerics.max_step", |x| x > 0.0, "must be > 0 (s)")?,
+                step: g.f64("numerics.step", |x| x > 0.0, "must be > 0 (s)")?,
+                epsilon: g.f64("numerics.epsilon", |x| x > 0.0, "must be > 0 (m/s)")?,
+                stick_velocity: g.f64("numerics.stick_velocity", |x| x > 0.0, "must be > 0 (m/s)")?,
+                step_budget: g.count("numerics.step_budget", 1)?,
+            },
             store_switch_times: match g.get("output.switch_times") {
                 Value::Boolean(b) => *b,
                 other => return Err(invalid("output.switch_times", other, "must be true or false")),
