@@ -36,6 +36,27 @@ pub enum Command {
     /// DIR/report.html (+ .md). Takes the same scenario options as `simulate`; stores the switch
     /// times and samples 3 trajectories (Figs 6 and 4 need them) unless --set says otherwise.
     Reproduce(SimulateArgs),
+    /// Measure the speed/accuracy trade: the same realizations through every solver over a ladder
+    /// of tolerances and steps, against `exact`; writes DIR/tradeoff.parquet and a work-precision plot.
+    Tradeoff(TradeoffArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct TradeoffArgs {
+    /// Scenario file (TOML); keys it omits keep the paper values.
+    pub scenario: Option<PathBuf>,
+    /// Output directory (replaced atomically when complete).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Override a scenario key by its dotted name (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+    /// Realizations per setting (all settings run the same ones, on one thread).
+    #[arg(long, value_name = "N", default_value_t = 100)]
+    pub realizations: u64,
+    /// No table on stdout.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -121,6 +142,7 @@ pub fn main() -> anyhow::Result<()> {
         Command::Figures(args) => figures_command(&args.analysis, &args.out, false),
         Command::Report(args) => report_command(&args, false),
         Command::Reproduce(args) => reproduce_command(args),
+        Command::Tradeoff(args) => tradeoff_command(args),
     }
 }
 
@@ -137,6 +159,22 @@ fn report_command(args: &ReportArgs, quiet: bool) -> anyhow::Result<()> {
     let [html, md] = crate::report::run(&args.dataset, &args.analysis, &args.figures, &args.out).context("report")?;
     if !quiet {
         eprintln!("wrote {} and {}", html.display(), md.display());
+    }
+    Ok(())
+}
+
+fn tradeoff_command(args: TradeoffArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(args.realizations > 0, "--realizations must be at least 1");
+    let scenario = Scenario::resolve(args.scenario.as_deref(), &args.sets)?;
+    let rows = crate::tradeoff::run(&scenario, args.realizations, &args.out).context("tradeoff")?;
+    if !args.quiet {
+        println!("| solver | setting | CPU s/realization | RMS error [s] | max error [s] | missed | spurious | bias E[S_T] | bias E[H] |\n|---|---|---|---|---|---|---|---|---|");
+        for r in &rows {
+            println!(
+                "| {} | {} | {:.2e} | {:.1e} | {:.1e} | {} | {} | {:+.3} | {:+.4} |",
+                r.solver, r.setting, r.seconds_per_realization, r.error_rms, r.error_max, r.missed_sticks, r.spurious_sticks, r.bias_st, r.bias_h
+            );
+        }
     }
     Ok(())
 }

@@ -21,4 +21,5 @@ pub mod rng;
 pub mod scenario;
 pub mod simulate;
 pub mod solver;
+pub mod tradeoff;
 pub mod trajectory;

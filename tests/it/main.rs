@@ -12,3 +12,4 @@ mod figures;
 mod invariants;
 mod pipelines;
 mod reference;
+mod solvers;

@@ -1,0 +1,245 @@
+//! The `tradeoff` stage: the same realizations through every solver over a ladder of settings,
+//! measured against `exact`.
+//!
+//! Every setting runs realizations 0..N of the scenario (same belt switches, same initial
+//! conditions: the random draws do not depend on the solver) on one thread, timed. Stick and
+//! slip starts are matched to the exact solver's in time order (two pointers, window
+//! [`MATCH_WINDOW`]): unmatched exact sticks are *missed*, unmatched numerical ones *spurious*;
+//! matched ones give the event-time error. Biases are differences of sample means against exact on
+//! the same realizations. Output: `DIR/tradeoff.parquet`, one row per (solver, setting), and the
+//! work-precision plot `DIR/work_precision.{png,svg}` (log10 RMS event-time error against log10 CPU
+//! time per realization).
+
+use std::path::Path;
+use std::time::Instant;
+
+use crate::analysis::frame::{Col, Table};
+use crate::ensemble::{Ensemble, Outcome, RunError};
+use crate::events::Record;
+use crate::figures::{render, Figure, Panel, Series};
+use crate::outdir::StagedDir;
+use crate::scenario::{Scenario, ScenarioError};
+
+/// Largest time difference [s] at which a numerical event is matched to an exact one.
+pub const MATCH_WINDOW: f64 = 0.05;
+
+/// The ladder: (solver, setting label, parameter value, overrides).
+pub fn ladder(duration: f64) -> Vec<(&'static str, String, f64, Vec<(String, String)>)> {
+    let mut out = vec![("exact", "exact".to_string(), 0.0, vec![])];
+    let no_max = format!("{duration:e}");
+    for tol in [1e-3, 1e-6, 1e-9] {
+        let t = format!("{tol:e}");
+        out.push(("rk45", format!("rtol=atol={t}"), tol, vec![("numerics.rtol".into(), t.clone()), ("numerics.atol".into(), t), ("numerics.max_step".into(), no_max.clone())]));
+    }
+    out.push((
+        "rk45",
+        "paper ode45: rtol=atol=1e-9, max_step=1e-4".into(),
+        1e-9,
+        vec![("numerics.rtol".into(), "1e-9".into()), ("numerics.atol".into(), "1e-9".into()), ("numerics.max_step".into(), "1e-4".into())],
+    ));
+    for solver in ["rk4", "moreau"] {
+        for h in [1e-2, 1e-3, 1e-4] {
+            out.push((solver, format!("step={h:e}"), h, vec![("numerics.step".into(), format!("{h:e}"))]));
+        }
+    }
+    for eps in [1e-2, 1e-3, 1e-4] {
+        let e = format!("{eps:e}");
+        out.push((
+            "smooth",
+            format!("epsilon=stick_velocity={e}, rtol=1e-6"),
+            eps,
+            vec![
+                ("numerics.epsilon".into(), e.clone()),
+                ("numerics.stick_velocity".into(), e),
+                ("numerics.rtol".into(), "1e-6".into()),
+                ("numerics.atol".into(), "1e-6".into()),
+                ("numerics.max_step".into(), no_max.clone()),
+            ],
+        ));
+    }
+    out
+}
+
+/// Matching of one realization's event times against exact: (errors, missed, spurious).
+pub fn match_events(exact: &[f64], other: &[f64]) -> (Vec<f64>, u64, u64) {
+    let (mut i, mut j) = (0, 0);
+    let (mut errors, mut missed, mut spurious) = (Vec::new(), 0, 0);
+    while i < exact.len() && j < other.len() {
+        let d = other[j] - exact[i];
+        if d.abs() <= MATCH_WINDOW {
+            errors.push(d);
+            i += 1;
+            j += 1;
+        } else if d < 0.0 {
+            spurious += 1;
+            j += 1;
+        } else {
+            missed += 1;
+            i += 1;
+        }
+    }
+    (errors, missed + (exact.len() - i) as u64, spurious + (other.len() - j) as u64)
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum TradeoffError {
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    #[error("{solver} ({setting}): {source}")]
+    Run { solver: String, setting: String, source: RunError },
+    #[error("writing {}: {message}", path.display())]
+    Write { path: std::path::PathBuf, message: String },
+}
+
+/// One measured setting.
+#[derive(Debug, Clone)]
+pub struct Row {
+    pub solver: &'static str,
+    pub setting: String,
+    pub parameter: f64,
+    pub seconds_per_realization: f64,
+    pub error_max: f64,
+    pub error_rms: f64,
+    pub matched: u64,
+    pub missed_sticks: u64,
+    pub spurious_sticks: u64,
+    pub bias_t: f64,
+    pub bias_d: f64,
+    pub bias_h: f64,
+    pub bias_st: f64,
+}
+
+fn run_all(sc: &Scenario, n: u64) -> Result<(Vec<Record>, f64), RunError> {
+    let ens = Ensemble::new(sc);
+    let mut out = Outcome::default();
+    let start = Instant::now();
+    let mut records = Vec::with_capacity(n as usize);
+    for i in 0..n {
+        ens.realization(i, &mut out)?;
+        records.push(out.record.clone());
+    }
+    Ok((records, start.elapsed().as_secs_f64() / n.max(1) as f64))
+}
+
+/// Mean of the k-th elements (k < 6) of the lists picked by `f`, pooled.
+fn pooled(rs: &[Record], f: impl Fn(&Record) -> &Vec<f64>) -> f64 {
+    let v: Vec<f64> = rs.iter().flat_map(|r| f(r).iter().take(6).copied()).collect();
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+fn mean_tk(rs: &[Record], k: usize) -> f64 {
+    let v: Vec<f64> = rs.iter().filter_map(|r| r.stick_start.get(k).copied()).collect();
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+/// Measure every setting of the ladder on realizations 0..n of `base`.
+pub fn measure(base: &Scenario, n: u64) -> Result<Vec<Row>, TradeoffError> {
+    let mut rows = Vec::new();
+    let mut reference: Option<Vec<Record>> = None;
+    for (solver, setting, parameter, sets) in ladder(base.belt.duration) {
+        let mut sc = base.clone().with("run.solver", solver)?;
+        for (k, v) in &sets {
+            sc = sc.with(k, v)?;
+        }
+        let (records, secs) = run_all(&sc, n).map_err(|source| TradeoffError::Run { solver: solver.into(), setting: setting.clone(), source })?;
+        let exact = reference.get_or_insert_with(|| records.clone());
+        let (mut errors, mut missed, mut spurious) = (Vec::new(), 0, 0);
+        for (e, r) in exact.iter().zip(&records) {
+            let (err, m, s) = match_events(&e.stick_start, &r.stick_start);
+            errors.extend(err);
+            (missed, spurious) = (missed + m, spurious + s);
+            errors.extend(match_events(&e.slip_start, &r.slip_start).0);
+        }
+        let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len().max(1) as f64).sqrt();
+        let count = |rs: &[Record]| rs.iter().map(|r| r.stick_start.len()).sum::<usize>() as f64 / rs.len().max(1) as f64;
+        rows.push(Row {
+            solver,
+            setting,
+            parameter,
+            seconds_per_realization: secs,
+            error_max: errors.iter().fold(0.0, |m, e| m.max(e.abs())),
+            error_rms: rms,
+            matched: errors.len() as u64,
+            missed_sticks: missed,
+            spurious_sticks: spurious,
+            bias_t: (0..6).map(|k| (mean_tk(&records, k) - mean_tk(exact, k)).abs()).fold(0.0, f64::max),
+            bias_d: pooled(&records, |r| &r.stick_duration) - pooled(exact, |r| &r.stick_duration),
+            bias_h: pooled(&records, |r| &r.slip_duration) - pooled(exact, |r| &r.slip_duration),
+            bias_st: count(&records) - count(exact),
+        });
+    }
+    Ok(rows)
+}
+
+/// The rows as a table.
+pub fn table(rows: &[Row], n: u64) -> Table {
+    let f = |g: &dyn Fn(&Row) -> f64| Col::Float(rows.iter().map(|r| Some(g(r)).filter(|x| x.is_finite())).collect());
+    let i = |g: &dyn Fn(&Row) -> u64| Col::Int(rows.iter().map(|r| Some(g(r) as i64)).collect());
+    let mut t = Table::default();
+    t.push("solver", Col::Str(rows.iter().map(|r| r.solver.to_string()).collect()))
+        .push("setting", Col::Str(rows.iter().map(|r| r.setting.clone()).collect()))
+        .push("parameter", f(&|r| r.parameter))
+        .push("realizations", i(&|_| n))
+        .push("cpu_seconds_per_realization", f(&|r| r.seconds_per_realization))
+        .push("event_time_error_max", f(&|r| r.error_max))
+        .push("event_time_error_rms", f(&|r| r.error_rms))
+        .push("matched_events", i(&|r| r.matched))
+        .push("missed_sticks", i(&|r| r.missed_sticks))
+        .push("spurious_sticks", i(&|r| r.spurious_sticks))
+        .push("bias_mean_T_k_max", f(&|r| r.bias_t))
+        .push("bias_mean_D", f(&|r| r.bias_d))
+        .push("bias_mean_H", f(&|r| r.bias_h))
+        .push("bias_mean_S_T", f(&|r| r.bias_st));
+    t
+}
+
+/// The work-precision figure.
+pub fn figure(rows: &[Row]) -> Figure {
+    let lines = ["rk45", "rk4", "moreau", "smooth"]
+        .iter()
+        .enumerate()
+        .map(|(c, solver)| Series {
+            label: solver.to_string(),
+            color: c,
+            points: rows
+                .iter()
+                .filter(|r| r.solver == *solver && r.error_rms > 0.0 && !r.setting.starts_with("paper"))
+                .map(|r| (r.seconds_per_realization.log10(), r.error_rms.log10()))
+                .collect(),
+        })
+        .collect::<Vec<Series>>();
+    let mut points: Vec<Series> = lines.iter().map(|l| Series { label: String::new(), ..l.clone() }).collect();
+    points.extend(rows.iter().filter(|r| r.setting.starts_with("paper")).map(|r| Series {
+        label: "rk45 at the paper's ode45 settings".into(),
+        color: 6,
+        points: vec![(r.seconds_per_realization.log10(), r.error_rms.max(1e-16).log10())],
+    }));
+    let exact = rows.iter().find(|r| r.solver == "exact").map(|r| r.seconds_per_realization.log10());
+    Figure {
+        name: "work_precision".into(),
+        title: "Work-precision: event-time error against cost, same realizations".into(),
+        rows: 1,
+        cols: 1,
+        size: (1000, 650),
+        panels: vec![Panel {
+            title: exact.map_or(String::new(), |e| format!("exact solver: 10^{e:.1} s per realization, error 0")),
+            x_label: "log10 CPU seconds per realization".into(),
+            y_label: "log10 RMS event-time error [s]".into(),
+            lines,
+            points,
+            vlines: exact.into_iter().collect(),
+            ..Default::default()
+        }],
+    }
+}
+
+/// Run the stage into `out` (replaced when complete).
+pub fn run(base: &Scenario, n: u64, out: &Path) -> Result<Vec<Row>, TradeoffError> {
+    let rows = measure(base, n)?;
+    let werr = |path: &Path, e: &dyn std::fmt::Display| TradeoffError::Write { path: path.to_owned(), message: e.to_string() };
+    let staged = StagedDir::new(out).map_err(|e| werr(&e.path, &e.message))?;
+    table(&rows, n).write_parquet(&staged.path().join("tradeoff.parquet")).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
+    render::save(&figure(&rows), staged.path()).map_err(|e| werr(&out.join("work_precision.png"), &e))?;
+    staged.commit().map_err(|e| werr(&e.path, &e.message))?;
+    Ok(rows)
+}

@@ -1,0 +1,137 @@
+//! The numerical solvers against the exact one: convergence, extremes, the trade-off table.
+
+use stickslip::ensemble::{Ensemble, Outcome};
+use stickslip::events::Record;
+use stickslip::tradeoff::{self, match_events};
+
+use crate::common::{scenario, stickslip};
+
+fn records(sets: &[&str], n: u64) -> Vec<Record> {
+    let ens = Ensemble::new(&scenario(sets));
+    let mut out = Outcome::default();
+    (0..n)
+        .map(|i| {
+            ens.realization(i, &mut out).expect("solves");
+            out.record.clone()
+        })
+        .collect()
+}
+
+/// |event-time errors| of stick and slip starts against exact, and (missed, spurious) sticks.
+fn errors(sets: &[&str], n: u64) -> (Vec<f64>, u64, u64) {
+    let exact = records(&[], n);
+    let other = records(sets, n);
+    let (mut all, mut missed, mut spurious) = (Vec::new(), 0, 0);
+    for (e, o) in exact.iter().zip(&other) {
+        let (err, m, s) = match_events(&e.stick_start, &o.stick_start);
+        all.extend(err.iter().map(|x| x.abs()));
+        all.extend(match_events(&e.slip_start, &o.slip_start).0.iter().map(|x| x.abs()));
+        (missed, spurious) = (missed + m, spurious + s);
+    }
+    all.sort_by(f64::total_cmp);
+    (all, missed, spurious)
+}
+
+fn rms(v: &[f64]) -> f64 {
+    (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt()
+}
+
+fn median(v: &[f64]) -> f64 {
+    v[v.len() / 2]
+}
+
+#[test]
+fn rk45_converges_as_its_tolerance_shrinks() {
+    let run = |tol: &str| errors(&["run.solver=rk45", &format!("numerics.rtol={tol}"), &format!("numerics.atol={tol}"), "numerics.max_step=10"], 20);
+    let (e3, e6, e9) = (run("1e-3"), run("1e-6"), run("1e-9"));
+    assert!(rms(&e3.0) > rms(&e6.0) && rms(&e6.0) > rms(&e9.0), "{} {} {}", rms(&e3.0), rms(&e6.0), rms(&e9.0));
+    assert!(e9.0.last().unwrap() < &1e-6 && e9.1 == 0 && e9.2 == 0);
+}
+
+#[test]
+fn rk4_event_times_converge_at_fourth_order() {
+    // on smooth stretches (between belt flips) the located event times inherit RK4's O(h^4)
+    let run = |h: &str| errors(&["run.solver=rk4", &format!("numerics.step={h}")], 20);
+    let (coarse, fine) = (run("0.1"), run("0.05"));
+    // at these coarse steps a near-graze may be missed; the matched events carry the order
+    assert!(coarse.1 + coarse.2 + fine.1 + fine.2 <= 2, "{:?}", (coarse.1, coarse.2, fine.1, fine.2));
+    let ratio = median(&coarse.0) / median(&fine.0);
+    assert!((8.0..=32.0).contains(&ratio), "median error ratio for h/2: {ratio}");
+}
+
+#[test]
+fn moreau_event_times_converge_at_first_order() {
+    let run = |h: &str| errors(&["run.solver=moreau", &format!("numerics.step={h}")], 20);
+    let (coarse, fine) = (run("1e-2"), run("1e-3"));
+    let ratio = median(&coarse.0) / median(&fine.0);
+    assert!((4.0..=25.0).contains(&ratio), "median error ratio for h/10: {ratio}");
+}
+
+#[test]
+fn smooth_law_approaches_exact_sticks_as_epsilon_shrinks() {
+    // the classification threshold shrinks with the regularization (as in the trade-off ladder)
+    let run = |e: &str| errors(&["run.solver=smooth", &format!("numerics.epsilon={e}"), &format!("numerics.stick_velocity={e}"), "numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10"], 10);
+    let (wide, narrow) = (run("1e-2"), run("1e-3"));
+    assert!(median(&narrow.0) < median(&wide.0), "{} vs {}", median(&narrow.0), median(&wide.0));
+}
+
+#[test]
+fn numerical_solvers_finish_or_refuse_at_the_extremes() {
+    let fast = ["numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=1e-2", "numerics.step=1e-3", "numerics.step_budget=3000000"];
+    let extremes: &[&[&str]] = &[
+        &["model.stiffness=0"],
+        &["model.friction_coefficient=0"],
+        &["model.friction_coefficient=1e6"],
+        &["belt.switch_rate=0"],
+        &["belt.switch_rate=1e3"],
+        &["belt.speed=1e-6"],
+        &["belt.speed=1e3"],
+        &["model.mass=1e3"],
+    ];
+    for solver in ["rk45", "rk4", "moreau", "smooth"] {
+        for ext in extremes {
+            let mut sets: Vec<String> = ext.iter().map(|s| s.to_string()).collect();
+            sets.extend(fast.iter().map(|s| s.to_string()));
+            sets.push(format!("run.solver={solver}"));
+            let refs: Vec<&str> = sets.iter().map(String::as_str).collect();
+            let sc = scenario(&refs);
+            let ens = Ensemble::new(&sc);
+            for i in 0..2 {
+                let mut o = Outcome::default();
+                match ens.realization(i, &mut o) {
+                    Ok(()) => {
+                        let r = &o.record;
+                        let all = r.stick_start.iter().chain(&r.stick_duration).chain(&r.slip_start).chain(&r.slip_duration);
+                        assert!(all.clone().all(|x| x.is_finite() && *x >= 0.0), "{solver} {ext:?}: non-finite or negative");
+                        assert!(r.stick_start.len() == r.slip_start.len() || r.stick_start.len() == r.slip_start.len() + 1);
+                    }
+                    Err(e) => assert!(e.to_string().contains("step_budget"), "{solver} {ext:?}: {e}"),
+                }
+            }
+        }
+    }
+    // a solver over its step budget stops with an error naming the realization
+    let tmp = tempfile::tempdir().unwrap();
+    let o = stickslip(&["simulate", "--out", "o", "--realizations", "3", "--set", "run.solver=rk4", "--set", "numerics.step_budget=100"], tmp.path());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("realization 0") && err.contains("step_budget"), "{err}");
+    assert!(!tmp.path().join("o").exists());
+}
+
+#[test]
+fn tradeoff_writes_one_row_per_setting() {
+    let tmp = tempfile::tempdir().unwrap();
+    let rows = tradeoff::run(&scenario(&["run.duration=2"]), 3, &tmp.path().join("t")).unwrap();
+    let t = stickslip::analysis::frame::Table::read_parquet(&tmp.path().join("t/tradeoff.parquet")).unwrap();
+    assert_eq!(t.height(), tradeoff::ladder(2.0).len());
+    assert_eq!(rows.len(), t.height());
+    for col in ["cpu_seconds_per_realization", "event_time_error_max", "event_time_error_rms", "bias_mean_S_T", "bias_mean_D", "bias_mean_H", "bias_mean_T_k_max"] {
+        assert!(t.floats(col).unwrap().iter().all(Option::is_some), "{col}");
+    }
+    for col in ["missed_sticks", "spurious_sticks", "matched_events"] {
+        assert!(t.ints(col).is_some(), "{col}");
+    }
+    let exact = &rows[0];
+    assert_eq!((exact.solver, exact.error_max, exact.missed_sticks, exact.spurious_sticks), ("exact", 0.0, 0, 0));
+    assert!(tmp.path().join("t/work_precision.png").is_file() && tmp.path().join("t/work_precision.svg").is_file());
+}
