@@ -284,6 +284,32 @@ impl Scenario {
                 ),
             });
         }
+        // Numerical solvers: refuse settings that cannot work, before any realization runs.
+        let num = &self.numerics;
+        let fixed = matches!(self.solver.as_str(), "rk4" | "moreau");
+        if self.solver == "rk4" && a.omega * num.step > 1.0 {
+            return Err(ScenarioError::Invalid {
+                key: "numerics.step".into(),
+                value: num.step.to_string(),
+                reason: format!(
+                    "too coarse for rk4 with ω = √(k/m) = {:e} rad/s: ω·step = {:e} must be at most 1 (RK4 loses accuracy, and is unstable past 2.8)",
+                    a.omega,
+                    a.omega * num.step
+                ),
+            });
+        }
+        let least_steps = self.belt.duration / if fixed { num.step } else { num.max_step };
+        if self.solver != "exact" && self.solver != "smooth" && least_steps > num.step_budget as f64 {
+            let key = if fixed { "numerics.step" } else { "numerics.max_step" };
+            return Err(ScenarioError::Invalid {
+                key: key.into(),
+                value: (if fixed { num.step } else { num.max_step }).to_string(),
+                reason: format!(
+                    "run.duration needs at least {least_steps:e} steps, over numerics.step_budget = {}",
+                    num.step_budget
+                ),
+            });
+        }
         let expected = self.belt.switch_rate * self.belt.duration;
         if !(expected <= MAX_EXPECTED_SWITCHES) {
             return Err(ScenarioError::Invalid {

@@ -87,14 +87,23 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
         &["belt.speed=1e-6"],
         &["belt.speed=1e3"],
         &["model.mass=1e3"],
+        &["model.mass=1e-6"],
+        &["model.stiffness=1e5"],
+        &["belt.switch_rate=1e4", "run.duration=1"],
     ];
     for solver in ["rk45", "rk4", "moreau", "smooth"] {
         for ext in extremes {
             let mut sets: Vec<String> = ext.iter().map(|s| s.to_string()).collect();
             sets.extend(fast.iter().map(|s| s.to_string()));
             sets.push(format!("run.solver={solver}"));
-            let refs: Vec<&str> = sets.iter().map(String::as_str).collect();
-            let sc = scenario(&refs);
+            let sc = match stickslip::scenario::Scenario::resolve(None, &sets) {
+                Ok(sc) => sc,
+                Err(e) => {
+                    // refused at the door, naming the setting
+                    assert!(e.to_string().contains("numerics."), "{solver} {ext:?}: {e}");
+                    continue;
+                }
+            };
             let ens = Ensemble::new(&sc);
             for i in 0..2 {
                 let mut o = Outcome::default();
@@ -110,9 +119,24 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
             }
         }
     }
-    // a solver over its step budget stops with an error naming the realization
+    // settings that cannot work are refused before any realization runs
     let tmp = tempfile::tempdir().unwrap();
-    let o = stickslip(&["simulate", "--out", "o", "--realizations", "3", "--set", "run.solver=rk4", "--set", "numerics.step_budget=100"], tmp.path());
+    for (sets, culprit) in [
+        (&["run.solver=rk4", "model.stiffness=1e10"][..], "numerics.step"),
+        (&["run.solver=rk4", "run.duration=1e6", "numerics.step=1e-3"][..], "numerics.step_budget"),
+        (&["run.solver=rk45", "run.duration=1e6"][..], "numerics.max_step"),
+        (&["run.solver=moreau", "run.duration=1e6"][..], "numerics.step_budget"),
+    ] {
+        let mut args = vec!["simulate", "--out", "o", "--realizations", "3"];
+        for s in sets {
+            args.extend(["--set", s]);
+        }
+        let o = stickslip(&args, tmp.path());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(culprit), "{sets:?}: {err}");
+    }
+    // a solver over its step budget stops with an error naming the realization
+    let o = stickslip(&["simulate", "--out", "o", "--realizations", "3", "--set", "run.solver=rk4", "--set", "numerics.step_budget=30", "--set", "numerics.step=0.5"], tmp.path());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("realization 0") && err.contains("step_budget"), "{err}");
     assert!(!tmp.path().join("o").exists());
