@@ -69,10 +69,12 @@ impl Solver for Smooth {
             if k < drive.switches.len() {
                 v = -v;
                 let now = (v - y[1]).abs() < num.stick_velocity;
-                if stuck && !now {
-                    obs.slip(t, y[0], y[1]);
+                match (stuck, now) {
+                    (true, false) => obs.slip(t, y[0], y[1]),
+                    (false, true) => obs.stick(t, y[0]),
+                    _ => {}
                 }
-                stuck = now && stuck;
+                stuck = now;
             }
         }
         Ok(())
