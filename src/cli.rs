@@ -41,16 +41,23 @@ pub enum Command {
     Tradeoff(TradeoffArgs),
 }
 
+/// Where a scenario comes from: a file and `--set` overrides.
+#[derive(Debug, clap::Args)]
+pub struct ScenarioArgs {
+    /// Scenario file (TOML); keys it omits keep the paper values. See pipelines/paper.toml.
+    pub scenario: Option<PathBuf>,
+    /// Override a scenario key by its dotted name, e.g. --set belt.switch_rate=1.0 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+}
+
 #[derive(Debug, clap::Args)]
 pub struct TradeoffArgs {
-    /// Scenario file (TOML); keys it omits keep the paper values.
-    pub scenario: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: ScenarioArgs,
     /// Output directory (replaced atomically when complete).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Override a scenario key by its dotted name (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub sets: Vec<String>,
     /// Realizations per setting (all settings run the same ones, on one thread).
     #[arg(long, value_name = "N", default_value_t = 100)]
     pub realizations: u64,
@@ -89,7 +96,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "ADIR")]
     pub out: PathBuf,
     /// Largest event index k analysed for T_k, L_k, D_k, H_k.
-    #[arg(long, value_name = "K", default_value_t = 6)]
+    #[arg(long, value_name = "K", default_value_t = analysis::DEFAULT_MAX_INDEX)]
     pub max_index: u32,
     /// Fixed number of histogram bins (default: Scott's rule, 10..200 bins).
     #[arg(long, value_name = "N")]
@@ -99,7 +106,7 @@ pub struct AnalyzeArgs {
     #[arg(long = "pair", value_name = "A,B")]
     pub pairs: Vec<crate::analysis::series::Pair>,
     /// Permutations of the mutual-information null distribution.
-    #[arg(long, value_name = "P", default_value_t = 199)]
+    #[arg(long, value_name = "P", default_value_t = analysis::DEFAULT_PERMUTATIONS)]
     pub permutations: u32,
     /// Do not print the Table 1 comparison.
     #[arg(long)]
@@ -108,14 +115,11 @@ pub struct AnalyzeArgs {
 
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
-    /// Scenario file (TOML); keys it omits keep the paper values. See pipelines/paper.toml.
-    pub scenario: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: ScenarioArgs,
     /// Output dataset directory (created if needed); the part file is replaced atomically.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Override a scenario key by its dotted name, e.g. --set belt.switch_rate=1.0 (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub sets: Vec<String>,
     /// Number of realizations (overrides run.realizations).
     #[arg(long, value_name = "N")]
     pub realizations: Option<u64>,
@@ -165,7 +169,7 @@ fn report_command(args: &ReportArgs, quiet: bool) -> anyhow::Result<()> {
 
 fn tradeoff_command(args: TradeoffArgs) -> anyhow::Result<()> {
     anyhow::ensure!(args.realizations > 0, "--realizations must be at least 1");
-    let scenario = Scenario::resolve(args.scenario.as_deref(), &args.sets)?;
+    let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     let rows = crate::tradeoff::run(&scenario, args.realizations, &args.out).context("tradeoff")?;
     if !args.quiet {
         println!("| solver | setting | CPU s/realization | RMS error [s] | max error [s] | missed | spurious | bias E[S_T] | bias E[H] |\n|---|---|---|---|---|---|---|---|---|");
@@ -184,22 +188,14 @@ pub const REPRODUCE_SETS: [&str; 2] = ["output.switch_times=true", "output.traje
 
 fn reproduce_command(mut args: SimulateArgs) -> anyhow::Result<()> {
     let (dir, quiet) = (args.out.clone(), args.quiet);
-    args.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
+    args.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
     simulate_command(args)?;
     let analysis = dir.join("analysis");
-    analyze_command(AnalyzeArgs {
-        dataset: dir.clone(),
-        out: analysis.clone(),
-        max_index: 6,
-        bins: None,
-        pairs: Vec::new(),
-        permutations: 199,
-        quiet,
-    })?;
+    let cells = analyze_and_print(&dir, &analysis, &analysis::Options::default(), quiet)?;
     let figures = dir.join("figures");
     figures_command(&analysis, &figures, quiet)?;
     // one report per sweep cell (a plain dataset is the single cell with the empty path)
-    for (cell, _) in analysis::input::open_cells(&dir)? {
+    for cell in cells {
         let report = dir.join(&cell).join("report.html");
         let args = ReportArgs { dataset: dir.join(&cell), analysis: analysis.join(&cell), figures: figures.join(&cell), out: report };
         report_command(&args, quiet)?;
@@ -213,10 +209,17 @@ fn analyze_command(args: AnalyzeArgs) -> anyhow::Result<()> {
         opts.pairs = args.pairs;
     }
     anyhow::ensure!(opts.bins != Some(0), "--bins must be at least 1");
+    analyze_and_print(&args.dataset, &args.out, &opts, args.quiet).map(drop)
+}
+
+/// Analyse every cell below `dataset` into `out`, print the results unless `quiet`; returns the
+/// cell paths (the empty path for a plain dataset).
+fn analyze_and_print(dataset: &std::path::Path, out: &std::path::Path, opts: &analysis::Options, quiet: bool) -> anyhow::Result<Vec<String>> {
     let start = std::time::Instant::now();
-    let cells = analysis::sweep::analyze_all(&args.dataset, &opts, &args.out).context("analyze")?;
-    if args.quiet {
-        return Ok(());
+    let cells = analysis::sweep::analyze_all(dataset, opts, out).context("analyze")?;
+    let paths = cells.iter().map(|(p, _)| p.clone()).collect();
+    if quiet {
+        return Ok(paths);
     }
     if let [(path, a)] = cells.as_slice() {
         if path.is_empty() {
@@ -235,8 +238,8 @@ fn analyze_command(args: AnalyzeArgs) -> anyhow::Result<()> {
         }
     }
     let rows: u64 = cells.iter().map(|(_, a)| a.dataset.rows).sum();
-    eprintln!("analysed {rows} realizations in {:.2} s -> {}", start.elapsed().as_secs_f64(), args.out.display());
-    Ok(())
+    eprintln!("analysed {rows} realizations in {:.2} s -> {}", start.elapsed().as_secs_f64(), out.display());
+    Ok(paths)
 }
 
 fn print_analysis(a: &analysis::Analysis) {
@@ -259,7 +262,7 @@ fn print_analysis(a: &analysis::Analysis) {
 }
 
 fn simulate_command(args: SimulateArgs) -> anyhow::Result<()> {
-    let mut sets = args.sets;
+    let mut sets = args.input.sets;
     if let Some(n) = args.realizations {
         sets.push(format!("run.realizations={n}"));
     }
@@ -267,7 +270,7 @@ fn simulate_command(args: SimulateArgs) -> anyhow::Result<()> {
         anyhow::ensure!(s <= i64::MAX as u64, "--seed {s}: must be at most {}", i64::MAX);
         sets.push(format!("run.seed={s}"));
     }
-    let cells = Scenario::resolve_sweep(args.scenario.as_deref(), &sets)?;
+    let cells = Scenario::resolve_sweep(args.input.scenario.as_deref(), &sets)?;
     let progress = !args.quiet && std::io::stderr().is_terminal();
     let mut written: Vec<std::path::PathBuf> = Vec::new();
     for cell in &cells {

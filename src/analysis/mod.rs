@@ -48,10 +48,20 @@ pub struct Options {
     pub permutations: u32,
 }
 
+/// Default largest event index analysed (the paper's Table 1 goes to 6).
+pub const DEFAULT_MAX_INDEX: u32 = 6;
+/// Default number of permutations of the mutual-information null.
+pub const DEFAULT_PERMUTATIONS: u32 = 199;
+
 impl Default for Options {
     fn default() -> Self {
         let pair = |a: &str, b: &str| Pair(a.parse().unwrap(), b.parse().unwrap());
-        Options { max_index: 6, bins: None, pairs: vec![pair("T1", "T2"), pair("D1", "D2")], permutations: 199 }
+        Options {
+            max_index: DEFAULT_MAX_INDEX,
+            bins: None,
+            pairs: vec![pair("T1", "T2"), pair("D1", "D2")],
+            permutations: DEFAULT_PERMUTATIONS,
+        }
     }
 }
 
