@@ -95,6 +95,18 @@ pub struct Accel {
 const SERIES_BELOW: f64 = 1e-4;
 
 impl Accel {
+    /// Breakaway position for belt direction `s` = ±1: where the spring force reaches the
+    /// friction limit along the belt, `s ω² x = a_f` (±∞ without a spring).
+    pub fn breakaway_position(&self, s: f64) -> f64 {
+        s * self.friction / self.omega2
+    }
+
+    /// Time a stick at `x₀` under belt velocity `s·v0` lasts until breakaway:
+    /// `(a_f − s ω² x₀)/(ω² v0)` (∞ without a spring).
+    pub fn stick_duration(&self, x0: f64, s: f64, speed: f64) -> f64 {
+        (self.friction - s * self.omega2 * x0) / (self.omega2 * speed)
+    }
+
     /// `(S(τ), C(τ), cos ωτ)` for a slip lasting τ (see the module docs).
     pub fn slip_basis(&self, tau: f64) -> (f64, f64, f64) {
         let theta = self.omega * tau;

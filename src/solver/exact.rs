@@ -61,10 +61,10 @@ impl Exact {
             let sigma = s * p.signum();
             Phase::Slip { t0: t, x0: x, xdot0: v, a0: sigma * a.friction - a.omega2 * x }
         } else if p >= a.friction * (1.0 - TOUCH_TOLERANCE) {
-            Phase::Slip { t0: t, x0: s * a.friction / a.omega2, xdot0: v, a0: 0.0 }
+            Phase::Slip { t0: t, x0: a.breakaway_position(s), xdot0: v, a0: 0.0 }
         } else {
             // Within [−a_f(1+tol), a_f): clamp the lower edge so that |k x| ≤ f_max holds exactly.
-            let x = if p < -a.friction { -s * a.friction / a.omega2 } else { x };
+            let x = if p < -a.friction { a.breakaway_position(-s) } else { x };
             obs.stick(t, x);
             Phase::Stick { t0: t, x0: x }
         }
@@ -115,10 +115,10 @@ impl Solver for Exact {
             let t_stop = flip.unwrap_or(t_end).min(t_end);
             match phase {
                 Phase::Stick { t0, x0 } => {
-                    let t_b = t0 + (a.friction - s * a.omega2 * x0) / (a.omega2 * drive.speed);
+                    let t_b = t0 + a.stick_duration(x0, s, drive.speed);
                     if t_b < t_stop {
                         emit(obs, &phase, t_b, v);
-                        let x_b = s * a.friction / a.omega2;
+                        let x_b = a.breakaway_position(s);
                         obs.slip(t_b, x_b, v);
                         phase = Phase::Slip { t0: t_b, x0: x_b, xdot0: v, a0: 0.0 };
                         continue;

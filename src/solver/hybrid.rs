@@ -75,9 +75,9 @@ impl Solver for Hybrid {
             while t < seg_end {
                 match mode {
                     Mode::Stick { t0, x0 } => {
-                        let t_b = t0 + (a.friction - s * a.omega2 * x0) / (a.omega2 * drive.speed);
+                        let t_b = t0 + a.stick_duration(x0, s, drive.speed);
                         if t_b < seg_end {
-                            (t, y) = (t_b, [s * a.friction / a.omega2, v]);
+                            (t, y) = (t_b, [a.breakaway_position(s), v]);
                             obs.slip(t, y[0], v);
                             mode = Mode::Slip { sigma: s };
                         } else {
