@@ -55,6 +55,12 @@ impl Cell {
         }
     }
 
+    /// `ours ± se [paper] mark`, as both renderings show a mean, variance or mode cell.
+    fn shown(&self, digits: usize) -> String {
+        let paper = self.paper.map_or(String::new(), |p| format!(" [{p}]"));
+        format!("{}{paper} {}", self.text(digits), self.mark())
+    }
+
     fn mark(&self) -> String {
         match (self.consistent(), self.ours, self.paper) {
             (Some(true), _, _) => "✓".into(),
@@ -70,6 +76,14 @@ pub struct Row {
     pub label: String,
     pub n: i64,
     pub cells: [Cell; 5],
+}
+
+impl Row {
+    /// `skewness [paper] / kurtosis [paper]`.
+    fn shape(&self) -> String {
+        let paper = |c: &Cell| c.paper.map_or("–".into(), |p| p.to_string());
+        format!("{} [{}] / {} [{}]", self.cells[3].text(2), paper(&self.cells[3]), self.cells[4].text(2), paper(&self.cells[4]))
+    }
 }
 
 /// Table 1 from the analysis' `moments.parquet`.
@@ -222,17 +236,9 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
                 Some(false) => " class=\"off\"",
                 None => "",
             };
-            let paper = x.paper.map_or(String::new(), |p| format!(" [{p}]"));
-            format!("<td{class}>{}{paper} {}</td>", x.text(digits), x.mark())
+            format!("<td{class}>{}</td>", x.shown(digits))
         };
-        let shape = format!(
-            "<td>{} [{}] / {} [{}]</td>",
-            r.cells[3].text(2),
-            r.cells[3].paper.map_or("–".into(), |p| p.to_string()),
-            r.cells[4].text(2),
-            r.cells[4].paper.map_or("–".into(), |p| p.to_string())
-        );
-        let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}{shape}</tr>", r.label, r.n, cell(0, 3), cell(1, 3), cell(2, 3));
+        let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}<td>{}</td></tr>", r.label, r.n, cell(0, 3), cell(1, 3), cell(2, 3), r.shape());
     }
     h += "</table>\n<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
     for g in &c.growth {
@@ -263,23 +269,7 @@ fn markdown(c: &Content, figdir: &Path) -> String {
     }
     let _ = write!(m, "\n```toml\n{}```\n\n## Table 1: ours beside the paper's\n\nOurs ± se [paper]; ✓ within 3 se + the paper's rounding, ✗ beyond.\n\n| {} |\n|{}\n", c.scenario, TABLE1_HEAD.join(" | "), "---|".repeat(TABLE1_HEAD.len()));
     for r in &c.table1 {
-        let cell = |i: usize| {
-            let x = &r.cells[i];
-            format!("{}{} {}", x.text(3), x.paper.map_or(String::new(), |p| format!(" [{p}]")), x.mark())
-        };
-        let _ = writeln!(
-            m,
-            "| {} | {} | {} | {} | {} | {} [{}] / {} [{}] |",
-            r.label,
-            r.n,
-            cell(0),
-            cell(1),
-            cell(2),
-            r.cells[3].text(2),
-            r.cells[3].paper.map_or("–".into(), |p| p.to_string()),
-            r.cells[4].text(2),
-            r.cells[4].paper.map_or("–".into(), |p| p.to_string())
-        );
+        let _ = writeln!(m, "| {} | {} | {} | {} | {} | {} |", r.label, r.n, r.cells[0].shown(3), r.cells[1].shown(3), r.cells[2].shown(3), r.shape());
     }
     m += "\n## Growth and renewal check\n\n| fit | slope | slope se | intercept | R² |\n|---|---|---|---|---|\n";
     for g in &c.growth {
