@@ -55,18 +55,13 @@ impl Exact {
     /// The mass is at belt velocity `v = s v0` at time `t` and position `x`: stick, touch or
     /// reverse (see the module docs).
     fn at_belt_speed<O: Observer>(&self, t: f64, x: f64, v: f64, s: f64, obs: &mut O) -> Phase {
-        let a = &self.a;
-        let p = s * a.omega2 * x;
-        if p > a.friction * (1.0 + TOUCH_TOLERANCE) || p < -a.friction * (1.0 + TOUCH_TOLERANCE) {
-            let sigma = s * p.signum();
-            Phase::Slip { t0: t, x0: x, xdot0: v, a0: sigma * a.friction - a.omega2 * x }
-        } else if p >= a.friction * (1.0 - TOUCH_TOLERANCE) {
-            Phase::Slip { t0: t, x0: a.breakaway_position(s), xdot0: v, a0: 0.0 }
-        } else {
-            // Within [−a_f(1+tol), a_f): clamp the lower edge so that |k x| ≤ f_max holds exactly.
-            let x = if p < -a.friction { a.breakaway_position(-s) } else { x };
-            obs.stick(t, x);
-            Phase::Stick { t0: t, x0: x }
+        match arrival(&self.a, x, s) {
+            Arrival::Reverse { sigma } => Phase::Slip { t0: t, x0: x, xdot0: v, a0: sigma * self.a.friction - self.a.omega2 * x },
+            Arrival::Touch => Phase::Slip { t0: t, x0: self.a.breakaway_position(s), xdot0: v, a0: 0.0 },
+            Arrival::Stick { x } => {
+                obs.stick(t, x);
+                Phase::Stick { t0: t, x0: x }
+            }
         }
     }
 
@@ -151,6 +146,33 @@ impl Solver for Exact {
             }
         }
         Ok(())
+    }
+}
+
+/// What a slip that reaches belt velocity `s v0` at position `x` does next (the module docs'
+/// rule, shared with the numerical solvers), from `p = s ω² x`, the spring force per unit mass
+/// signed along the belt.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Arrival {
+    /// `−a_f ≤ p < a_f`: the static friction holds the spring; the stick starts at `x` (clamped
+    /// onto `|k x| ≤ f_max` within the touch band)
+    Stick { x: f64 },
+    /// `p ≈ a_f` (relative [`TOUCH_TOLERANCE`]): a touch at the breakaway point; the slip goes on
+    /// along the grazing orbit from `x_b`, which never crosses belt speed
+    Touch,
+    /// `|p| > a_f`: the mass passes through belt speed; the friction becomes `σ = s sgn p`
+    Reverse { sigma: f64 },
+}
+
+pub(crate) fn arrival(a: &Accel, x: f64, s: f64) -> Arrival {
+    let p = s * a.omega2 * x;
+    if p > a.friction * (1.0 + TOUCH_TOLERANCE) || p < -a.friction * (1.0 + TOUCH_TOLERANCE) {
+        Arrival::Reverse { sigma: s * p.signum() }
+    } else if p >= a.friction * (1.0 - TOUCH_TOLERANCE) {
+        Arrival::Touch
+    } else {
+        // Within [−a_f(1+tol), a_f): clamp the lower edge so that |k x| ≤ f_max holds exactly.
+        Arrival::Stick { x: if p < -a.friction { a.breakaway_position(-s) } else { x } }
     }
 }
 

@@ -1,15 +1,27 @@
 //! `rk45` and `rk4`: the slip integrated numerically, transitions located as events.
 //!
 //! The mode logic is the exact solver's (see [`super::exact`]): a slip ends where the relative
-//! velocity `g = σ(v − ẋ)` falls from positive to zero — located on the step's dense output by
-//! bisection — and there the mass sticks if `|k x| ≤ f_max`, else the friction reverses. The stick
-//! itself (`x = x₀ + v τ`) and its breakaway at `s k x = f_max` are linear, which any Runge–Kutta
-//! method integrates exactly, so they are evaluated directly; belt flips are integration stops, as
-//! in a piecewise ode45 run. What this solver cannot see exactly — and the trade-off measures — is
-//! where the numerical velocity crosses belt speed: a graze or a near-miss may be taken for a
-//! crossing, and crossings are located only as well as the step's error allows.
+//! velocity `g = σ(v − ẋ)` falls from positive to zero, and there the mass sticks, touches or
+//! reverses by the same rule ([`arrival`]). The stick itself (`x = x₀ + v τ`) and its breakaway
+//! at `s k x = f_max` are linear, which any Runge–Kutta method integrates exactly, so they are
+//! evaluated directly; belt flips are integration stops, as in a piecewise ode45 run.
+//!
+//! Where the numerical velocity reaches belt speed is located on each step's dense output
+//! ([`Step::first_zero`]) from three signs, so that a whole excursion inside one long step is not
+//! stepped over:
+//! - `g` positive at the start and ≤ 0 at the end: bisection;
+//! - `g` zero at the start (the step begins at a reversal) and ≤ 0 at the end: it rose and fell
+//!   back, so the root after the interior maximum (a reversal followed within the step by a stick);
+//! - `g` positive at both ends while `g′ = −σ ẍ` goes from − to +: the interior minimum, and the
+//!   root before it if the minimum is ≤ 0 (a near-graze crossing and recrossing within one step).
+//! The orbit that leaves a breakaway at belt speed with zero acceleration only touches belt speed
+//! (exactly, in the exact solver); it is marked `grazing` and no crossing is looked for on it until
+//! the next flip, so round-off at a touch is never taken for a stick. What this solver cannot see
+//! exactly — and the trade-off measures — is the crossing time itself, located only as well as the
+//! step's error allows.
 
 use super::rk::{rk4, Dopri, State, Step};
+use super::exact::{arrival, Arrival};
 use super::{Drive, SolveError, Solver};
 use crate::events::Observer;
 use crate::model::{Accel, Model};
@@ -33,7 +45,10 @@ pub struct Hybrid {
 
 enum Mode {
     Stick { t0: f64, x0: f64 },
-    Slip { sigma: f64 },
+    /// Slipping with the friction `σ f_max`; `grazing`: on the orbit that leaves a breakaway (or a
+    /// touch) at belt speed with zero acceleration, which only touches belt speed until the next
+    /// flip — no crossing is looked for, as in the exact solver.
+    Slip { sigma: f64, grazing: bool },
 }
 
 impl Hybrid {
@@ -41,14 +56,16 @@ impl Hybrid {
         Hybrid { a: model.per_unit_mass(), method, num }
     }
 
-    /// At belt velocity `v = s v0` with position `x`: stick, or slip on with the friction `σ`.
-    fn classify<O: Observer>(&self, t: f64, x: f64, s: f64, obs: &mut O) -> Mode {
-        let p = s * self.a.omega2 * x;
-        if p >= -self.a.friction && p < self.a.friction {
-            obs.stick(t, x);
-            Mode::Stick { t0: t, x0: x }
-        } else {
-            Mode::Slip { sigma: if p == 0.0 { s } else { s * p.signum() } }
+    /// The mass reaches belt velocity `v = s v0` at time `t` at position `x`: stick, touch or
+    /// reverse (the exact solver's rule, [`arrival`]); the mode and the state to go on from.
+    fn classify<O: Observer>(&self, t: f64, x: f64, s: f64, v: f64, obs: &mut O) -> (Mode, State) {
+        match arrival(&self.a, x, s) {
+            Arrival::Stick { x } => {
+                obs.stick(t, x);
+                (Mode::Stick { t0: t, x0: x }, [x, v])
+            }
+            Arrival::Touch => (Mode::Slip { sigma: s, grazing: true }, [self.a.breakaway_position(s), v]),
+            Arrival::Reverse { sigma } => (Mode::Slip { sigma, grazing: false }, [x, v]),
         }
     }
 }
@@ -63,9 +80,11 @@ impl Solver for Hybrid {
         let mut dopri = Dopri::new(num.rtol, num.atol, num.max_step);
         let mut steps = 0u64;
         let mut mode = if xdot0 == v {
-            self.classify(0.0, x0, s, obs)
+            let mode;
+            (mode, y) = self.classify(0.0, x0, s, v, obs);
+            mode
         } else {
-            Mode::Slip { sigma: (v - xdot0).signum() }
+            Mode::Slip { sigma: (v - xdot0).signum(), grazing: false }
         };
         if let Mode::Slip { .. } = mode {
             obs.slip(0.0, x0, xdot0);
@@ -79,12 +98,12 @@ impl Solver for Hybrid {
                         if t_b < seg_end {
                             (t, y) = (t_b, [a.breakaway_position(s), v]);
                             obs.slip(t, y[0], v);
-                            mode = Mode::Slip { sigma: s };
+                            mode = Mode::Slip { sigma: s, grazing: true };
                         } else {
                             (t, y) = (seg_end, [x0 + v * (seg_end - t0), v]);
                         }
                     }
-                    Mode::Slip { sigma } => {
+                    Mode::Slip { sigma, grazing } => {
                         let acc = |y: State| sigma * a.friction - a.omega2 * y[0];
                         let step: Step = match self.method {
                             Method::Rk45 => dopri.step(&acc, t, y, seg_end - t, &mut steps),
@@ -96,13 +115,13 @@ impl Solver for Hybrid {
                         if steps > num.step_budget {
                             return Err(SolveError::StepBudget { limit: num.step_budget, t });
                         }
+                        // g = σ(v − ẋ) > 0 in this slip, g′ = −σ ẍ: a velocity extremum inside the
+                        // step (g′ from − to +) may hide a crossing and its return (a near-graze)
                         let g = |y: State| sigma * (v - y[1]);
-                        if g(step.y0) > 0.0 && g(step.y1) <= 0.0 {
-                            let theta = step.root(g);
-                            let at = step.at(theta);
+                        let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
+                        if let Some(theta) = step.first_zero(g, dips).filter(|_| !grazing) {
                             t = if theta >= 1.0 { step.t0 + step.h } else { step.t0 + theta * step.h };
-                            y = [at[0], v];
-                            mode = self.classify(t, y[0], s, obs);
+                            (mode, y) = self.classify(t, step.at(theta)[0], s, v, obs);
                         } else {
                             t = if step.h >= seg_end - step.t0 { seg_end } else { step.t0 + step.h };
                             y = step.y1;
@@ -115,7 +134,11 @@ impl Solver for Hybrid {
                     obs.slip(t, y[0], v);
                 }
                 (s, v) = (-s, -v);
-                mode = if y[1] == v { self.classify(t, y[0], s, obs) } else { Mode::Slip { sigma: (v - y[1]).signum() } };
+                if y[1] == v {
+                    (mode, y) = self.classify(t, y[0], s, v, obs);
+                } else {
+                    mode = Mode::Slip { sigma: (v - y[1]).signum(), grazing: false };
+                }
             }
         }
         Ok(())

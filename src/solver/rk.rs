@@ -21,8 +21,21 @@
 //! ```
 //!
 //! **RK4**: the classical fourth-order method at a fixed step.
-//! **Dense output**: the cubic Hermite interpolant of (y, y') at both ends of a step (error
-//! O(h⁴)); events are located on it by bisection to 1e-15 of the step.
+//!
+//! **Dense output** (Hairer–Nørsett–Wanner §II.6, the `CONTD5` of their DOPRI5 code, the
+//! interpolant of MATLAB's ode45): with `Δ = y₁ − y₀`, `b = h f₀ − Δ`, `c = Δ − h f₁ − b`,
+//!
+//! ```text
+//!     y(θ) = y₀ + θ (Δ + (1−θ) (b + θ (c + (1−θ) d))),    θ ∈ [0, 1]
+//!     d = h (d₁ k₁ + d₃ k₃ + d₄ k₄ + d₅ k₅ + d₆ k₆ + d₇ k₇)      (Dormand–Prince; error O(h⁵))
+//!     d₁ = −12715105075/11282082432   d₃ = 87487479700/32700410799   d₄ = −10690763975/1880347072
+//!     d₅ = 701980252875/199316789632  d₆ = −1453857185/822651844     d₇ = 69997945/29380423
+//! ```
+//!
+//! With `d = 0` this is the cubic Hermite interpolant of (y, y′) at both ends (error O(h⁴)),
+//! RK4's dense output. Events are located on it by bisection to 1e-15 of the step; a zero that
+//! the end values cannot show (the function dips below zero and comes back inside one step) is
+//! found from the minimum of the interpolant when the caller knows the derivative changes sign.
 
 /// State (x, ẋ).
 pub type State = [f64; 2];
@@ -36,22 +49,55 @@ pub struct Step {
     pub f0: State,
     pub y1: State,
     pub f1: State,
+    /// the fifth-order correction `d` of the dense output (zero: cubic Hermite)
+    pub d: State,
 }
 
 impl Step {
-    /// The cubic Hermite interpolant at fraction θ ∈ [0, 1] of the step.
+    /// The dense output at fraction θ ∈ [0, 1] of the step.
     pub fn at(&self, theta: f64) -> State {
-        let (t, h) = (theta, self.h);
-        let h00 = (1.0 + 2.0 * t) * (1.0 - t) * (1.0 - t);
-        let h10 = t * (1.0 - t) * (1.0 - t);
-        let h01 = t * t * (3.0 - 2.0 * t);
-        let h11 = t * t * (t - 1.0);
-        std::array::from_fn(|i| h00 * self.y0[i] + h10 * h * self.f0[i] + h01 * self.y1[i] + h11 * h * self.f1[i])
+        let (t, u, h) = (theta, 1.0 - theta, self.h);
+        std::array::from_fn(|i| {
+            let delta = self.y1[i] - self.y0[i];
+            let b = h * self.f0[i] - delta;
+            let c = delta - h * self.f1[i] - b;
+            self.y0[i] + t * (delta + u * (b + t * (c + u * self.d[i])))
+        })
     }
 
-    /// The first θ ∈ (0, 1] where `g` changes from positive to ≤ 0, given `g(y0) > 0 ≥ g(y1)`.
-    pub fn root(&self, g: impl Fn(State) -> f64) -> f64 {
-        let (mut lo, mut hi) = (0.0, 1.0);
+    /// The first θ ∈ (0, 1] where `g` along the dense output falls to ≤ 0 after being positive.
+    ///
+    /// `g(y₀) > 0`, or `g(y₀) = 0` with g rising (a step that starts at an event). Found: a sign
+    /// change at the end of the step (after the interior maximum when g starts at zero: it rose
+    /// and fell back), or, when `dips` (the caller knows g′ goes from negative to positive inside
+    /// the step, so g has one interior minimum), a dip below zero between two positive ends.
+    /// `None` while g stays positive (or never rises above zero in this step).
+    pub fn first_zero(&self, g: impl Fn(State) -> f64, dips: bool) -> Option<f64> {
+        let (g0, g1) = (g(self.y0), g(self.y1));
+        if g1 <= 0.0 {
+            let lo = if g0 > 0.0 {
+                0.0
+            } else {
+                let m = self.argmin(&|y| -g(y));
+                if g(self.at(m)) <= 0.0 {
+                    return None;
+                }
+                m
+            };
+            return Some(self.root(&g, lo, 1.0));
+        }
+        if dips && g0 > 0.0 {
+            let m = self.argmin(&g);
+            if g(self.at(m)) <= 0.0 {
+                return Some(self.root(&g, 0.0, m));
+            }
+        }
+        None
+    }
+
+    /// The first θ ∈ (lo, hi] where `g` changes from positive to ≤ 0, given `g(at(lo)) > 0 ≥ g(at(hi))`.
+    fn root(&self, g: &impl Fn(State) -> f64, lo: f64, hi: f64) -> f64 {
+        let (mut lo, mut hi) = (lo, hi);
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
             if g(self.at(mid)) > 0.0 {
@@ -61,6 +107,26 @@ impl Step {
             }
         }
         hi
+    }
+
+    /// The minimum of a unimodal `g` along the dense output, by golden-section search to 1e-9.
+    fn argmin(&self, g: &impl Fn(State) -> f64) -> f64 {
+        const INV_PHI: f64 = 0.618_033_988_749_894_8;
+        let (mut a, mut b) = (0.0, 1.0);
+        let (mut c, mut d) = (b - INV_PHI * (b - a), a + INV_PHI * (b - a));
+        let (mut gc, mut gd) = (g(self.at(c)), g(self.at(d)));
+        while b - a > 1e-9 {
+            if gc < gd {
+                (b, d, gd) = (d, c, gc);
+                c = b - INV_PHI * (b - a);
+                gc = g(self.at(c));
+            } else {
+                (a, c, gc) = (c, d, gd);
+                d = a + INV_PHI * (b - a);
+                gd = g(self.at(d));
+            }
+        }
+        0.5 * (a + b)
     }
 }
 
@@ -79,7 +145,7 @@ pub fn rk4(a: &impl Fn(State) -> f64, t0: f64, y0: State, h: f64) -> Step {
     let k3 = deriv(a, axpy(y0, 0.5 * h, &[(1.0, k2)]));
     let k4 = deriv(a, axpy(y0, h, &[(1.0, k3)]));
     let y1 = axpy(y0, h / 6.0, &[(1.0, k1), (2.0, k2), (2.0, k3), (1.0, k4)]);
-    Step { t0, h, y0, f0: k1, y1, f1: deriv(a, y1) }
+    Step { t0, h, y0, f0: k1, y1, f1: deriv(a, y1), d: [0.0, 0.0] }
 }
 
 /// The adaptive Dormand–Prince integrator's state between steps.
@@ -128,7 +194,19 @@ impl Dopri {
                 if h >= self.h.min(self.max_step) * 0.999 || factor < 1.0 {
                     self.h = (h * factor).min(self.max_step);
                 }
-                return Step { t0, h, y0, f0: k1, y1, f1: k7 };
+                let d = axpy(
+                    [0.0, 0.0],
+                    h,
+                    &[
+                        (-12715105075.0 / 11282082432.0, k1),
+                        (87487479700.0 / 32700410799.0, k3),
+                        (-10690763975.0 / 1880347072.0, k4),
+                        (701980252875.0 / 199316789632.0, k5),
+                        (-1453857185.0 / 822651844.0, k6),
+                        (69997945.0 / 29380423.0, k7),
+                    ],
+                );
+                return Step { t0, h, y0, f0: k1, y1, f1: k7, d };
             }
             self.h = h * factor;
         }
@@ -163,7 +241,51 @@ mod tests {
         assert!((y[0] - 2f64.cos()).abs() < 1e-8, "{}", y[0] - 2f64.cos());
         // dense output and root: cos t = 0 at π/2
         let s = rk4(&a, 1.5, [1.5f64.cos(), -(1.5f64).sin()], 0.1);
-        let theta = s.root(|y| y[0]);
+        let theta = s.first_zero(|y| y[0], false).unwrap();
         assert!((1.5 + 0.1 * theta - std::f64::consts::FRAC_PI_2).abs() < 1e-7);
+    }
+
+    /// One Dormand–Prince step of length h on x'' = −x from (cos t0, −sin t0), forced (no
+    /// rejection), and the largest dense-output error in x over the step against cos t.
+    fn dense_error(t0: f64, h: f64, hermite: bool) -> f64 {
+        let a = |y: State| -y[0];
+        let mut dp = Dopri::new(1.0, 1.0, h);
+        dp.h = h;
+        let mut step = dp.step(&a, t0, [t0.cos(), -t0.sin()], h, &mut 0);
+        assert_eq!(step.h, h);
+        if hermite {
+            step.d = [0.0, 0.0];
+        }
+        (1..20).map(|i| i as f64 / 20.0).map(|th| (step.at(th)[0] - (t0 + th * h).cos()).abs()).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn dense_output_is_fourth_order_and_hermite_third() {
+        // local interpolation errors: O(h^5) with the Dormand–Prince correction, O(h^4) without
+        let dp = dense_error(0.3, 0.2, false) / dense_error(0.3, 0.1, false);
+        let he = dense_error(0.3, 0.2, true) / dense_error(0.3, 0.1, true);
+        assert!((24.0..=40.0).contains(&dp), "DP dense output error ratio for h/2: {dp}");
+        assert!((12.0..=20.0).contains(&he), "Hermite error ratio for h/2: {he}");
+        assert!(dense_error(0.3, 0.2, false) < 0.1 * dense_error(0.3, 0.2, true));
+    }
+
+    #[test]
+    fn a_dip_between_positive_ends_is_found_from_the_minimum() {
+        // x = cos t over [π − 0.3, π + 0.3]: g = x + 0.999 > 0 at both ends, < 0 around π; its
+        // first zero is at π − acos(0.999)
+        let (t0, h) = (std::f64::consts::PI - 0.3, 0.6);
+        let a = |y: State| -y[0];
+        let mut dp = Dopri::new(1.0, 1.0, h);
+        dp.h = h;
+        let step = dp.step(&a, t0, [t0.cos(), -t0.sin()], h, &mut 0);
+        assert_eq!(step.h, h);
+        let g = |y: State| y[0] + 0.999;
+        assert!(g(step.y1) > 0.0);
+        assert_eq!(step.first_zero(g, false), None);
+        let theta = step.first_zero(g, true).expect("dip found");
+        let expected = (std::f64::consts::PI - 0.999f64.acos() - t0) / h;
+        assert!((theta - expected).abs() < 2e-3, "{theta} vs {expected}");
+        // a shallower function stays positive: no zero
+        assert_eq!(step.first_zero(|y| y[0] + 1.001, true), None);
     }
 }

@@ -51,8 +51,7 @@ impl Solver for Smooth {
                     let d = num.stick_velocity - (v - y[1]).abs();
                     if stuck { d } else { -d }
                 };
-                if g(step.y0) > 0.0 && g(step.y1) <= 0.0 {
-                    let theta = step.root(g);
+                if let Some(theta) = step.first_zero(g, false) {
                     t = step.t0 + theta * step.h;
                     y = step.at(theta);
                     stuck = !stuck;
