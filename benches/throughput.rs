@@ -1,7 +1,10 @@
 //! Throughput benchmark (`cargo bench --bench throughput`): numbers for the README.
 //!
 //! 1. The exact solver alone on the paper scenario, one thread: realizations per second.
-//! 2. `simulate` end to end to Parquet with all cores, then `analyze` of that dataset, for 10^5
+//! 2. The exact solver against `rk45` on the same 200 paper realizations, in the same run: the
+//!    paper's ode45 settings, rtol = 1e-6 with the paper's other settings, and rtol = atol = 1e-6
+//!    without a step limit.
+//! 3. `simulate` end to end to Parquet with all cores, then `analyze` of that dataset, for 10^5
 //!    and 10^6 realizations (and 10^7 with `--large`), each stage in a fresh child process so
 //!    that its peak RSS (VmHWM) is its own. Events = all list elements in the dataset.
 
@@ -86,6 +89,39 @@ fn main() {
         "exact solver, 1 thread, paper scenario: best {:.0}, median {:.0} realizations/s (5 x {n})",
         rates[4], rates[2]
     );
+
+    // The exact solver against rk45, same realizations, same run.
+    {
+        let per_realization = |sets: &[(&str, &str)], n: u64, reps: u64| {
+            let mut sc = Scenario::paper();
+            for (k, v) in sets {
+                sc = sc.with(k, v).unwrap();
+            }
+            let ens = Ensemble::new(&sc);
+            let mut out = Outcome::default();
+            let start = Instant::now();
+            for _ in 0..reps {
+                for i in 0..n {
+                    ens.realization(i, &mut out).unwrap();
+                }
+            }
+            start.elapsed().as_secs_f64() / (n * reps) as f64
+        };
+        let exact = per_realization(&[], 200, 500);
+        println!("exact solver: {:.2} us per realization (200 paper realizations x 500)", exact * 1e6);
+        for (label, sets, reps) in [
+            ("rk45, paper ode45 settings (rtol = atol = 1e-9, max_step = 1e-4)", &[("run.solver", "rk45")][..], 1),
+            ("rk45, rtol = 1e-6 (atol = 1e-9, max_step = 1e-4 as the paper)", &[("run.solver", "rk45"), ("numerics.rtol", "1e-6")][..], 1),
+            (
+                "rk45, rtol = atol = 1e-6, no max_step",
+                &[("run.solver", "rk45"), ("numerics.rtol", "1e-6"), ("numerics.atol", "1e-6"), ("numerics.max_step", "10")][..],
+                50,
+            ),
+        ] {
+            let t = per_realization(sets, 200, reps);
+            println!("{label}: {:.2} us per realization, exact is {:.0}x faster", t * 1e6, t / exact);
+        }
+    }
 
     // Figures + report of the paper scenario (18,000 realizations, trajectories and switch times on).
     {

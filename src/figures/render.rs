@@ -55,6 +55,7 @@ fn ranges(p: &Panel) -> ((f64, f64), (f64, f64)) {
             ys.push(y);
         }
     }
+    xs.extend(&p.vlines);
     let span = |v: &[f64], pad: f64| {
         let lo = v.iter().copied().filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max);
