@@ -119,7 +119,7 @@ impl Solver for Hybrid {
                         // step (g′ from − to +) may hide a crossing and its return (a near-graze)
                         let g = |y: State| sigma * (v - y[1]);
                         let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
-                        if let Some(theta) = step.first_zero(g, dips).filter(|_| !grazing) {
+                        if let Some(theta) = (!grazing).then(|| step.first_zero(g, dips)).flatten() {
                             t = if theta >= 1.0 { step.t0 + step.h } else { step.t0 + theta * step.h };
                             (mode, y) = self.classify(t, step.at(theta)[0], s, v, obs);
                         } else {
