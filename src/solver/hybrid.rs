@@ -68,6 +68,16 @@ impl Hybrid {
             Arrival::Reverse { sigma } => (Mode::Slip { sigma, grazing: false }, [x, v]),
         }
     }
+
+    /// Go on from state `y` at time `t` under belt velocity `v = s v0` (at t = 0 or just after a
+    /// flip): classified if the mass moves at belt speed, else a slip against the relative velocity.
+    fn resume<O: Observer>(&self, t: f64, y: State, s: f64, v: f64, obs: &mut O) -> (Mode, State) {
+        if y[1] == v {
+            self.classify(t, y[0], s, v, obs)
+        } else {
+            (Mode::Slip { sigma: (v - y[1]).signum(), grazing: false }, y)
+        }
+    }
 }
 
 impl Solver for Hybrid {
@@ -76,16 +86,9 @@ impl Solver for Hybrid {
         let num = &self.num;
         let (mut s, mut t) = (drive.sign0, 0.0);
         let mut v = s * drive.speed;
-        let mut y: State = [x0, xdot0];
         let mut dopri = Dopri::new(num.rtol, num.atol, num.max_step);
         let mut steps = 0u64;
-        let mut mode = if xdot0 == v {
-            let mode;
-            (mode, y) = self.classify(0.0, x0, s, v, obs);
-            mode
-        } else {
-            Mode::Slip { sigma: (v - xdot0).signum(), grazing: false }
-        };
+        let (mut mode, mut y) = self.resume(0.0, [x0, xdot0], s, v, obs);
         if let Mode::Slip { .. } = mode {
             obs.slip(0.0, x0, xdot0);
         }
@@ -120,7 +123,7 @@ impl Solver for Hybrid {
                         let g = |y: State| sigma * (v - y[1]);
                         let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
                         if let Some(theta) = (!grazing).then(|| step.first_zero(g, dips)).flatten() {
-                            t = if theta >= 1.0 { step.t0 + step.h } else { step.t0 + theta * step.h };
+                            t = step.t0 + theta * step.h;
                             (mode, y) = self.classify(t, step.at(theta)[0], s, v, obs);
                         } else {
                             t = if step.h >= seg_end - step.t0 { seg_end } else { step.t0 + step.h };
@@ -134,11 +137,7 @@ impl Solver for Hybrid {
                     obs.slip(t, y[0], v);
                 }
                 (s, v) = (-s, -v);
-                if y[1] == v {
-                    (mode, y) = self.classify(t, y[0], s, v, obs);
-                } else {
-                    mode = Mode::Slip { sigma: (v - y[1]).signum(), grazing: false };
-                }
+                (mode, y) = self.resume(t, y, s, v, obs);
             }
         }
         Ok(())
