@@ -44,7 +44,7 @@ fn simulate_child(n: u64, dir: &Path) {
 fn analyze_child(n: u64, dir: &Path) {
     let start = Instant::now();
     let a = analysis::analyze(dir, &analysis::Options::default()).unwrap();
-    analysis::output::write(&a, &dir.join("analysis")).unwrap();
+    analysis::output::write(&a, &dir.with_extension("analysis")).unwrap();
     let secs = start.elapsed().as_secs_f64();
     // every list element of the dataset: T, D (S_T each), L, H (S_L each)
     let st = a.stats.iter().find(|s| s.series.to_string() == "S_T").unwrap().moments;
@@ -126,15 +126,15 @@ fn main() {
     // Figures + report of the paper scenario (18,000 realizations, trajectories and switch times on).
     {
         let dir = tempfile::tempdir().unwrap();
-        let data = dir.path().join("paper");
+        let (data, top) = (dir.path().join("paper/dataset"), dir.path().join("paper"));
         let sc = Scenario::paper().with("output.trajectories", "3").unwrap().with("output.switch_times", "true").unwrap();
         simulate::run(&sc, &Options { out: data.clone(), shard: Shard::WHOLE, threads: None, progress: false }).unwrap();
         let a = analysis::analyze(&data, &analysis::Options::default()).unwrap();
-        analysis::output::write(&a, &data.join("analysis")).unwrap();
+        analysis::output::write(&a, &top.join("analysis")).unwrap();
         let start = Instant::now();
-        let figures = stickslip::figures::run(&data.join("analysis"), &data.join("figures")).unwrap();
+        let figures = stickslip::figures::run(&top.join("analysis"), &top.join("figures")).unwrap();
         let drawn = start.elapsed().as_secs_f64();
-        stickslip::report::run(&data, &data.join("analysis"), &data.join("figures"), &data.join("report.html")).unwrap();
+        stickslip::report::run(&data, &top.join("analysis"), &top.join("figures"), &top.join("report.html")).unwrap();
         println!(
             "figures + report, paper scenario: {:.2} s ({} figures as PNG + SVG in {drawn:.2} s, report in {:.2} s)",
             start.elapsed().as_secs_f64(),

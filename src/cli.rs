@@ -1,21 +1,31 @@
 //! Command line: flags are parsed and checked here, then handed to the stages.
 
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 
 use crate::analysis;
+use crate::outdir::{check_separate, DatasetDir};
 use crate::scenario::Scenario;
 use crate::simulate::{self, Shard};
 
 /// Stick-slip statistics of a dry-friction oscillator on a randomly reversing belt.
 #[derive(Debug, Parser)]
-#[command(name = "stickslip", version, about, long_about = None)]
+#[command(
+    name = "stickslip",
+    version,
+    about,
+    long_about = None,
+    after_help = "Exit status: 0 success, 2 bad input or usage (the message names the key, value, file or column), 1 a failure while running, 130/143 interrupted (SIGINT/SIGTERM; temporaries removed)."
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// No progress display, tables or summary lines (errors are still printed).
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, Subcommand)]
@@ -32,13 +42,118 @@ pub enum Command {
     Figures(FiguresArgs),
     /// Write a self-contained HTML report (figures inlined) and its Markdown twin.
     Report(ReportArgs),
-    /// The whole reproduction in one go: simulate into DIR, then DIR/analysis, DIR/figures and
-    /// DIR/report.html (+ .md). Takes the same scenario options as `simulate`; stores the switch
+    /// The whole reproduction in one go: simulate into DIR/dataset, then DIR/analysis,
+    /// DIR/figures and DIR/report.html (+ .md; a sweep: DIR/reports/CELL/report.html). Takes the same scenario options as `simulate`; stores the switch
     /// times and samples 3 trajectories (Figs 6 and 4 need them) unless --set says otherwise.
     Reproduce(SimulateArgs),
     /// Measure the speed/accuracy trade: the same realizations through every solver over a ladder
     /// of tolerances and steps, against `exact`; writes DIR/tradeoff.parquet and a work-precision plot.
     Tradeoff(TradeoffArgs),
+    /// Print a shell completion script, e.g. `stickslip completions bash > /etc/bash_completion.d/stickslip`.
+    Completions {
+        /// The shell: bash, zsh, fish, elvish or powershell.
+        shell: clap_complete::Shell,
+    },
+}
+
+/// A usage error found after parsing (exit code 2).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Usage(pub String);
+
+fn usage(message: impl Into<String>) -> anyhow::Error {
+    Usage(message.into()).into()
+}
+
+/// Exit code of a failed run: 2 when the input (a flag, key, value, file or output directory)
+/// is at fault, 1 for a failure while running.
+pub fn exit_code(e: &anyhow::Error) -> u8 {
+    if e.chain().any(is_bad_input) {
+        2
+    } else {
+        1
+    }
+}
+
+/// Whether an error (one link of a chain) blames the input; transparent wrappers are looked
+/// through, since their inner error is not a link of its own.
+fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
+    use crate::analysis::{input::InputError, AnalysisError};
+    use crate::dataset::DatasetError;
+    use crate::figures::FigureError;
+    use crate::outdir::OutDirError;
+    use crate::report::ReportError;
+    use crate::simulate::SimulateError;
+    use crate::tradeoff::TradeoffError;
+    let out = |o: &OutDirError| o.refused;
+    if e.is::<Usage>() || e.is::<crate::scenario::ScenarioError>() || e.is::<InputError>() {
+        return true;
+    }
+    if let Some(o) = e.downcast_ref::<OutDirError>() {
+        return out(o);
+    }
+    if let Some(a) = e.downcast_ref::<AnalysisError>() {
+        return match a {
+            AnalysisError::Input(_) | AnalysisError::Options(_) | AnalysisError::Read { .. } => true,
+            AnalysisError::Out(o) => out(o),
+            AnalysisError::Write { .. } => false,
+        };
+    }
+    let dataset = |d: &DatasetError| match d {
+        DatasetError::Layout { .. } => true,
+        DatasetError::Out(o) => out(o),
+        DatasetError::Write { .. } => false,
+    };
+    if let Some(d) = e.downcast_ref::<DatasetError>() {
+        return dataset(d);
+    }
+    if let Some(s) = e.downcast_ref::<SimulateError>() {
+        return match s {
+            SimulateError::Threads(_) => true,
+            SimulateError::Dataset(d) => dataset(d),
+            SimulateError::Out(o) => out(o),
+            SimulateError::Run(_) | SimulateError::Pool(_) => false,
+        };
+    }
+    if let Some(r) = e.downcast_ref::<ReportError>() {
+        return match r {
+            ReportError::Read { .. } | ReportError::Mismatch { .. } | ReportError::Dataset(_) => true,
+            ReportError::Out(o) => out(o),
+            ReportError::Write { .. } => false,
+        };
+    }
+    if let Some(f) = e.downcast_ref::<FigureError>() {
+        return match f {
+            FigureError::Read { .. } => true,
+            FigureError::Out(o) => out(o),
+            _ => false,
+        };
+    }
+    if let Some(t) = e.downcast_ref::<TradeoffError>() {
+        return match t {
+            TradeoffError::Scenario(_) => true,
+            TradeoffError::Out(o) => out(o),
+            _ => false,
+        };
+    }
+    false
+}
+
+/// The error and its causes on one line, each cause once (a cause whose text is already shown,
+/// as when a message quotes its `source`, is not repeated).
+pub fn message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if out.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out += ": ";
+        }
+        out += &text;
+    }
+    out
 }
 
 /// Where a scenario comes from: a file and `--set` overrides.
@@ -61,9 +176,6 @@ pub struct TradeoffArgs {
     /// Realizations per setting (all settings run the same ones, on one thread).
     #[arg(long, value_name = "N", default_value_t = 100)]
     pub realizations: u64,
-    /// No table on stdout.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -108,9 +220,10 @@ pub struct AnalyzeArgs {
     /// Permutations of the mutual-information null distribution.
     #[arg(long, value_name = "P", default_value_t = analysis::DEFAULT_PERMUTATIONS)]
     pub permutations: u32,
-    /// Do not print the Table 1 comparison.
+    /// Analyse the parts present although realization ranges of the run are missing (the
+    /// summary and the report say which); without it an incomplete dataset is refused.
     #[arg(long)]
-    pub quiet: bool,
+    pub allow_partial: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -133,24 +246,27 @@ pub struct SimulateArgs {
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
-    /// No progress bar and no summary line.
-    #[arg(long)]
-    pub quiet: bool,
 }
 
 /// Parse the process arguments and run.
 pub fn main() -> anyhow::Result<()> {
-    match Cli::parse().command {
-        Command::Simulate(args) => simulate_command(args),
-        Command::Analyze(args) => analyze_command(args),
-        Command::Figures(args) => figures_command(&args.analysis, &args.out, false),
-        Command::Report(args) => report_command(&args, false),
-        Command::Reproduce(args) => reproduce_command(args),
-        Command::Tradeoff(args) => tradeoff_command(args),
+    let cli = Cli::parse();
+    let quiet = cli.quiet;
+    match cli.command {
+        Command::Simulate(args) => simulate_command(args, quiet),
+        Command::Analyze(args) => analyze_command(args, quiet),
+        Command::Figures(args) => figures_command(&args.analysis, &args.out, quiet),
+        Command::Report(args) => report_command(&args, quiet),
+        Command::Reproduce(args) => reproduce_command(args, quiet),
+        Command::Tradeoff(args) => tradeoff_command(args, quiet),
+        Command::Completions { shell } => {
+            clap_complete::generate(shell, &mut <Cli as clap::CommandFactory>::command(), "stickslip", &mut std::io::stdout());
+            Ok(())
+        }
     }
 }
 
-fn figures_command(adir: &std::path::Path, out: &std::path::Path, quiet: bool) -> anyhow::Result<()> {
+fn figures_command(adir: &Path, out: &Path, quiet: bool) -> anyhow::Result<()> {
     let start = std::time::Instant::now();
     let names = crate::figures::run(adir, out).context("figures")?;
     if !quiet {
@@ -167,11 +283,19 @@ fn report_command(args: &ReportArgs, quiet: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn tradeoff_command(args: TradeoffArgs) -> anyhow::Result<()> {
-    anyhow::ensure!(args.realizations > 0, "--realizations must be at least 1");
+/// The scenario file, as an input an output must stay apart from.
+fn scenario_inputs(input: &ScenarioArgs) -> Vec<&Path> {
+    input.scenario.iter().map(PathBuf::as_path).collect()
+}
+
+fn tradeoff_command(args: TradeoffArgs, quiet: bool) -> anyhow::Result<()> {
+    if args.realizations == 0 {
+        return Err(usage("--realizations must be at least 1"));
+    }
+    check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     let rows = crate::tradeoff::run(&scenario, args.realizations, &args.out).context("tradeoff")?;
-    if !args.quiet {
+    if !quiet {
         println!("| solver | setting | CPU s/realization | RMS error [s] | max error [s] | missed | spurious | bias E[S_T] | bias E[H] |\n|---|---|---|---|---|---|---|---|---|");
         for r in &rows {
             println!(
@@ -186,35 +310,73 @@ fn tradeoff_command(args: TradeoffArgs) -> anyhow::Result<()> {
 /// Scenario overrides `reproduce` applies first (the user's --set come after and win).
 pub const REPRODUCE_SETS: [&str; 2] = ["output.switch_times=true", "output.trajectories=3"];
 
-fn reproduce_command(mut args: SimulateArgs) -> anyhow::Result<()> {
-    let (dir, quiet) = (args.out.clone(), args.quiet);
+/// Where `reproduce --out DIR` puts each stage's output.
+pub struct ReproduceLayout {
+    pub dataset: PathBuf,
+    pub analysis: PathBuf,
+    pub figures: PathBuf,
+}
+
+impl ReproduceLayout {
+    pub fn new(dir: &Path) -> ReproduceLayout {
+        ReproduceLayout { dataset: dir.join("dataset"), analysis: dir.join("analysis"), figures: dir.join("figures") }
+    }
+
+    /// The report of a sweep cell (`DIR/report.html` for a plain dataset).
+    pub fn report(dir: &Path, cell: &str) -> PathBuf {
+        if cell.is_empty() {
+            dir.join("report.html")
+        } else {
+            dir.join("reports").join(cell).join("report.html")
+        }
+    }
+}
+
+fn reproduce_command(mut args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
+    let dir = args.out.clone();
+    crate::outdir::prepare_reproduce(&dir, &scenario_inputs(&args.input))?;
+    let layout = ReproduceLayout::new(&dir);
     args.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
-    simulate_command(args)?;
-    let analysis = dir.join("analysis");
-    let cells = analyze_and_print(&dir, &analysis, &analysis::Options::default(), quiet)?;
-    let figures = dir.join("figures");
-    figures_command(&analysis, &figures, quiet)?;
+    args.out = layout.dataset.clone();
+    simulate_command(args, quiet)?;
+    let cells = analyze_and_print(&layout.dataset, &layout.analysis, &analysis::Options::default(), quiet)?;
+    figures_command(&layout.analysis, &layout.figures, quiet)?;
     // one report per sweep cell (a plain dataset is the single cell with the empty path)
     for cell in cells {
-        let report = dir.join(&cell).join("report.html");
-        let args = ReportArgs { dataset: dir.join(&cell), analysis: analysis.join(&cell), figures: figures.join(&cell), out: report };
+        let args = ReportArgs {
+            dataset: layout.dataset.join(&cell),
+            analysis: layout.analysis.join(&cell),
+            figures: layout.figures.join(&cell),
+            out: ReproduceLayout::report(&dir, &cell),
+        };
         report_command(&args, quiet)?;
     }
     Ok(())
 }
 
-fn analyze_command(args: AnalyzeArgs) -> anyhow::Result<()> {
-    let mut opts = analysis::Options { max_index: args.max_index, bins: args.bins, permutations: args.permutations, ..Default::default() };
+fn analyze_command(args: AnalyzeArgs, quiet: bool) -> anyhow::Result<()> {
+    let mut opts = analysis::Options {
+        max_index: args.max_index,
+        bins: args.bins,
+        permutations: args.permutations,
+        allow_partial: args.allow_partial,
+        ..Default::default()
+    };
     if !args.pairs.is_empty() {
         opts.pairs = args.pairs;
     }
-    anyhow::ensure!(opts.bins != Some(0), "--bins must be at least 1");
-    analyze_and_print(&args.dataset, &args.out, &opts, args.quiet).map(drop)
+    if opts.max_index == 0 || opts.max_index > analysis::MAX_INDEX {
+        return Err(usage(format!("--max-index {}: must be between 1 and {}", opts.max_index, analysis::MAX_INDEX)));
+    }
+    if opts.bins == Some(0) || opts.bins.is_some_and(|b| b > 100_000) {
+        return Err(usage("--bins must be between 1 and 100000"));
+    }
+    analyze_and_print(&args.dataset, &args.out, &opts, quiet).map(drop)
 }
 
 /// Analyse every cell below `dataset` into `out`, print the results unless `quiet`; returns the
 /// cell paths (the empty path for a plain dataset).
-fn analyze_and_print(dataset: &std::path::Path, out: &std::path::Path, opts: &analysis::Options, quiet: bool) -> anyhow::Result<Vec<String>> {
+fn analyze_and_print(dataset: &Path, out: &Path, opts: &analysis::Options, quiet: bool) -> anyhow::Result<Vec<String>> {
     let start = std::time::Instant::now();
     let cells = analysis::sweep::analyze_all(dataset, opts, out).context("analyze")?;
     let paths = cells.iter().map(|(p, _)| p.clone()).collect();
@@ -235,6 +397,12 @@ fn analyze_and_print(dataset: &std::path::Path, out: &std::path::Path, opts: &an
                 "| {path} | {} | {:.3} | {:.4} | {} | {} | {} |",
                 c.realizations, c.mean_st, c.stick_fraction, f(c.mean_d), f(c.mean_h), f(c.var_t_slope)
             );
+        }
+    }
+    for (path, a) in &cells {
+        if !a.dataset.missing.is_empty() {
+            let gaps: Vec<String> = a.dataset.missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect();
+            eprintln!("PARTIAL {path}: analysed {} of the run's {} realizations; missing {}", a.dataset.rows, a.dataset.expected_rows, gaps.join(", "));
         }
     }
     let rows: u64 = cells.iter().map(|(_, a)| a.dataset.rows).sum();
@@ -261,30 +429,47 @@ fn print_analysis(a: &analysis::Analysis) {
     }
 }
 
-fn simulate_command(args: SimulateArgs) -> anyhow::Result<()> {
-    let mut sets = args.input.sets;
+fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
+    let mut sets = args.input.sets.clone();
     if let Some(n) = args.realizations {
         sets.push(format!("run.realizations={n}"));
     }
     if let Some(s) = args.seed {
-        anyhow::ensure!(s <= i64::MAX as u64, "--seed {s}: must be at most {}", i64::MAX);
+        if s > i64::MAX as u64 {
+            return Err(usage(format!("--seed {s}: must be at most {}", i64::MAX)));
+        }
         sets.push(format!("run.seed={s}"));
     }
+    if let Some(t) = args.threads.filter(|&t| t == 0 || t > simulate::MAX_THREADS) {
+        return Err(usage(format!("--threads {t}: must be between 1 and {}", simulate::MAX_THREADS)));
+    }
     let cells = Scenario::resolve_sweep(args.input.scenario.as_deref(), &sets)?;
-    let progress = !args.quiet && std::io::stderr().is_terminal();
-    let mut written: Vec<std::path::PathBuf> = Vec::new();
+    let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&args.input))?;
+    let progress = !quiet && std::io::stderr().is_terminal();
+    // A sweep is committed whole: every cell is simulated into a temporary part first, and the
+    // parts are renamed into place only when all cells succeeded (a failure leaves the previous
+    // sweep, if any, untouched).
+    let mut pending = Vec::with_capacity(cells.len());
+    let mut new_dirs = Vec::new();
     for cell in &cells {
         let out = if cell.path.is_empty() { args.out.clone() } else { args.out.join(&cell.path) };
+        if !out.exists() {
+            new_dirs.push(out.clone());
+        }
         let opts = simulate::Options { out, shard: args.shard, threads: args.threads, progress };
-        let summary = match simulate::run(&cell.scenario, &opts) {
-            Ok(s) => s,
+        match simulate::compute(&cell.scenario, &opts) {
+            Ok(p) => pending.push(p),
             Err(e) => {
-                remove_parts(&written, &args.out);
+                drop(pending);
+                remove_empty_dirs(&new_dirs, &args.out);
                 let cell = if cell.path.is_empty() { String::new() } else { format!(" (sweep cell {})", cell.path) };
                 return Err(anyhow::Error::new(e).context(format!("simulate{cell}")));
             }
-        };
-        if !args.quiet {
+        }
+    }
+    for p in pending {
+        let summary = p.commit().context("simulate")?;
+        if !quiet {
             let n = summary.realizations.max(1) as f64;
             eprintln!(
                 "wrote {} realizations to {} in {:.2} s ({:.0} realizations/s); mean S_T = {:.3}",
@@ -295,21 +480,20 @@ fn simulate_command(args: SimulateArgs) -> anyhow::Result<()> {
                 summary.total_sticks as f64 / n,
             );
         }
-        written.push(summary.path);
     }
+    dir.commit();
     Ok(())
 }
 
-/// Undo a failed sweep: remove the part files it wrote and the directories left empty below `top`.
-fn remove_parts(parts: &[std::path::PathBuf], top: &std::path::Path) {
-    for path in parts {
-        let _ = std::fs::remove_file(path);
-        let mut dir = path.parent();
-        while let Some(d) = dir.filter(|d| d.starts_with(top)) {
-            if std::fs::remove_dir(d).is_err() {
+/// Undo the directories a failed sweep created below `top` (each only if empty, innermost first).
+fn remove_empty_dirs(dirs: &[PathBuf], top: &Path) {
+    for d in dirs.iter().rev() {
+        let mut dir = Some(d.as_path());
+        while let Some(p) = dir.filter(|p| p.starts_with(top) && *p != top) {
+            if std::fs::remove_dir(p).is_err() {
                 break;
             }
-            dir = d.parent();
+            dir = p.parent();
         }
     }
 }

@@ -14,6 +14,7 @@ pub mod ensemble;
 pub mod events;
 pub mod excitation;
 pub mod figures;
+pub mod interrupt;
 pub mod model;
 pub mod outdir;
 pub mod report;

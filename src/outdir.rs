@@ -1,41 +1,515 @@
-//! Output directories that appear only when complete.
+//! Output safety: what a stage may write, replace or delete, and how it writes it.
 //!
-//! A stage writes into a hidden sibling `.NAME.tmp-PID`; [`StagedDir::commit`] moves any previous
-//! `NAME` aside, renames the staging directory into place and deletes the old one. If the stage
-//! fails (or panics) before committing, the staging directory is removed and `NAME` is untouched.
+//! The rules (README, "Output directories"):
+//! - **Separate.** An output that equals, contains or lies inside any input (dataset, analysis,
+//!   figures, scenario file) is refused before anything runs ([`check_separate`]).
+//! - **Recognised.** Every directory the tool writes carries a marker file [`MARKER`] naming its
+//!   kind (`dataset`, `analysis`, `figures`, `tradeoff`, `reproduce`) and, for directories
+//!   replaced as a whole, every file in it. A directory is replaced only if it is empty or its
+//!   marker is of the same kind and lists everything in it: a file the tool did not write is never
+//!   deleted. A dataset directory is never replaced, only added to, part file by part file.
+//! - **Exclusive.** One writer at a time per output (a directory, or one part file of a dataset):
+//!   an advisory lock (`flock`) on a hidden `.NAME.lock` beside it, holding the writer's process
+//!   id, so a second writer is told at once which process holds it ([`Lock`]).
+//! - **Atomic.** Files are written under unique temporary names created exclusively (`O_EXCL`,
+//!   never through a symlink), synced, then renamed into place; directories are staged beside
+//!   their target and swapped in whole ([`StagedDir`]). Temporaries are removed on failure, on
+//!   panic and on SIGINT/SIGTERM ([`crate::interrupt`]); those of a killed process are removed by
+//!   the next writer that takes the same lock (a live writer holds it), and are hidden (`.NAME…`),
+//!   so readers never see them.
 
-use std::path::{Path, PathBuf};
+use std::fs::{File, OpenOptions};
+use std::io::{Read, Write};
+use std::path::{Component, Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
 
+use crate::interrupt;
+
+/// The marker file in every directory the tool writes.
+pub const MARKER: &str = ".stickslip-output";
+
+/// What an output directory holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Dataset,
+    Analysis,
+    Figures,
+    Tradeoff,
+    Reproduce,
+}
+
+impl Kind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Dataset => "dataset",
+            Kind::Analysis => "analysis",
+            Kind::Figures => "figures",
+            Kind::Tradeoff => "tradeoff",
+            Kind::Reproduce => "reproduce",
+        }
+    }
+}
+
+/// Why an output cannot be written. `refused` errors are the user's to fix (exit code 2);
+/// the others are failures while running (exit code 1).
 #[derive(Debug, thiserror::Error)]
-#[error("cannot write {}: {message}", path.display())]
+#[error("{}: {message}", path.display())]
 pub struct OutDirError {
     pub path: PathBuf,
     pub message: String,
+    pub refused: bool,
 }
 
 fn fail(path: &Path, e: impl std::fmt::Display) -> OutDirError {
-    OutDirError { path: path.to_owned(), message: e.to_string() }
+    OutDirError { path: path.to_owned(), message: e.to_string(), refused: false }
 }
 
-/// A staging directory for `target`.
+fn refuse(path: &Path, message: impl Into<String>) -> OutDirError {
+    OutDirError { path: path.to_owned(), message: message.into(), refused: true }
+}
+
+/// `path` made absolute with `.`/`..` and symlinks of its existing ancestors resolved (the
+/// part that does not exist yet is appended as written, without `.` and `..`).
+pub fn resolved(path: &Path) -> PathBuf {
+    let absolute = if path.is_absolute() {
+        path.to_owned()
+    } else {
+        std::env::current_dir().unwrap_or_default().join(path)
+    };
+    let mut existing = absolute.as_path();
+    let mut rest: Vec<&std::ffi::OsStr> = Vec::new();
+    loop {
+        if let Ok(real) = existing.canonicalize() {
+            let mut out = real;
+            for part in rest.iter().rev() {
+                match Path::new(part).components().next() {
+                    Some(Component::ParentDir) => {
+                        out.pop();
+                    }
+                    Some(Component::CurDir) | None => {}
+                    _ => out.push(part),
+                }
+            }
+            return out;
+        }
+        match (existing.parent(), existing.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name);
+                existing = parent;
+            }
+            (Some(parent), None) => existing = parent, // a trailing `..` or `.`
+            (None, _) => return absolute,
+        }
+    }
+}
+
+/// Refuse an output that equals, contains or lies inside one of `inputs`.
+pub fn check_separate(out: &Path, flag: &str, inputs: &[&Path]) -> Result<(), OutDirError> {
+    let o = resolved(out);
+    for input in inputs {
+        let i = resolved(input);
+        let relation = if o == i {
+            "is"
+        } else if i.starts_with(&o) {
+            "contains"
+        } else if o.starts_with(&i) {
+            "lies inside"
+        } else {
+            continue;
+        };
+        return Err(refuse(
+            out,
+            format!("{flag} {relation} the input {}; an output must be separate from every input, choose another {flag}", input.display()),
+        ));
+    }
+    Ok(())
+}
+
+/// The marker of a directory: its kind and (for directories replaced whole) its files.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+struct Marker {
+    kind: String,
+    stickslip: String,
+    #[serde(default)]
+    files: Vec<String>,
+}
+
+fn read_marker(dir: &Path) -> Option<Marker> {
+    let mut text = String::new();
+    File::open(dir.join(MARKER)).ok()?.take(16 << 20).read_to_string(&mut text).ok()?;
+    serde_json::from_str(&text).ok()
+}
+
+fn write_marker(dir: &Path, kind: Kind, files: Vec<String>) -> Result<(), OutDirError> {
+    let m = Marker { kind: kind.name().into(), stickslip: env!("CARGO_PKG_VERSION").into(), files };
+    let text = serde_json::to_string_pretty(&m).expect("a marker serializes") + "\n";
+    write_new(&dir.join(MARKER), text.as_bytes())
+}
+
+/// Whether `dir` (or, for a dataset, one of its ancestors) is marked as the tool's `kind`.
+pub fn is_marked(dir: &Path, kind: Kind) -> bool {
+    read_marker(dir).is_some_and(|m| m.kind == kind.name())
+}
+
+/// Every file below `dir`, relative, with `/` separators; hidden entries of our own (locks,
+/// temporaries, the marker) are left out.
+fn files_below(dir: &Path) -> std::io::Result<Vec<String>> {
+    fn walk(root: &Path, dir: &Path, out: &mut Vec<String>) -> std::io::Result<()> {
+        for entry in std::fs::read_dir(dir)? {
+            let entry = entry?;
+            let path = entry.path();
+            if entry.file_type()?.is_dir() {
+                walk(root, &path, out)?;
+            } else {
+                let rel = path.strip_prefix(root).unwrap_or(&path).to_string_lossy().replace('\\', "/");
+                if rel != MARKER {
+                    out.push(rel);
+                }
+            }
+        }
+        Ok(())
+    }
+    let mut out = Vec::new();
+    walk(dir, dir, &mut out)?;
+    out.sort();
+    Ok(out)
+}
+
+fn is_empty_dir(dir: &Path) -> std::io::Result<bool> {
+    Ok(std::fs::read_dir(dir)?.next().is_none())
+}
+
+/// Check that `target` may be replaced by a new output of `kind`: it does not exist, is an empty
+/// directory, or is the tool's own output of that kind holding only the files it wrote.
+fn check_replaceable(target: &Path, kind: Kind, flag: &str) -> Result<(), OutDirError> {
+    let meta = match std::fs::symlink_metadata(target) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(fail(target, e)),
+        Ok(m) => m,
+    };
+    if !meta.is_dir() {
+        return Err(refuse(target, format!("{flag} exists and is not a directory; choose another {flag}")));
+    }
+    if is_empty_dir(target).map_err(|e| fail(target, e))? {
+        return Ok(());
+    }
+    let Some(marker) = read_marker(target) else {
+        return Err(refuse(
+            target,
+            format!("{flag} is not empty and was not written by stickslip (no {MARKER}); refusing to replace it: remove it or choose another {flag}"),
+        ));
+    };
+    if marker.kind != kind.name() {
+        return Err(refuse(
+            target,
+            format!("{flag} holds a stickslip {}, not a {}; refusing to replace it: choose another {flag}", marker.kind, kind.name()),
+        ));
+    }
+    let present = files_below(target).map_err(|e| fail(target, e))?;
+    if let Some(foreign) = present.iter().find(|f| !marker.files.contains(f)) {
+        return Err(refuse(
+            target,
+            format!("{flag} holds {foreign}, which stickslip did not write; refusing to replace the directory: move that file away or choose another {flag}"),
+        ));
+    }
+    Ok(())
+}
+
+/// A unique suffix for temporary names: process id and a per-process counter.
+fn unique() -> String {
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
+    format!("{}-{}-{nanos:x}", std::process::id(), NEXT.fetch_add(1, Ordering::Relaxed))
+}
+
+/// Open a new file exclusively: fails if anything, a symlink included, is at `path`.
+fn create_new(path: &Path) -> std::io::Result<File> {
+    OpenOptions::new().write(true).create_new(true).open(path)
+}
+
+/// Write a new file at `path` (which must not exist), synced.
+fn write_new(path: &Path, bytes: &[u8]) -> Result<(), OutDirError> {
+    let mut f = create_new(path).map_err(|e| fail(path, e))?;
+    f.write_all(bytes).and_then(|()| f.sync_all()).map_err(|e| fail(path, e))
+}
+
+/// Sync a directory, so that a rename in it is durable.
+fn sync_dir(dir: &Path) {
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+}
+
+fn parent_of(path: &Path) -> &Path {
+    path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."))
+}
+
+fn name_of(path: &Path) -> Result<String, OutDirError> {
+    match path.file_name() {
+        Some(n) => Ok(n.to_string_lossy().into_owned()),
+        None => Err(refuse(path, "is not a file or directory name (it ends in `..` or `/`)")),
+    }
+}
+
+/// Remove hidden temporaries `.NAME.tmp…` / `.NAME.old…` in `dir`: call only while holding
+/// NAME's lock (a live writer of NAME would hold it).
+fn remove_stale(dir: &Path, name: &str) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let (tmp, old) = (format!(".{name}.tmp"), format!(".{name}.old"));
+    for entry in entries.flatten() {
+        let n = entry.file_name().to_string_lossy().into_owned();
+        if n.starts_with(&tmp) || n.starts_with(&old) {
+            let p = entry.path();
+            let _ = if entry.file_type().is_ok_and(|t| t.is_dir()) { std::fs::remove_dir_all(&p) } else { std::fs::remove_file(&p) };
+        }
+    }
+}
+
+/// An advisory lock on `.NAME.lock` beside an output, released (and the lock file removed) on
+/// drop or on SIGINT/SIGTERM; the lock file of a killed writer is simply taken over.
+#[derive(Debug)]
+pub struct Lock {
+    path: PathBuf,
+    file: File,
+}
+
+impl Lock {
+    /// Lock the output `target` (a directory or a file).
+    pub fn acquire(target: &Path) -> Result<Lock, OutDirError> {
+        let dir = parent_of(target);
+        let path = dir.join(format!(".{}.lock", name_of(target)?));
+        loop {
+            let mut opts = OpenOptions::new();
+            opts.read(true).write(true).create(true).truncate(false);
+            #[cfg(unix)]
+            std::os::unix::fs::OpenOptionsExt::custom_flags(&mut opts, libc::O_NOFOLLOW);
+            let mut file = opts.open(&path).map_err(|e| fail(&path, e))?;
+            match file.try_lock() {
+                Ok(()) => {}
+                Err(std::fs::TryLockError::WouldBlock) => {
+                    let mut holder = String::new();
+                    let _ = file.read_to_string(&mut holder);
+                    let holder = holder.trim();
+                    let who = if holder.is_empty() { "another process".to_string() } else { format!("process {holder}") };
+                    return Err(refuse(target, format!("is in use by {who} (lock {}); wait for it or choose another output", path.display())));
+                }
+                Err(std::fs::TryLockError::Error(e)) => return Err(fail(&path, e)),
+            }
+            // The holder before us may have removed the file between our open and our lock: the
+            // lock counts only if the path still names the file we locked.
+            if !same_file(&file, &path) {
+                continue;
+            }
+            let _ = file.set_len(0).and_then(|()| file.write_all(std::process::id().to_string().as_bytes()));
+            interrupt::register(&path);
+            remove_stale(dir, &name_of(target)?);
+            return Ok(Lock { path, file });
+        }
+    }
+}
+
+#[cfg(unix)]
+fn same_file(file: &File, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    match (file.metadata(), std::fs::symlink_metadata(path)) {
+        (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+        _ => false,
+    }
+}
+
+#[cfg(not(unix))]
+fn same_file(_: &File, path: &Path) -> bool {
+    path.exists()
+}
+
+impl Drop for Lock {
+    fn drop(&mut self) {
+        if same_file(&self.file, &self.path) {
+            let _ = std::fs::remove_file(&self.path);
+        }
+        interrupt::unregister(&self.path);
+        let _ = self.file.unlock();
+    }
+}
+
+/// A file written under a unique hidden temporary name beside `path` and renamed into place by
+/// [`TempFile::commit`]; removed if dropped before (or on SIGINT/SIGTERM).
+#[derive(Debug)]
+pub struct TempFile {
+    tmp: PathBuf,
+    path: PathBuf,
+    committed: bool,
+}
+
+impl TempFile {
+    /// Create the temporary file for `path`; the caller holds `path`'s [`Lock`].
+    pub fn create(path: &Path) -> Result<(TempFile, File), OutDirError> {
+        let tmp = parent_of(path).join(format!(".{}.tmp-{}", name_of(path)?, unique()));
+        interrupt::register(&tmp);
+        let file = create_new(&tmp).map_err(|e| {
+            interrupt::unregister(&tmp);
+            fail(path, e)
+        })?;
+        Ok((TempFile { tmp, path: path.to_owned(), committed: false }, file))
+    }
+
+    /// The final path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Sync the data and rename it into place.
+    pub fn commit(mut self) -> Result<PathBuf, OutDirError> {
+        File::open(&self.tmp).and_then(|f| f.sync_all()).map_err(|e| fail(&self.path, e))?;
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| fail(&self.path, e))?;
+        self.committed = true;
+        interrupt::unregister(&self.tmp);
+        sync_dir(parent_of(&self.path));
+        Ok(self.path.clone())
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_file(&self.tmp);
+            interrupt::unregister(&self.tmp);
+        }
+    }
+}
+
+/// Write a whole file the tool owns: `path` must not exist or must be a file this tool wrote
+/// (`ours` says so from its first bytes); written atomically under the lock.
+pub fn write_file(path: &Path, bytes: &[u8], ours: impl Fn(&[u8]) -> bool, flag: &str) -> Result<(), OutDirError> {
+    let _lock = Lock::acquire(path)?;
+    match std::fs::symlink_metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(fail(path, e)),
+        Ok(m) if !m.is_file() => return Err(refuse(path, format!("{flag} exists and is not a regular file; choose another {flag}"))),
+        Ok(_) => {
+            let mut head = Vec::new();
+            File::open(path).and_then(|f| f.take(4096).read_to_end(&mut head)).map_err(|e| fail(path, e))?;
+            if !ours(&head) {
+                return Err(refuse(path, format!("{flag} exists and was not written by stickslip; refusing to replace it: choose another {flag}")));
+            }
+        }
+    }
+    let (tmp, mut file) = TempFile::create(path)?;
+    file.write_all(bytes).map_err(|e| fail(path, e))?;
+    drop(file);
+    tmp.commit().map(drop)
+}
+
+/// A dataset directory being written into: it exists (created if needed), it is marked as a
+/// dataset (or lies inside one), and nothing the run created survives a failure.
+#[derive(Debug)]
+pub struct DatasetDir {
+    dir: PathBuf,
+    created: Vec<PathBuf>,
+    marked: bool,
+    committed: bool,
+}
+
+impl DatasetDir {
+    /// Prepare `dir` for new part files: refused if it holds anything but a stickslip dataset.
+    pub fn prepare(dir: &Path, inputs: &[&Path]) -> Result<DatasetDir, OutDirError> {
+        check_separate(dir, "--out", inputs)?;
+        let mut d = DatasetDir { dir: dir.to_owned(), created: Vec::new(), marked: false, committed: false };
+        match std::fs::symlink_metadata(dir) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                // create the missing ancestors one by one, remembering them for a clean failure
+                let mut missing = vec![dir.to_owned()];
+                let mut p = dir.parent();
+                while let Some(q) = p.filter(|q| !q.as_os_str().is_empty() && !q.exists()) {
+                    missing.push(q.to_owned());
+                    p = q.parent();
+                }
+                for m in missing.iter().rev() {
+                    match std::fs::create_dir(m) {
+                        Ok(()) => d.created.push(m.clone()),
+                        // a concurrent writer (another shard) created it first
+                        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && m.is_dir() => {}
+                        Err(e) => return Err(fail(m, e)),
+                    }
+                }
+            }
+            Err(e) => return Err(fail(dir, e)),
+            Ok(m) if !m.is_dir() => return Err(refuse(dir, "--out exists and is not a directory; choose another --out")),
+            Ok(_) => {}
+        }
+        let inside_dataset = dir.ancestors().any(|a| !a.as_os_str().is_empty() && is_marked(a, Kind::Dataset));
+        if !inside_dataset {
+            if !is_empty_dir(dir).map_err(|e| fail(dir, e))? {
+                let why = match read_marker(dir) {
+                    Some(m) => format!("holds a stickslip {}, not a dataset", m.kind),
+                    None => format!("is not empty and is not a stickslip dataset (no {MARKER})"),
+                };
+                return Err(refuse(dir, format!("--out {why}; simulate adds part files only to a dataset directory: choose another --out")));
+            }
+            match write_marker(dir, Kind::Dataset, Vec::new()) {
+                Ok(()) => d.marked = true,
+                // a concurrent shard marked it first
+                Err(_) if is_marked(dir, Kind::Dataset) => {}
+                Err(e) => return Err(e),
+            }
+        }
+        Ok(d)
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Keep what was created.
+    pub fn commit(mut self) {
+        self.committed = true;
+    }
+}
+
+impl Drop for DatasetDir {
+    fn drop(&mut self) {
+        if self.committed {
+            return;
+        }
+        // Remove only what this run created, and only while nothing else was put there.
+        let only_marker = files_below(&self.dir).is_ok_and(|f| f.is_empty());
+        if self.marked && only_marker {
+            let _ = std::fs::remove_file(self.dir.join(MARKER));
+        }
+        for dir in self.created.iter().rev() {
+            let _ = std::fs::remove_dir(dir); // only succeeds if empty
+        }
+    }
+}
+
+/// A staging directory for an output directory `target` of `kind`, swapped in whole by
+/// [`StagedDir::commit`]; removed on failure, panic or signal, `target` untouched.
 #[derive(Debug)]
 pub struct StagedDir {
     staging: PathBuf,
     target: PathBuf,
+    kind: Kind,
+    flag: String,
     committed: bool,
+    _lock: Lock,
 }
 
 impl StagedDir {
-    pub fn new(target: &Path) -> Result<StagedDir, OutDirError> {
-        if target.is_file() {
-            return Err(fail(target, "exists and is not a directory"));
-        }
-        let name = target.file_name().ok_or_else(|| fail(target, "not a directory name"))?.to_string_lossy().into_owned();
-        let parent = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    /// Check `target` (flag `flag`) against the rules and the `inputs`, lock it, and stage.
+    pub fn new(target: &Path, kind: Kind, flag: &str, inputs: &[&Path]) -> Result<StagedDir, OutDirError> {
+        check_separate(target, flag, inputs)?;
+        let name = name_of(target)?;
+        let parent = parent_of(target);
         std::fs::create_dir_all(parent).map_err(|e| fail(parent, e))?;
-        let staging = parent.join(format!(".{name}.tmp-{}", std::process::id()));
-        std::fs::create_dir_all(&staging).map_err(|e| fail(target, e))?;
-        Ok(StagedDir { staging, target: target.to_owned(), committed: false })
+        let lock = Lock::acquire(target)?;
+        check_replaceable(target, kind, flag)?;
+        let staging = parent.join(format!(".{name}.tmp-{}", unique()));
+        interrupt::register(&staging);
+        std::fs::create_dir(&staging).map_err(|e| {
+            interrupt::unregister(&staging);
+            fail(target, e)
+        })?;
+        Ok(StagedDir { staging, target: target.to_owned(), kind, flag: flag.into(), committed: false, _lock: lock })
     }
 
     /// Where to write.
@@ -43,19 +517,37 @@ impl StagedDir {
         &self.staging
     }
 
-    /// Move the staging directory into place.
+    /// The final path.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Mark the staged directory and swap it in for `target` (checked again: a file put into
+    /// `target` meanwhile stops the swap).
     pub fn commit(mut self) -> Result<(), OutDirError> {
-        let old = self.staging.with_file_name(format!(
-            ".{}.old-{}",
-            self.target.file_name().unwrap_or_default().to_string_lossy(),
-            std::process::id()
-        ));
-        if self.target.exists() {
+        let files = files_below(&self.staging).map_err(|e| fail(&self.target, e))?;
+        write_marker(&self.staging, self.kind, files)?;
+        check_replaceable(&self.target, self.kind, &self.flag)?;
+        let old = parent_of(&self.target).join(format!(".{}.old-{}", name_of(&self.target)?, unique()));
+        let had_old = self.target.exists();
+        if had_old {
+            interrupt::register(&old);
             std::fs::rename(&self.target, &old).map_err(|e| fail(&self.target, e))?;
         }
-        std::fs::rename(&self.staging, &self.target).map_err(|e| fail(&self.target, e))?;
+        if let Err(e) = std::fs::rename(&self.staging, &self.target) {
+            if had_old {
+                let _ = std::fs::rename(&old, &self.target);
+                interrupt::unregister(&old);
+            }
+            return Err(fail(&self.target, e));
+        }
         self.committed = true;
-        let _ = std::fs::remove_dir_all(&old);
+        interrupt::unregister(&self.staging);
+        sync_dir(parent_of(&self.target));
+        if had_old {
+            let _ = std::fs::remove_dir_all(&old);
+            interrupt::unregister(&old);
+        }
         Ok(())
     }
 }
@@ -64,6 +556,26 @@ impl Drop for StagedDir {
     fn drop(&mut self) {
         if !self.committed {
             let _ = std::fs::remove_dir_all(&self.staging);
+            interrupt::unregister(&self.staging);
         }
     }
+}
+
+/// Prepare the top directory of `reproduce`: new, empty, or a previous `reproduce` output.
+pub fn prepare_reproduce(dir: &Path, inputs: &[&Path]) -> Result<(), OutDirError> {
+    check_separate(dir, "--out", inputs)?;
+    if dir.exists() {
+        if !dir.is_dir() {
+            return Err(refuse(dir, "--out exists and is not a directory; choose another --out"));
+        }
+        if is_marked(dir, Kind::Reproduce) {
+            return Ok(());
+        }
+        if !is_empty_dir(dir).map_err(|e| fail(dir, e))? {
+            return Err(refuse(dir, format!("--out is not empty and is not a stickslip reproduce output (no {MARKER}); choose another --out")));
+        }
+    } else {
+        std::fs::create_dir_all(dir).map_err(|e| fail(dir, e))?;
+    }
+    write_marker(dir, Kind::Reproduce, Vec::new())
 }

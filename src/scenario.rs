@@ -20,6 +20,18 @@ pub const PAPER_TOML: &str = include_str!("../pipelines/paper.toml");
 /// Largest accepted λ·t_a (expected belt flips per realization): their instants are held in memory.
 pub const MAX_EXPECTED_SWITCHES: f64 = 1e7;
 
+/// Most realizations one run may ask for.
+pub const MAX_REALIZATIONS: u64 = 1_000_000_000_000;
+
+/// Most cells one sweep may have (each is a full run and a directory).
+pub const MAX_CELLS: usize = 10_000;
+
+/// Largest scenario file read (a scenario is a few hundred bytes).
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
+/// Most trajectory samples in all (`output.trajectories` × duration / step): about 0.6 GB of CSV.
+pub const MAX_TRAJECTORY_SAMPLES: f64 = 1e7;
+
 /// The solvers `run.solver` may name.
 pub const SOLVERS: &[&str] = &["exact", "rk45", "rk4", "moreau", "smooth"];
 
@@ -79,6 +91,10 @@ pub enum ScenarioError {
     Invalid { key: String, value: String, reason: String },
     #[error("--set {arg:?}: expected KEY=VALUE with a dotted key, e.g. --set belt.switch_rate=1.0")]
     BadSet { arg: String },
+    #[error("--set {arg:?}: {reason}")]
+    BadSetValue { arg: String, reason: String },
+    #[error("scenario file {}: {reason}", path.display())]
+    TooBig { path: PathBuf, reason: String },
 }
 
 /// The known keys next to an unknown one, for the error message.
@@ -125,8 +141,21 @@ impl Scenario {
                 let numeric_default = matches!(defaults[section][key], Value::Float(_) | Value::Integer(_));
                 if let (true, Value::Array(list)) = (numeric_default, value) {
                     let dotted = format!("{section}.{key}");
+                    if !SWEEPABLE_SECTIONS.contains(&section.as_str()) {
+                        return Err(invalid(&dotted, value, &format!(
+                            "a list is a sweep, and only keys of {SWEEPABLE_SECTIONS:?} can be swept (run two simulations for two seeds)"
+                        )));
+                    }
                     if list.is_empty() {
                         return Err(invalid(&dotted, value, "a swept key needs at least one value"));
+                    }
+                    let mut seen: Vec<f64> = Vec::new();
+                    for v in list {
+                        let x = Getter(&table).number(&dotted, v)?;
+                        if seen.contains(&x) {
+                            return Err(invalid(&dotted, value, &format!("the value {} is listed twice", short(x))));
+                        }
+                        seen.push(x);
                     }
                     axes.push((dotted, list.clone()));
                 }
@@ -134,7 +163,15 @@ impl Scenario {
         }
         let base_seed = Getter(&table).count("run.seed", 0)?;
         let mut cells = Vec::new();
-        let total: usize = axes.iter().map(|a| a.1.len()).product();
+        let total = axes.iter().try_fold(1usize, |n, a| n.checked_mul(a.1.len()).filter(|&n| n <= MAX_CELLS));
+        let Some(total) = total else {
+            let sizes: Vec<String> = axes.iter().map(|(k, l)| format!("{k}: {}", l.len())).collect();
+            return Err(ScenarioError::Invalid {
+                key: axes.iter().map(|a| a.0.as_str()).collect::<Vec<_>>().join(", "),
+                value: sizes.join(" × "),
+                reason: format!("the sweep has more than {MAX_CELLS} cells"),
+            });
+        };
         for n in 0..total {
             let (mut t, mut values, mut parts, mut rest) = (table.clone(), Vec::new(), Vec::new(), n);
             for (key, list) in axes.iter().rev() {
@@ -158,14 +195,29 @@ impl Scenario {
     }
 }
 
-/// A hive partition value: the number as TOML writes it (5, 0.51, 1e-5).
+/// A hive partition value: an integer as written (5), a float in its shortest round-trip form,
+/// positional while that takes at most 16 characters (0.51, 0.00001, 2.5), otherwise with an
+/// exponent (1e300, 1.5e-20).
 fn hive_value(v: &Value) -> String {
     match v {
         Value::Integer(i) => i.to_string(),
-        Value::Float(f) => format!("{f}"),
+        Value::Float(f) => short(*f),
         other => other.to_string(),
     }
 }
+
+/// A number in its shortest round-trip form, never as hundreds of digits (see [`hive_value`]).
+pub fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 16 {
+        plain
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The sections whose numeric keys may be swept (lists).
+pub const SWEEPABLE_SECTIONS: [&str; 3] = ["model", "belt", "initial_conditions"];
 
 /// The seed of a sweep cell: SplitMix64(seed ⊕ FNV-1a 64(path)), kept below 2^63.
 pub fn cell_seed(seed: u64, path: &str) -> u64 {
@@ -179,10 +231,30 @@ pub fn cell_seed(seed: u64, path: &str) -> u64 {
     (z ^ (z >> 31)) >> 1
 }
 
-/// The text of an optional scenario file.
+/// The text of an optional scenario file (at most [`MAX_FILE_BYTES`], UTF-8).
 fn read(file: Option<&Path>) -> Result<Option<String>, ScenarioError> {
-    file.map(|path| std::fs::read_to_string(path).map_err(|source| ScenarioError::Read { path: path.to_owned(), source }))
-        .transpose()
+    use std::io::Read as _;
+    let Some(path) = file else { return Ok(None) };
+    let err = |source| ScenarioError::Read { path: path.to_owned(), source };
+    let mut bytes = Vec::new();
+    std::fs::File::open(path).and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)).map_err(err)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(ScenarioError::TooBig { path: path.to_owned(), reason: format!("larger than {MAX_FILE_BYTES} bytes; a scenario is a small TOML file") });
+    }
+    String::from_utf8(bytes).map(Some).map_err(|_| ScenarioError::TooBig { path: path.to_owned(), reason: "is not UTF-8 text".into() })
+}
+
+/// Signed zeros become +0 everywhere (a `-0.0` passes `>= 0` but divides to −∞).
+fn positive_zeros(table: &mut Table) {
+    fn fix(v: &mut Value) {
+        match v {
+            Value::Float(x) if *x == 0.0 => *x = 0.0,
+            Value::Array(a) => a.iter_mut().for_each(fix),
+            Value::Table(t) => t.iter_mut().for_each(|(_, v)| fix(v)),
+            _ => {}
+        }
+    }
+    table.iter_mut().for_each(|(_, v)| fix(v));
 }
 
 /// The paper scenario ← the user's text ← `--set` overrides, as a table (not yet validated).
@@ -196,6 +268,9 @@ fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, S
         merge(&mut table, user, "")?;
     }
     for arg in sets {
+        if arg.chars().any(char::is_control) {
+            return Err(ScenarioError::BadSetValue { arg: arg.clone(), reason: "contains a newline or control character; give one KEY=VALUE per --set".into() });
+        }
         let (key, value) = arg.split_once('=').ok_or_else(|| ScenarioError::BadSet { arg: arg.clone() })?;
         set(&mut table, key.trim(), parse_value(value.trim()))?;
     }
@@ -210,7 +285,8 @@ impl Scenario {
         Scenario::from_table(table)
     }
 
-    fn from_table(table: Table) -> Result<Scenario, ScenarioError> {
+    fn from_table(mut table: Table) -> Result<Scenario, ScenarioError> {
+        positive_zeros(&mut table);
         let g = Getter(&table);
         let model = Model {
             mass: g.f64("model.mass", |x| x > 0.0, "must be > 0 (kg)")?,
@@ -239,7 +315,7 @@ impl Scenario {
             belt,
             position: g.range("initial_conditions.position")?,
             velocity: g.range("initial_conditions.velocity")?,
-            realizations: g.count("run.realizations", 1)?,
+            realizations: g.bounded_count("run.realizations", 1, MAX_REALIZATIONS)?,
             seed: g.count("run.seed", 0)?,
             solver,
             numerics: Numerics {
@@ -274,12 +350,12 @@ impl Scenario {
                 reason: "these ratios must be finite".into(),
             });
         }
-        if self.trajectories > 1000 || self.trajectories as f64 * self.belt.duration / self.trajectory_step > 1e8 {
+        if self.trajectories > 1000 || self.trajectories as f64 * self.belt.duration / self.trajectory_step > MAX_TRAJECTORY_SAMPLES {
             return Err(ScenarioError::Invalid {
                 key: "output.trajectories".into(),
                 value: self.trajectories.to_string(),
                 reason: format!(
-                    "at most 1000 trajectories and 1e8 samples in all (run.duration / output.trajectory_step = {:e} each)",
+                    "at most 1000 trajectories and {MAX_TRAJECTORY_SAMPLES:e} samples in all (run.duration / output.trajectory_step = {:e} each)",
                     self.belt.duration / self.trajectory_step
                 ),
             });
@@ -413,11 +489,11 @@ impl Getter<'_> {
 
     fn range(&self, key: &str) -> Result<[f64; 2], ScenarioError> {
         let v = self.get(key);
-        let bad = || invalid(key, v, "must be [lo, hi] with finite lo <= hi");
+        let bad = || invalid(key, v, "must be [lo, hi] with finite lo <= hi and a finite width hi - lo");
         match v {
             Value::Array(a) if a.len() == 2 => {
                 let (lo, hi) = (self.number(key, &a[0])?, self.number(key, &a[1])?);
-                if lo.is_finite() && hi.is_finite() && lo <= hi {
+                if lo.is_finite() && hi.is_finite() && lo <= hi && (hi - lo).is_finite() {
                     Ok([lo, hi])
                 } else {
                     Err(bad())
@@ -432,6 +508,14 @@ impl Getter<'_> {
             Value::Integer(i) if i >= min => Ok(i as u64),
             ref other => Err(invalid(key, other, &format!("must be an integer >= {min}"))),
         }
+    }
+
+    fn bounded_count(&self, key: &str, min: i64, max: u64) -> Result<u64, ScenarioError> {
+        let n = self.count(key, min)?;
+        if n > max {
+            return Err(invalid(key, self.get(key), &format!("must be at most {max}")));
+        }
+        Ok(n)
     }
 }
 

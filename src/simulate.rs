@@ -12,7 +12,10 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::dataset::{DatasetError, PartWriter, Rows, SCHEMA_VERSION};
+use std::io::Write as _;
+
+use crate::dataset::{DatasetError, Finished, PartWriter, Rows, SCHEMA_VERSION};
+use crate::outdir::{DatasetDir, Lock, OutDirError, TempFile};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::rng::GENERATOR;
 use crate::scenario::Scenario;
@@ -72,10 +75,17 @@ pub enum SimulateError {
     #[error(transparent)]
     Dataset(#[from] DatasetError),
     #[error(transparent)]
+    Out(#[from] OutDirError),
+    #[error(transparent)]
     Run(#[from] RunError),
-    #[error("--threads: {0}")]
-    Threads(String),
+    #[error("--threads {0}: must be between 1 and {MAX_THREADS}")]
+    Threads(usize),
+    #[error("cannot start worker threads: {0}")]
+    Pool(String),
 }
+
+/// Most worker threads accepted (`--threads`).
+pub const MAX_THREADS: usize = 1024;
 
 /// Key-value metadata recorded in every part file.
 pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
@@ -97,18 +107,46 @@ pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
     .collect()
 }
 
-/// Run the stage.
+/// A simulated part, complete under temporary names: [`Pending::commit`] moves it into place
+/// (a sweep commits its cells only when all of them are complete).
+#[derive(Debug)]
+pub struct Pending {
+    part: Finished,
+    trajectories: Option<(TempFile, Lock)>,
+    summary: Summary,
+}
+
+impl Pending {
+    /// Rename the part (and trajectories) into place.
+    pub fn commit(self) -> Result<Summary, SimulateError> {
+        let path = self.part.commit()?;
+        if let Some((tmp, _lock)) = self.trajectories {
+            tmp.commit()?;
+        }
+        Ok(Summary { path, ..self.summary })
+    }
+}
+
+/// Run the stage: simulate and commit the part file into `opts.out`.
 pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError> {
+    let dir = DatasetDir::prepare(&opts.out, &[])?;
+    let summary = compute(scenario, opts)?.commit()?;
+    dir.commit();
+    Ok(summary)
+}
+
+/// Simulate into a finished, uncommitted part file; `opts.out` is a prepared dataset directory.
+pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateError> {
     let start = Instant::now();
     let threads = match opts.threads {
-        Some(0) => return Err(SimulateError::Threads("must be at least 1".into())),
+        Some(t) if t == 0 || t > MAX_THREADS => return Err(SimulateError::Threads(t)),
         Some(t) => t,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map_err(|e| SimulateError::Threads(e.to_string()))?;
+        .map_err(|e| SimulateError::Pool(e.to_string()))?;
     let range = opts.shard.range(scenario.realizations);
     let ensemble = Ensemble::new(scenario);
     let writer = PartWriter::create(
@@ -120,11 +158,9 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError
     )?;
     let progress = progress_bar(range.end - range.start, opts.progress);
 
+    // chunks of realizations, generated lazily (a run may have ~10^12 of them)
     let chunk = ensemble.chunk_len();
-    let chunks: Vec<std::ops::Range<u64>> = (range.start..range.end)
-        .step_by(chunk as usize)
-        .map(|lo| lo..(lo + chunk).min(range.end))
-        .collect();
+    let mut chunks = (range.start..range.end).step_by(chunk as usize).map(|lo| lo..(lo + chunk).min(range.end)).peekable();
     let mut total_sticks = 0u64;
     let (computed, written) = std::thread::scope(|scope| {
         let (tx, rx) = sync_channel::<Rows>(2 * threads);
@@ -136,7 +172,8 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError
             Ok(writer)
         });
         let computed = (|| -> Result<(), RunError> {
-            for window in chunks.chunks(4 * threads) {
+            while chunks.peek().is_some() {
+                let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(4 * threads).collect();
                 let rows: Vec<Result<Rows, RunError>> =
                     pool.install(|| window.par_iter().map(|r| ensemble.rows(r.clone())).collect());
                 for r in rows {
@@ -155,37 +192,40 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError
     });
     progress.finish_and_clear();
     computed?;
-    let writer = written?;
+    let part = written?.finish()?;
     // Trajectories (Fig. 4) of realizations 0..N, written by the shard that holds realization 0.
     let trajectories = if scenario.trajectories > 0 && range.start == 0 {
         Some(write_trajectories(&ensemble, scenario, &opts.out)?)
     } else {
         None
     };
-    let path = writer.commit().inspect_err(|_| {
-        if let Some((tmp, _)) = &trajectories {
-            let _ = std::fs::remove_file(tmp);
-        }
-    })?;
-    if let Some((tmp, path)) = trajectories {
-        std::fs::rename(&tmp, &path).map_err(|e| DatasetError::Write { path, source: Box::new(e) })?;
-    }
-    Ok(Summary { path, realizations: range.end - range.start, seconds: start.elapsed().as_secs_f64(), total_sticks })
+    let summary = Summary {
+        path: part.path().to_owned(),
+        realizations: range.end - range.start,
+        seconds: start.elapsed().as_secs_f64(),
+        total_sticks,
+    };
+    Ok(Pending { part, trajectories, summary })
 }
 
-/// Sample the first `output.trajectories` realizations into a temporary CSV in `dir`; returns
-/// (temporary path, final path).
-fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path::Path) -> Result<(PathBuf, PathBuf), SimulateError> {
-    let mut csv = String::from(trajectory::CSV_HEADER);
+/// Sample the first `output.trajectories` realizations into `dir/trajectories.csv`, streamed to
+/// a temporary file (committed with the part).
+fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path::Path) -> Result<(TempFile, Lock), SimulateError> {
+    let path = dir.join("trajectories.csv");
+    let lock = Lock::acquire(&path)?;
+    let (tmp, file) = TempFile::create(&path)?;
+    let werr = |e: std::io::Error| DatasetError::Write { path: path.clone(), source: Box::new(e) };
+    let mut w = std::io::BufWriter::new(file);
+    w.write_all(trajectory::CSV_HEADER.as_bytes()).map_err(werr)?;
     let mut out = Outcome::default();
     for index in 0..scenario.trajectories.min(scenario.realizations) {
         let sampler = ensemble.trajectory(index, scenario.trajectory_step, &mut out)?;
+        let mut csv = String::new();
         trajectory::csv_rows(&mut csv, index, &sampler.samples, out.switches(), &out.record);
+        w.write_all(csv.as_bytes()).map_err(werr)?;
     }
-    let path = dir.join("trajectories.csv");
-    let tmp = dir.join(".trajectories.csv.tmp");
-    std::fs::write(&tmp, csv).map_err(|e| DatasetError::Write { path: path.clone(), source: Box::new(e) })?;
-    Ok((tmp, path))
+    w.into_inner().map_err(|e| werr(e.into_error()))?;
+    Ok((tmp, lock))
 }
 
 fn progress_bar(len: u64, enabled: bool) -> ProgressBar {

@@ -17,7 +17,7 @@ use crate::analysis::frame::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::events::Record;
 use crate::figures::{render, Figure, Panel, Series};
-use crate::outdir::StagedDir;
+use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 
 /// Largest time difference [s] at which a numerical event is matched to an exact one.
@@ -90,6 +90,8 @@ pub enum TradeoffError {
     Run { solver: String, setting: String, source: RunError },
     #[error("writing {}: {message}", path.display())]
     Write { path: std::path::PathBuf, message: String },
+    #[error(transparent)]
+    Out(#[from] crate::outdir::OutDirError),
 }
 
 /// One measured setting.
@@ -245,11 +247,11 @@ pub fn figure(rows: &[Row]) -> Figure {
 
 /// Run the stage into `out` (replaced when complete).
 pub fn run(base: &Scenario, n: u64, out: &Path) -> Result<Vec<Row>, TradeoffError> {
+    let staged = StagedDir::new(out, Kind::Tradeoff, "--out", &[])?;
     let rows = measure(base, n)?;
     let werr = |path: &Path, e: &dyn std::fmt::Display| TradeoffError::Write { path: path.to_owned(), message: e.to_string() };
-    let staged = StagedDir::new(out).map_err(|e| werr(&e.path, &e.message))?;
     table(&rows, n).write_parquet(&staged.path().join("tradeoff.parquet")).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
     render::save(&figure(&rows), staged.path()).map_err(|e| werr(&out.join("work_precision.png"), &e))?;
-    staged.commit().map_err(|e| werr(&e.path, &e.message))?;
+    staged.commit()?;
     Ok(rows)
 }

@@ -12,8 +12,9 @@ use std::fs::File;
 use std::path::Path;
 
 use polars::prelude::*;
-use polars_arrow::array::PrimitiveArray;
+use polars_arrow::array::{Array, PrimitiveArray};
 
+use super::input::Stamp;
 use super::series::{Series, Variable};
 
 /// One batch of realizations, in dataset order: the value of each requested series (`None`
@@ -21,38 +22,102 @@ use super::series::{Series, Variable};
 #[derive(Debug, Default)]
 pub struct Batch {
     pub values: Vec<Vec<Option<f64>>>,
-    pub n_stick: Vec<i32>,
-    pub n_slip: Vec<i32>,
+    pub n_stick: Vec<i64>,
+    pub n_slip: Vec<i64>,
     pub last_truncated: Vec<bool>,
 }
 
-/// The k-th elements (k in `ks`, 1-based) of every row of a list<f64> column, read straight from
-/// the Arrow offsets and values buffers.
-fn nth_elements(column: &Column, ks: &[u32]) -> PolarsResult<Vec<Vec<Option<f64>>>> {
+/// One part file to stream: where, how many rows, its first realization index, and what it
+/// looked like when checked.
+#[derive(Debug, Clone)]
+pub struct FilePart<'a> {
+    pub path: &'a Path,
+    pub rows: u64,
+    pub first: u64,
+    pub stamp: Stamp,
+}
+
+/// The offsets and values of a list<f64> column, chunk by chunk, refusing nulls (`first`: the
+/// dataset row of the column's first row, for the message).
+fn list_chunks(column: &Column, first: u64) -> PolarsResult<Vec<(&[i64], &[f64])>> {
     let ca = column.list()?;
-    let mut out: Vec<Vec<Option<f64>>> = ks.iter().map(|_| Vec::with_capacity(ca.len())).collect();
+    let mut out = Vec::new();
+    let mut row0 = first;
     for arr in ca.downcast_iter() {
-        let offsets = arr.offsets().as_slice();
         let values = arr
             .values()
             .as_any()
             .downcast_ref::<PrimitiveArray<f64>>()
-            .ok_or_else(|| polars_err!(SchemaMismatch: "column `{}` is not a list of float64", column.name()))?
-            .values()
-            .as_slice();
-        for r in 0..arr.len() {
-            let (start, end) = (offsets[r] as usize, offsets[r + 1] as usize);
-            for (slot, &k) in out.iter_mut().zip(ks) {
-                let i = start + k as usize - 1;
-                slot.push((i < end).then(|| values[i]));
-            }
+            .ok_or_else(|| polars_err!(SchemaMismatch: "column `{}` is not a list of float64", column.name()))?;
+        if arr.null_count() > 0 {
+            polars_bail!(ComputeError: "column `{}` has a null list (lists are never null; an empty list is [])", column.name());
         }
+        if let Some(j) = values.validity().and_then(|v| v.iter().position(|valid| !valid)) {
+            let row = arr.offsets().as_slice().partition_point(|&o| o as usize <= j).saturating_sub(1);
+            polars_bail!(ComputeError: "row {}, column `{}`: a null element inside a list", row0 + row as u64, column.name());
+        }
+        row0 += arr.len() as u64;
+        out.push((arr.offsets().as_slice(), values.values().as_slice()));
     }
     Ok(out)
 }
 
-fn ints(df: &DataFrame, name: &str) -> PolarsResult<Vec<i32>> {
-    Ok(df.column(name)?.i32()?.iter().map(|v| v.unwrap_or(0)).collect())
+/// The rows of a list<f64> column as slices (`first`: see [`list_chunks`]).
+fn list_rows(column: &Column, first: u64) -> PolarsResult<Vec<&[f64]>> {
+    let mut rows = Vec::with_capacity(column.len());
+    for (offsets, values) in list_chunks(column, first)? {
+        rows.extend(offsets.windows(2).map(|w| &values[w[0] as usize..w[1] as usize]));
+    }
+    Ok(rows)
+}
+
+/// A count column (int32 in schema v1, int64 in v2), refusing nulls.
+fn ints(df: &DataFrame, name: &str) -> PolarsResult<Vec<i64>> {
+    let c = df.column(name)?;
+    if c.null_count() > 0 {
+        polars_bail!(ComputeError: "column `{name}` has null values");
+    }
+    Ok(c.cast(&DataType::Int64)?.i64()?.iter().map(|v| v.unwrap_or(0)).collect())
+}
+
+/// Check every value of a slice before anything is folded: realization ids are the declared
+/// consecutive range, counts are non-negative and equal their lists' lengths, event times are
+/// finite and non-negative, starts do not decrease. The error names row, realization and column.
+fn validate(df: &DataFrame, first: u64, switch_times: bool) -> PolarsResult<()> {
+    let ids = ints(df, "realization")?;
+    let at = |r: usize, col: &str, why: String| polars_err!(ComputeError: "row {} (realization {}), column `{col}`: {why}", first + r as u64, ids[r]);
+    for (r, &id) in ids.iter().enumerate() {
+        if id != (first + r as u64) as i64 {
+            return Err(at(r, "realization", format!("expected realization {} (the part's declared range), found {id}", first + r as u64)));
+        }
+    }
+    let lists = |name: &str| list_rows(df.column(name)?, first);
+    let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
+    if switch_times {
+        counted.push(("n_switches", ["switch_times"].as_slice()));
+    }
+    for (count, cols) in counted {
+        let n = ints(df, count)?;
+        for col in cols {
+            let rows = lists(col)?;
+            for (r, row) in rows.iter().enumerate() {
+                if n[r] < 0 || row.len() as i64 != n[r] {
+                    return Err(at(r, col, format!("{} values, but `{count}` = {}", row.len(), n[r])));
+                }
+                if let Some(x) = row.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+                    return Err(at(r, col, format!("value {x} (event times and durations are finite and >= 0)")));
+                }
+                let is_start = col.ends_with("_start") || *col == "switch_times";
+                if is_start && row.windows(2).any(|w| w[1] < w[0]) {
+                    return Err(at(r, col, "values decrease (start instants are in increasing order)".into()));
+                }
+            }
+        }
+    }
+    if df.column("last_truncated")?.null_count() > 0 {
+        polars_bail!(ComputeError: "column `last_truncated` has null values");
+    }
+    Ok(())
 }
 
 fn to_batch(df: &DataFrame, series: &[Series]) -> PolarsResult<Batch> {
@@ -62,37 +127,19 @@ fn to_batch(df: &DataFrame, series: &[Series]) -> PolarsResult<Batch> {
         n_slip: ints(df, "n_slip")?,
         last_truncated: df.column("last_truncated")?.bool()?.iter().map(|v| v.unwrap_or(false)).collect(),
     };
-    for (i, s) in series.iter().enumerate().filter(|(_, s)| s.var == Variable::StickTime) {
-        let ca = df.column(s.var.column())?.list()?;
-        let mut sums = Vec::with_capacity(ca.len());
-        for arr in ca.downcast_iter() {
-            let offsets = arr.offsets().as_slice();
-            let values = arr.values().as_any().downcast_ref::<PrimitiveArray<f64>>().map(|a| a.values().as_slice()).unwrap_or(&[]);
-            sums.extend((0..arr.len()).map(|r| Some(values[offsets[r] as usize..offsets[r + 1] as usize].iter().sum::<f64>())));
-        }
-        batch.values[i] = sums;
-    }
-    let mut columns: Vec<&'static str> =
-        series.iter().filter(|s| s.var != Variable::StickTime).map(|s| s.var.column()).collect();
-    columns.sort_unstable();
-    columns.dedup();
-    for name in columns {
-        let members: Vec<usize> =
-            (0..series.len()).filter(|&i| series[i].var.column() == name && series[i].var != Variable::StickTime).collect();
-        match series[members[0]].index {
-            Some(_) => {
-                let ks: Vec<u32> = members.iter().map(|&i| series[i].index.expect("indexed")).collect();
-                for (i, values) in members.iter().zip(nth_elements(df.column(name)?, &ks)?) {
-                    batch.values[*i] = values;
-                }
-            }
-            None => {
-                let counts = ints(df, name)?;
-                for &i in &members {
-                    batch.values[i] = counts.iter().map(|&c| Some(f64::from(c))).collect();
-                }
+    let mut rows_of: std::collections::HashMap<&str, Vec<&[f64]>> = Default::default();
+    for (i, s) in series.iter().enumerate() {
+        let name = s.var.column();
+        if s.var == Variable::StickTime || s.index.is_some() {
+            if !rows_of.contains_key(name) {
+                rows_of.insert(name, list_rows(df.column(name)?, 0)?);
             }
         }
+        batch.values[i] = match (s.var, s.index) {
+            (Variable::StickTime, _) => rows_of[name].iter().map(|row| Some(row.iter().sum::<f64>())).collect(),
+            (_, Some(k)) => rows_of[name].iter().map(|row| row.get(k as usize - 1).copied()).collect(),
+            (_, None) => ints(df, name)?.iter().map(|&c| Some(c as f64)).collect(),
+        };
     }
     Ok(batch)
 }
@@ -105,23 +152,41 @@ const SLICE_ROWS: u64 = 131_072;
 /// one thread), while the caller consumes the slices in order.
 const READERS: usize = 2;
 
-/// Stream `series` of one part file (`rows` rows) through `sink`, in row order, one bounded
-/// slice at a time: polars' Parquet reader decodes only the projected columns of the row groups
-/// overlapping a slice; [`READERS`] threads each stay one slice ahead of `sink`.
-pub fn stream_file(path: &Path, rows: u64, series: &[Series], sink: &mut dyn FnMut(&Batch)) -> PolarsResult<()> {
+/// Stream `series` of one part file through `sink`, in row order, one bounded slice at a time:
+/// polars' Parquet reader decodes only the projected columns of the row groups overlapping a
+/// slice; [`READERS`] threads each stay one slice ahead of `sink`. Every slice is validated
+/// ([`validate`]) before `sink` sees it, and the file must keep the stamp it had when checked.
+pub fn stream_file(part: &FilePart, series: &[Series], switch_times: bool, sink: &mut dyn FnMut(&Batch)) -> PolarsResult<()> {
+    let with_switches = switch_times && series.iter().any(|s| s.var == Variable::Y);
     let mut names: Vec<String> = series.iter().map(|s| s.var.column().to_string()).collect();
-    names.extend(["n_stick", "n_slip", "last_truncated"].map(String::from));
+    names.extend(["realization", "n_stick", "n_slip", "last_truncated", "stick_start", "stick_duration", "slip_start", "slip_duration"].map(String::from));
+    if with_switches {
+        names.extend(["n_switches", "switch_times"].map(String::from));
+    }
     names.sort_unstable();
     names.dedup();
+    let unchanged = || -> PolarsResult<()> {
+        match Stamp::of(part.path) {
+            Ok(now) if now == part.stamp => Ok(()),
+            _ => Err(polars_err!(ComputeError: "the file changed while it was being analysed (is a simulate still writing here?); run analyze again when it is done")),
+        }
+    };
     let read = |offset: u64| -> PolarsResult<Batch> {
-        let file = File::open(path).map_err(|e| polars_err!(ComputeError: "{e}"))?;
+        unchanged()?;
+        let file = File::open(part.path).map_err(|e| polars_err!(ComputeError: "{e}"))?;
         let df = ParquetReader::new(file)
             .with_columns(Some(names.clone()))
             .with_slice(Some((offset as usize, SLICE_ROWS as usize)))
             .finish()?;
-        to_batch(&df, series)
+        if df.height() as u64 != SLICE_ROWS.min(part.rows - offset) {
+            polars_bail!(ComputeError: "rows {offset}.. could not be read in full");
+        }
+        validate(&df, part.first + offset, with_switches)?;
+        let batch = to_batch(&df, series)?;
+        unchanged()?;
+        Ok(batch)
     };
-    let offsets: Vec<u64> = (0..rows).step_by(SLICE_ROWS as usize).collect();
+    let offsets: Vec<u64> = (0..part.rows).step_by(SLICE_ROWS as usize).collect();
     std::thread::scope(|scope| {
         let receivers: Vec<_> = (0..READERS)
             .map(|r| {
@@ -175,6 +240,29 @@ impl Table {
                 other => polars_bail!(SchemaMismatch: "{}: column `{name}` has unsupported type {other}", path.display()),
             };
             t.columns.push((name, col));
+        }
+        Ok(t)
+    }
+
+    /// Read a table and check that it has `columns`, each of the kind given ('s' string,
+    /// 'i' integer, 'f' float): a broken or foreign table is an error naming the column.
+    pub fn read_checked(path: &Path, columns: &[(&str, char)]) -> PolarsResult<Table> {
+        let t = Table::read_parquet(path)?;
+        for &(name, kind) in columns {
+            let got = match t.col(name) {
+                None => polars_bail!(ColumnNotFound: "{}: column `{name}` is missing", path.display()),
+                Some(Col::Str(_)) => 's',
+                Some(Col::Int(_)) => 'i',
+                Some(Col::Float(_)) => 'f',
+            };
+            if got != kind {
+                let word = |k: char| match k {
+                    's' => "string",
+                    'i' => "integer",
+                    _ => "float",
+                };
+                polars_bail!(SchemaMismatch: "{}: column `{name}` is {}, expected {}", path.display(), word(got), word(kind));
+            }
         }
         Ok(t)
     }

@@ -13,16 +13,26 @@ use arrow::datatypes::DataType;
 use parquet::arrow::parquet_to_arrow_schema;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-use crate::dataset::SCHEMA_VERSION;
+use crate::dataset::READABLE_VERSIONS;
 use crate::scenario::Scenario;
 
 /// A checked dataset.
 #[derive(Debug, Clone)]
 pub struct Dataset {
+    /// Part files, in realization order.
     pub files: Vec<PathBuf>,
     /// Rows of each file.
     pub file_rows: Vec<u64>,
+    /// What each file looked like when checked (a file that changes later is refused).
+    pub file_stamps: Vec<Stamp>,
+    /// First realization index of each file.
+    pub file_starts: Vec<u64>,
     pub rows: u64,
+    /// Realizations of the whole run the parts come from (`run.realizations`).
+    pub expected_rows: u64,
+    /// Realization ranges of the run that no part holds (empty for a complete dataset; only
+    /// with `--allow-partial`).
+    pub missing: Vec<std::ops::Range<u64>>,
     pub scenario: Scenario,
     pub switch_times: bool,
     /// `DIR/trajectories.csv`, when the simulation sampled trajectories.
@@ -39,6 +49,8 @@ pub enum InputError {
     File { path: PathBuf, reason: String },
     #[error("{} is a parameter sweep of {cells} cells (key=value/ directories); `analyze` analyses each cell and writes sweep.parquet", path.display())]
     Sweep { path: PathBuf, cells: usize },
+    #[error("{} is incomplete: {detail}; simulate the missing shards, or pass --allow-partial to analyse the parts present (the summary then says so)", path.display())]
+    Incomplete { path: PathBuf, detail: String },
 }
 
 fn bad(path: &Path, reason: impl Into<String>) -> InputError {
@@ -64,11 +76,32 @@ fn discover(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), InputError> {
     Ok(())
 }
 
+/// What a file looked like: size, modification time and (on Unix) inode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stamp {
+    len: u64,
+    modified: Option<std::time::SystemTime>,
+    inode: u64,
+}
+
+impl Stamp {
+    /// The stamp of the file at `path` now.
+    pub fn of(path: &Path) -> std::io::Result<Stamp> {
+        let m = std::fs::metadata(path)?;
+        #[cfg(unix)]
+        let inode = std::os::unix::fs::MetadataExt::ino(&m);
+        #[cfg(not(unix))]
+        let inode = 0;
+        Ok(Stamp { len: m.len(), modified: m.modified().ok(), inode })
+    }
+}
+
+/// Columns and types of schema v2 (v1: int32 counts, read as well).
 const COLUMNS: &[(&str, &str)] = &[
     ("realization", "int64"),
-    ("n_switches", "int32"),
-    ("n_stick", "int32"),
-    ("n_slip", "int32"),
+    ("n_switches", "int64"),
+    ("n_stick", "int64"),
+    ("n_slip", "int64"),
     ("last_truncated", "bool"),
     ("stick_start", "list<float64>"),
     ("stick_duration", "list<float64>"),
@@ -87,34 +120,69 @@ fn type_name(t: &DataType) -> String {
     }
 }
 
-/// Check one part file; returns (rows, scenario TOML, has switch_times).
-fn check(path: &Path) -> Result<(u64, String, bool), InputError> {
+/// What the footer of one part file says.
+struct Part {
+    rows: u64,
+    scenario: String,
+    switch_times: bool,
+    /// `stickslip.realizations`: the whole run's size
+    total: u64,
+    /// `stickslip.realization_range`
+    range: std::ops::Range<u64>,
+    stamp: Stamp,
+}
+
+/// Check one part file's footer.
+fn check(path: &Path) -> Result<Part, InputError> {
+    let stamp = Stamp::of(path).map_err(|e| bad(path, e.to_string()))?;
     let file = File::open(path).map_err(|e| bad(path, e.to_string()))?;
     let reader = SerializedFileReader::new(file).map_err(|e| bad(path, format!("not a readable Parquet file ({e})")))?;
     let meta = reader.metadata().file_metadata();
     let kv = meta.key_value_metadata();
     let get = |key: &str| kv.and_then(|kv| kv.iter().find(|e| e.key == key)).and_then(|e| e.value.clone());
-    match get("stickslip.schema_version") {
-        Some(v) if v == SCHEMA_VERSION => {}
-        Some(v) => return Err(bad(path, format!("dataset schema version {v}, this stickslip reads {SCHEMA_VERSION}"))),
+    let version = match get("stickslip.schema_version") {
+        Some(v) if READABLE_VERSIONS.contains(&v.as_str()) => v,
+        Some(v) => return Err(bad(path, format!("dataset schema version {v}, this stickslip reads {READABLE_VERSIONS:?}"))),
         None => return Err(bad(path, "not a stickslip dataset (no stickslip.schema_version in its metadata)")),
-    }
+    };
     let schema = parquet_to_arrow_schema(meta.schema_descr(), kv).map_err(|e| bad(path, e.to_string()))?;
     for (name, want) in COLUMNS {
         let field = schema.field_with_name(name).map_err(|_| bad(path, format!("missing column `{name}`")))?;
         let got = type_name(field.data_type());
-        if got != *want {
+        let v1_count = version == "1" && got == "int32" && *want == "int64";
+        if got != *want && !v1_count {
             return Err(bad(path, format!("column `{name}` is {got}, expected {want}")));
         }
     }
     let scenario = get("stickslip.scenario").ok_or_else(|| bad(path, "no stickslip.scenario in its metadata"))?;
     let switch_times = schema.field_with_name("switch_times").is_ok();
-    Ok((meta.num_rows() as u64, scenario, switch_times))
+    let number = |key: &str| -> Result<u64, InputError> {
+        get(key).and_then(|v| v.trim().parse().ok()).ok_or_else(|| bad(path, format!("no valid {key} in its metadata")))
+    };
+    let total = number("stickslip.realizations")?;
+    let range = get("stickslip.realization_range")
+        .and_then(|r| {
+            let (a, b) = r.split_once("..")?;
+            Some(a.trim().parse::<u64>().ok()?..b.trim().parse::<u64>().ok()?)
+        })
+        .filter(|r| r.start <= r.end && r.end <= total)
+        .ok_or_else(|| bad(path, "no valid stickslip.realization_range in its metadata"))?;
+    let rows = meta.num_rows().max(0) as u64;
+    if rows != range.end - range.start {
+        return Err(bad(path, format!("holds {rows} rows but its metadata declares realizations {}..{}", range.start, range.end)));
+    }
+    Ok(Part { rows, scenario, switch_times, total, range, stamp })
 }
 
-/// Find and check the dataset below `dir` (a single scenario).
+/// Find and check the dataset below `dir` (a single scenario, complete).
 pub fn open(dir: &Path) -> Result<Dataset, InputError> {
-    let mut cells = open_cells(dir)?;
+    open_partial(dir, false)
+}
+
+/// Find and check the dataset below `dir` (a single scenario); `allow_partial` accepts missing
+/// realization ranges.
+pub fn open_partial(dir: &Path, allow_partial: bool) -> Result<Dataset, InputError> {
+    let mut cells = open_cells(dir, allow_partial)?;
     if cells.len() > 1 {
         return Err(InputError::Sweep { path: dir.to_owned(), cells: cells.len() });
     }
@@ -123,7 +191,7 @@ pub fn open(dir: &Path) -> Result<Dataset, InputError> {
 
 /// Find and check the datasets below `dir`, one per directory holding part files (the cells of a
 /// sweep, `key=value/…` paths relative to `dir`; the empty path for a plain dataset).
-pub fn open_cells(dir: &Path) -> Result<Vec<(String, Dataset)>, InputError> {
+pub fn open_cells(dir: &Path, allow_partial: bool) -> Result<Vec<(String, Dataset)>, InputError> {
     let mut files = Vec::new();
     discover(dir, &mut files)?;
     if files.is_empty() {
@@ -138,28 +206,66 @@ pub fn open_cells(dir: &Path) -> Result<Vec<(String, Dataset)>, InputError> {
         .into_iter()
         .map(|(cell_dir, files)| {
             let rel = cell_dir.strip_prefix(dir).unwrap_or(&cell_dir).to_string_lossy().replace('\\', "/");
-            Ok((rel, checked(&cell_dir, files)?))
+            Ok((rel, checked(&cell_dir, files, allow_partial)?))
         })
         .collect()
 }
 
-/// Check the part files of one directory as one dataset.
-fn checked(dir: &Path, files: Vec<PathBuf>) -> Result<Dataset, InputError> {
-    let first = files[0].clone();
-    let (rows, toml, switch_times) = check(&first)?;
-    let mut file_rows = vec![rows];
-    for f in &files[1..] {
-        let (n, other, st) = check(f)?;
-        if other != toml {
+/// Check the part files of one directory as one dataset: one scenario, and realization ranges
+/// that neither overlap nor (unless `allow_partial`) leave gaps.
+fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Dataset, InputError> {
+    let mut parts: Vec<(PathBuf, Part)> = files.into_iter().map(|f| check(&f).map(|p| (f, p))).collect::<Result<_, _>>()?;
+    let (first, p0) = (&parts[0].0, &parts[0].1);
+    for (f, p) in &parts[1..] {
+        if p.scenario != p0.scenario {
             return Err(bad(f, format!("was simulated with a different scenario than {}", first.display())));
         }
-        if st != switch_times {
+        if p.switch_times != p0.switch_times {
             return Err(bad(f, format!("switch_times column differs from {}", first.display())));
         }
-        file_rows.push(n);
     }
-    let rows = file_rows.iter().sum();
+    let (toml, switch_times, total, first) = (p0.scenario.clone(), p0.switch_times, p0.total, first.clone());
+    parts.sort_by_key(|(f, p)| (p.range.start, p.range.end, f.clone()));
+    let mut missing = Vec::new();
+    let mut next = 0u64;
+    for (i, (f, p)) in parts.iter().enumerate() {
+        if p.range.start < next {
+            let (g, q) = &parts[i - 1];
+            return Err(bad(
+                f,
+                format!(
+                    "realizations {}..{} overlap {} ({}..{}): a duplicated or copied part, or shards of different splits; remove one",
+                    p.range.start, p.range.end, g.display(), q.range.start, q.range.end
+                ),
+            ));
+        }
+        if p.range.start > next {
+            missing.push(next..p.range.start);
+        }
+        next = p.range.end;
+    }
+    if next < total {
+        missing.push(next..total);
+    }
+    if !missing.is_empty() && !allow_partial {
+        let gaps: Vec<String> = missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect();
+        return Err(InputError::Incomplete {
+            path: dir.to_owned(),
+            detail: format!("the run has {total} realizations, the parts present lack {}", gaps.join(", ")),
+        });
+    }
     let scenario = Scenario::from_text(Some(&toml), &first, &[]).map_err(|e| bad(&first, format!("its recorded scenario: {e}")))?;
     let trajectories = Some(dir.join("trajectories.csv")).filter(|p| p.is_file());
-    Ok(Dataset { files, file_rows, rows, scenario, switch_times, trajectories })
+    Ok(Dataset {
+        rows: parts.iter().map(|(_, p)| p.rows).sum(),
+        file_rows: parts.iter().map(|(_, p)| p.rows).collect(),
+        file_stamps: parts.iter().map(|(_, p)| p.stamp).collect(),
+        file_starts: parts.iter().map(|(_, p)| p.range.start).collect(),
+        files: parts.into_iter().map(|(f, _)| f).collect(),
+        expected_rows: total,
+        missing,
+        scenario,
+        switch_times,
+        trajectories,
+    })
 }

@@ -46,10 +46,15 @@ pub struct Options {
     pub pairs: Vec<Pair>,
     /// Permutations for the mutual-information null.
     pub permutations: u32,
+    /// Analyse a dataset with missing realization ranges (recorded in `summary.json`).
+    pub allow_partial: bool,
 }
 
 /// Default largest event index analysed (the paper's Table 1 goes to 6).
 pub const DEFAULT_MAX_INDEX: u32 = 6;
+/// Largest `--max-index` (each index adds four series with their sketches).
+pub const MAX_INDEX: u32 = 1000;
+
 /// Default number of permutations of the mutual-information null.
 pub const DEFAULT_PERMUTATIONS: u32 = 199;
 
@@ -61,6 +66,7 @@ impl Default for Options {
             bins: None,
             pairs: vec![pair("T1", "T2"), pair("D1", "D2")],
             permutations: DEFAULT_PERMUTATIONS,
+            allow_partial: false,
         }
     }
 }
@@ -75,6 +81,8 @@ pub enum AnalysisError {
     Write { path: PathBuf, message: String },
     #[error("{0}")]
     Options(String),
+    #[error(transparent)]
+    Out(#[from] crate::outdir::OutDirError),
 }
 
 /// Statistics of one series.
@@ -148,8 +156,8 @@ fn series_list(opts: &Options, switch_times: bool) -> Vec<Series> {
 fn truncated(s: &Series, b: &Batch, r: usize) -> bool {
     b.last_truncated[r]
         && match (s.var, s.index) {
-            (Variable::D, Some(k)) => b.n_stick[r] == k as i32 && b.n_stick[r] > b.n_slip[r],
-            (Variable::H, Some(k)) => b.n_slip[r] == k as i32 && b.n_stick[r] == b.n_slip[r],
+            (Variable::D, Some(k)) => b.n_stick[r] == i64::from(k) && b.n_stick[r] > b.n_slip[r],
+            (Variable::H, Some(k)) => b.n_slip[r] == i64::from(k) && b.n_stick[r] == b.n_slip[r],
             _ => false,
         }
 }
@@ -175,8 +183,9 @@ fn for_each_value(series: &[Series], b: &Batch, mut value: impl FnMut(usize, f64
 
 /// Stream the dataset through `state`, file by file in path order; a failure names the file.
 fn pass<S>(data: &Dataset, series: &[Series], mut state: S, step: fn(&mut S, &[Series], &Batch)) -> Result<S, AnalysisError> {
-    for (path, rows) in data.files.iter().zip(&data.file_rows) {
-        frame::stream_file(path, *rows, series, &mut |b: &Batch| step(&mut state, series, b))
+    for (i, path) in data.files.iter().enumerate() {
+        let part = frame::FilePart { path, rows: data.file_rows[i], first: data.file_starts[i], stamp: data.file_stamps[i] };
+        frame::stream_file(&part, series, data.switch_times, &mut |b: &Batch| step(&mut state, series, b))
             .map_err(|e| AnalysisError::Read { path: path.clone(), message: e.to_string() })?;
     }
     Ok(state)
@@ -196,13 +205,13 @@ struct Accumulated {
 
 /// Analyse the dataset below `dir` (one scenario; see [`sweep`] for parameter sweeps).
 pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
-    analyze_dataset(input::open(dir)?, opts)
+    analyze_dataset(input::open_partial(dir, opts.allow_partial)?, opts)
 }
 
 /// Analyse one checked dataset.
 pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, AnalysisError> {
-    if opts.max_index == 0 {
-        return Err(AnalysisError::Options("--max-index must be at least 1".into()));
+    if opts.max_index == 0 || opts.max_index > MAX_INDEX {
+        return Err(AnalysisError::Options(format!("--max-index {}: must be between 1 and {MAX_INDEX}", opts.max_index)));
     }
     if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.var == Variable::Y) && !data.switch_times) {
         return Err(AnalysisError::Options(format!(

@@ -25,7 +25,7 @@ use super::frame::{Col, Table};
 use super::paper;
 use super::series::Variable;
 use super::{Analysis, AnalysisError};
-use crate::outdir::StagedDir;
+use crate::outdir::{Kind, StagedDir};
 
 /// Significance level of the reported verdicts.
 pub const ALPHA: f64 = 0.05;
@@ -219,7 +219,10 @@ fn summary(a: &Analysis) -> serde_json::Value {
         "stickslip_version": env!("CARGO_PKG_VERSION"),
         "dataset": {"files": a.dataset.files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
                     "realizations": a.dataset.rows, "seed": sc.seed, "solver": sc.solver,
-                    "scenario": sc.to_toml()},
+                    "scenario": sc.to_toml(),
+                    "complete": a.dataset.missing.is_empty(),
+                    "realizations_of_the_run": a.dataset.expected_rows,
+                    "missing_ranges": a.dataset.missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect::<Vec<_>>()},
         "options": {"max_index": a.options.max_index, "bins": a.options.bins.map_or(json!("scott"), |b| json!(b)),
                     "permutations": a.options.permutations},
         "policies": {
@@ -289,9 +292,10 @@ pub fn table1_markdown(a: &Analysis) -> String {
 
 /// Write everything into `out`, replacing it only once complete.
 pub fn write(a: &Analysis, out: &Path) -> Result<(), AnalysisError> {
-    let staged = StagedDir::new(out).map_err(|e| werr(&e.path, &e.message))?;
+    let inputs: Vec<&Path> = a.dataset.files.iter().map(|f| f.as_path()).collect();
+    let staged = StagedDir::new(out, Kind::Analysis, "--out", &inputs)?;
     write_into(a, staged.path(), out)?;
-    staged.commit().map_err(|e| werr(&e.path, &e.message))
+    Ok(staged.commit()?)
 }
 
 fn werr(path: &Path, e: &dyn std::fmt::Display) -> AnalysisError {

@@ -20,7 +20,9 @@ pub const CAP_2D: usize = 512;
 /// The starting exponent for values of magnitude up to `scale`.
 pub fn start_exponent(scale: f64) -> i32 {
     let s = if scale.is_finite() && scale > 0.0 { scale } else { 1.0 };
-    s.log2().floor() as i32 - 40
+    // kept where 2^±exp is a finite normal number: a value scaled by 2^-exp must not overflow
+    // (run.duration = 1e-300 gave 0 · 2^1037 = 0 · ∞ = NaN)
+    (s.log2().floor() as i32 - 40).clamp(-1000, 1000)
 }
 
 /// One axis: bins `lo .. lo + len` of width `2^exp`.

@@ -15,7 +15,7 @@ use super::frame::{Col, Table};
 use super::input::open_cells;
 use super::series::{Series, Variable};
 use super::{analyze_dataset, output, Analysis, AnalysisError, Options};
-use crate::outdir::StagedDir;
+use crate::outdir::{Kind, StagedDir};
 
 /// The summary of one sweep cell.
 #[derive(Debug, Clone, PartialEq)]
@@ -84,8 +84,8 @@ pub fn table(cells: &[CellSummary]) -> Table {
 /// Analyse every cell of the dataset below `dir` into `out` (replaced when complete). A plain
 /// dataset (one cell at `dir` itself) gets the ordinary analysis; returns the analyses by cell.
 pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String, Analysis)>, AnalysisError> {
-    let cells = open_cells(dir)?;
-    let staged = StagedDir::new(out).map_err(|e| AnalysisError::Write { path: e.path, message: e.message })?;
+    let staged = StagedDir::new(out, Kind::Analysis, "--out", &[dir])?;
+    let cells = open_cells(dir, opts.allow_partial)?;
     let mut done = Vec::with_capacity(cells.len());
     for (path, data) in cells {
         let a = analyze_dataset(data, opts)?;
@@ -101,6 +101,6 @@ pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String
             .write_parquet(&staged.path().join("sweep.parquet"))
             .map_err(|e| AnalysisError::Write { path, message: e.to_string() })?;
     }
-    staged.commit().map_err(|e| AnalysisError::Write { path: e.path, message: e.message })?;
+    staged.commit()?;
     Ok(done)
 }

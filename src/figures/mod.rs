@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use crate::analysis::frame::Table;
 use crate::analysis::special::ln_gamma;
-use crate::outdir::StagedDir;
+use crate::outdir::{Kind, StagedDir};
 use crate::scenario::Scenario;
 
 /// A series of (x, y) points, drawn as a line or as markers.
@@ -81,10 +81,11 @@ pub struct Inputs {
 impl Inputs {
     /// Read the tables of an analysis directory.
     pub fn load(adir: &Path) -> Result<Inputs, FigureError> {
-        let read = |name: &str| {
+        let read = |name: &str, columns: &[(&str, char)]| {
             let path = adir.join(name);
-            Table::read_parquet(&path).map_err(|e| FigureError::Read { path, message: e.to_string() })
+            Table::read_checked(&path, columns).map_err(|e| FigureError::Read { path, message: e.to_string() })
         };
+        let keyed = |more: &[(&'static str, char)]| -> Vec<(&'static str, char)> { [("variable", 's'), ("index", 'i')].into_iter().chain(more.iter().copied()).collect() };
         let summary_path = adir.join("summary.json");
         let bad = |message: String| FigureError::Read { path: summary_path.clone(), message };
         let text = std::fs::read_to_string(&summary_path).map_err(|e| bad(e.to_string()))?;
@@ -93,11 +94,17 @@ impl Inputs {
         let scenario = Scenario::from_text(Some(toml), &summary_path, &[]).map_err(|e| bad(e.to_string()))?;
         let trajectories = std::fs::read_to_string(adir.join("trajectories.csv")).ok();
         Ok(Inputs {
-            moments: read("moments.parquet")?,
-            histograms: read("histograms.parquet")?,
-            joints: read("joint_histograms.parquet")?,
-            independence: read("independence.parquet")?,
-            growth: read("growth.parquet")?,
+            moments: read("moments.parquet", &keyed(&[("mean", 'f'), ("variance", 'f')]))?,
+            histograms: read("histograms.parquet", &keyed(&[("lo", 'f'), ("hi", 'f'), ("density", 'f')]))?,
+            joints: read(
+                "joint_histograms.parquet",
+                &[("x", 's'), ("y", 's'), ("x_lo", 'f'), ("x_hi", 'f'), ("y_lo", 'f'), ("y_hi", 'f'), ("density", 'f'), ("product_density", 'f')],
+            )?,
+            independence: read(
+                "independence.parquet",
+                &[("x", 's'), ("y", 's'), ("chi2_p_value", 'f'), ("g_p_value", 'f'), ("mi_p_value", 'f'), ("verdict", 's')],
+            )?,
+            growth: read("growth.parquet", &[("variable", 's'), ("statistic", 's'), ("slope", 'f'), ("intercept", 'f'), ("r2", 'f')])?,
             scenario,
             trajectories,
         })
@@ -428,7 +435,7 @@ pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
 /// Render every figure of the analysis in `adir` into `out` (replaced when complete). For a sweep
 /// (`adir/sweep.parquet`), the sweep maps and every cell's figures under `out/key=value/…`.
 pub fn run(adir: &Path, out: &Path) -> Result<Vec<String>, FigureError> {
-    let staged = StagedDir::new(out)?;
+    let staged = StagedDir::new(out, Kind::Figures, "--out", &[adir])?;
     let mut names = Vec::new();
     let sweep_path = adir.join("sweep.parquet");
     if sweep_path.is_file() {

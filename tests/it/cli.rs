@@ -29,7 +29,7 @@ fn simulate_writes_a_dataset_and_reports() {
     let o = stickslip(&["simulate", "--out", "data/paper", "--realizations", "200", "--threads", "2"], tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("mean S_T"), "{}", stderr(&o));
-    assert_eq!(listing(tmp.path()), ["data", "data/paper", "data/paper/part-00000-of-00001.parquet"]);
+    assert_eq!(listing(tmp.path()), ["data", "data/paper", "data/paper/.stickslip-output", "data/paper/part-00000-of-00001.parquet"]);
     // a second run replaces the part atomically
     let o = stickslip(&["simulate", "--out", "data/paper", "--realizations", "100", "--quiet"], tmp.path());
     assert!(o.status.success() && o.stderr.is_empty(), "{}", stderr(&o));
@@ -44,7 +44,7 @@ fn a_scenario_file_and_set_overrides_are_applied() {
     let df = crate::dataset::read_dir(&tmp.path().join("d"));
     assert_eq!(df.height(), 50);
     // k = 0, constant belt: exactly one stick each, never a slip after it
-    let n_slip = df.column("n_slip").unwrap().i32().unwrap();
+    let n_slip = df.column("n_slip").unwrap().i64().unwrap();
     assert!(n_slip.into_no_null_iter().all(|n| n == 0));
 }
 
@@ -91,5 +91,5 @@ fn a_different_shard_layout_in_the_same_directory_is_refused() {
     let o = stickslip(&["simulate", "--out", "d", "--realizations", "20", "--quiet"], tmp.path());
     assert!(!o.status.success());
     assert!(stderr(&o).contains("part-00000-of-00002.parquet"), "{}", stderr(&o));
-    assert_eq!(listing(&tmp.path().join("d")), ["part-00000-of-00002.parquet"]);
+    assert_eq!(listing(&tmp.path().join("d")), [".stickslip-output", "part-00000-of-00002.parquet"]);
 }

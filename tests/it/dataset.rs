@@ -5,13 +5,28 @@ use stickslip::simulate::{self, Options, Shard};
 
 use crate::common::{outcomes, scenario};
 
-/// Read every part file below `dir` with polars' lazy scan, as the analysis stage does.
+/// Read every part file below `dir` (recursively, in path order) with polars' Parquet reader and
+/// stack them: the rows a `DIR/**/*.parquet` scan gives, without hive columns.
 pub fn read_dir(dir: &std::path::Path) -> DataFrame {
-    let glob = format!("{}/**/*.parquet", dir.display());
-    LazyFrame::scan_parquet(PlRefPath::new(glob.as_str()), ScanArgsParquet::default())
-        .unwrap()
-        .collect()
-        .unwrap()
+    fn parts(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                parts(&p, out);
+            } else if p.extension().is_some_and(|x| x == "parquet") {
+                out.push(p);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    parts(dir, &mut files);
+    files.sort();
+    let mut frames = files.iter().map(|p| ParquetReader::new(std::fs::File::open(p).unwrap()).finish().unwrap());
+    let mut df = frames.next().expect("no part file");
+    for f in frames {
+        df.vstack_mut(&f).unwrap();
+    }
+    df
 }
 
 fn write(dir: &std::path::Path, sets: &[&str]) -> std::path::PathBuf {
@@ -29,9 +44,9 @@ fn polars_reads_the_contract_columns_and_values() {
         ("realization", DataType::Int64),
         ("x0", DataType::Float64),
         ("xdot0", DataType::Float64),
-        ("n_switches", DataType::Int32),
-        ("n_stick", DataType::Int32),
-        ("n_slip", DataType::Int32),
+        ("n_switches", DataType::Int64),
+        ("n_stick", DataType::Int64),
+        ("n_slip", DataType::Int64),
         ("stick_start", list.clone()),
         ("stick_duration", list.clone()),
         ("slip_start", list.clone()),
@@ -45,10 +60,10 @@ fn polars_reads_the_contract_columns_and_values() {
     // the values are those of the library, row by row
     let sc = scenario(&["run.realizations=500"]);
     let lib = outcomes(&sc, 500);
-    let n_stick = df.column("n_stick").unwrap().i32().unwrap();
+    let n_stick = df.column("n_stick").unwrap().i64().unwrap();
     let starts = df.column("stick_start").unwrap().list().unwrap();
     for (i, o) in lib.iter().enumerate() {
-        assert_eq!(n_stick.get(i), Some(o.record.stick_start.len() as i32));
+        assert_eq!(n_stick.get(i), Some(o.record.stick_start.len() as i64));
         let s = starts.get_as_series(i).unwrap();
         let v: Vec<f64> = s.f64().unwrap().into_no_null_iter().collect();
         assert_eq!(v, o.record.stick_start);
@@ -60,17 +75,17 @@ fn switch_times_are_stored_when_asked_and_match_q() {
     let tmp = tempfile::tempdir().unwrap();
     write(tmp.path(), &["run.realizations=300", "output.switch_times=true"]);
     let df = read_dir(tmp.path());
-    let q = df.column("n_switches").unwrap().i32().unwrap();
+    let q = df.column("n_switches").unwrap().i64().unwrap();
     let y = df.column("switch_times").unwrap().list().unwrap();
     for i in 0..df.height() {
         let s = y.get_as_series(i).unwrap();
         let v: Vec<f64> = s.f64().unwrap().into_no_null_iter().collect();
-        assert_eq!(v.len() as i32, q.get(i).unwrap());
+        assert_eq!(v.len() as i64, q.get(i).unwrap());
         assert!(v.windows(2).all(|w| w[0] <= w[1]) && v.iter().all(|&t| (0.0..10.0).contains(&t)));
     }
     // Q ~ Poisson(λ t_a = 50): mean and variance within 5 standard errors
     let n = df.height() as f64;
-    let mean = q.into_no_null_iter().map(f64::from).sum::<f64>() / n;
+    let mean = q.into_no_null_iter().map(|c| c as f64).sum::<f64>() / n;
     assert!((mean - 50.0).abs() < 5.0 * (50.0 / n).sqrt(), "mean Q = {mean}");
 }
 
@@ -84,8 +99,13 @@ fn provenance_is_in_the_key_value_metadata() {
     let get = |k: &str| kv.iter().find(|e| e.key == k).and_then(|e| e.value.clone()).unwrap_or_default();
     assert_eq!(get("stickslip.seed"), "7");
     assert_eq!(get("stickslip.solver"), "exact");
-    assert_eq!(get("stickslip.schema_version"), "1");
+    assert_eq!(get("stickslip.schema_version"), "2");
     assert_eq!(get("stickslip.version"), env!("CARGO_PKG_VERSION"));
+    // every row group declares its sort by realization (column 0, ascending)
+    for rg in reader.metadata().row_groups() {
+        let sorting = rg.sorting_columns().expect("sorting_columns declared");
+        assert_eq!((sorting[0].column_idx, sorting[0].descending), (0, false));
+    }
     let toml: toml::Table = get("stickslip.scenario").parse().unwrap();
     assert_eq!(toml["run"]["realizations"].as_integer(), Some(10));
     assert_eq!(toml["model"]["friction_coefficient"].as_float(), Some(0.51));
