@@ -453,7 +453,18 @@ fn unknown(key: &str, siblings: &Table) -> ScenarioError {
 }
 
 fn invalid(key: &str, value: &Value, reason: &str) -> ScenarioError {
-    ScenarioError::Invalid { key: key.to_owned(), value: value.to_string(), reason: reason.to_owned() }
+    ScenarioError::Invalid { key: key.to_owned(), value: shown(value), reason: reason.to_owned() }
+}
+
+/// A value as an error message shows it: numbers in their short form ([`short`]), never as
+/// hundreds of digits.
+fn shown(v: &Value) -> String {
+    match v {
+        Value::Float(x) => short(*x),
+        Value::Array(a) => format!("[{}]", a.iter().map(shown).collect::<Vec<_>>().join(", ")),
+        Value::Table(t) => format!("{{ {} }}", t.iter().map(|(k, v)| format!("{k} = {}", shown(v))).collect::<Vec<_>>().join(", ")),
+        other => other.to_string(),
+    }
 }
 
 /// Typed access to the merged table by dotted key.
