@@ -124,8 +124,9 @@ pub fn table1(moments: &Table) -> Vec<Row> {
     rows
 }
 
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+/// Text made safe for HTML content and attribute values.
+pub fn escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&#39;")
 }
 
 fn num(v: &Value) -> String {
@@ -266,17 +267,19 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
                 Some(false) => " class=\"off\"",
                 None => "",
             };
-            format!("<td{class}>{}</td>", x.shown(digits))
+            format!("<td{class}>{}</td>", escape(&x.shown(digits)))
         };
-        let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}<td>{}</td></tr>", r.label, r.n, cell(0, 3), cell(1, 3), cell(2, 3), r.shape());
+        let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}<td>{}</td></tr>", escape(&r.label), r.n, cell(0, 3), cell(1, 3), cell(2, 3), escape(&r.shape()));
     }
     h += "</table>\n<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
     for g in &c.growth {
-        let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>", g[0], g[1], g[2], g[3], g[4]);
+        let [a, b, c2, d, e] = g.clone().map(|x| escape(&x));
+        let _ = writeln!(h, "<tr><td class=\"l\">{a}</td><td>{b}</td><td>{c2}</td><td>{d}</td><td>{e}</td></tr>");
     }
     h += "</table>\n<table>\n<tr><th></th><th>renewal prediction</th><th>measured</th></tr>\n";
     for r in &c.renewal {
-        let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>", r[0], r[1], r[2]);
+        let [a, b, c2] = r.clone().map(|x| escape(&x));
+        let _ = writeln!(h, "<tr><td class=\"l\">{a}</td><td>{b}</td><td>{c2}</td></tr>");
     }
     h += "</table>\n<h2>Independence tests (Figs 11 and 13)</h2>\n<table>\n<tr><th>pair</th><th>n</th><th>χ² on df</th><th>χ² p</th><th>G p</th><th>mutual information [nats]</th><th>permutation p</th><th>verdict (5 %)</th></tr>\n";
     for t in &c.tests {
@@ -286,6 +289,14 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
     for (name, path) in &c.figures {
         let svg = std::fs::read_to_string(path).map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
         let body = svg.find("<svg").map_or(svg.as_str(), |i| &svg[i..]);
+        // an SVG is inlined only if it is inert (ours are): no scripts, handlers or foreign HTML
+        let lower = body.to_ascii_lowercase();
+        let active = ["<script", "javascript:", "<foreignobject", " on"].iter().any(|p| match *p {
+            " on" => lower.match_indices(" on").any(|(i, _)| lower[i + 3..].chars().take_while(|c| c.is_ascii_alphabetic()).count() > 1 && lower[i + 3..].trim_start_matches(|c: char| c.is_ascii_alphabetic()).starts_with('=')),
+            p => lower.contains(p),
+        });
+        let body = if active { "<p>(not inlined: the SVG holds active content)</p>" } else { body };
+        let name = escape(name);
         let _ = write!(h, "<figure id=\"{name}\">\n{body}\n<figcaption>{name} (PNG: {})</figcaption>\n</figure>\n", escape(&figdir.join(format!("{name}.png")).display().to_string()));
     }
     h += "</body>\n</html>\n";

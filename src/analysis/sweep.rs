@@ -38,6 +38,33 @@ fn pooled(a: &Analysis, var: Variable) -> Option<f64> {
     (m.n > 0).then_some(m.mean)
 }
 
+/// Order sweep cells by their keys' numeric values (`switch_rate=5` before `switch_rate=20`),
+/// component by component; a value that is not a number sorts after the numbers, by text.
+pub fn cell_order(a: &str, b: &str) -> std::cmp::Ordering {
+    let parts = |p: &str| -> Vec<(String, Option<f64>, String)> {
+        p.split('/')
+            .filter(|c| !c.is_empty())
+            .map(|c| match c.split_once('=') {
+                Some((k, v)) => (k.to_string(), v.parse::<f64>().ok().filter(|x| x.is_finite()), v.to_string()),
+                None => (c.to_string(), None, String::new()),
+            })
+            .collect()
+    };
+    let (pa, pb) = (parts(a), parts(b));
+    for ((ka, xa, ta), (kb, xb, tb)) in pa.iter().zip(&pb) {
+        let o = ka.cmp(kb).then_with(|| match (xa, xb) {
+            (Some(x), Some(y)) => x.total_cmp(y),
+            (Some(_), None) => std::cmp::Ordering::Less,
+            (None, Some(_)) => std::cmp::Ordering::Greater,
+            (None, None) => ta.cmp(tb),
+        });
+        if o.is_ne() {
+            return o;
+        }
+    }
+    pa.len().cmp(&pb.len())
+}
+
 /// Summarize one cell's analysis.
 pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
     let keys = path
@@ -85,7 +112,8 @@ pub fn table(cells: &[CellSummary]) -> Table {
 /// dataset (one cell at `dir` itself) gets the ordinary analysis; returns the analyses by cell.
 pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String, Analysis)>, AnalysisError> {
     let staged = StagedDir::new(out, Kind::Analysis, "--out", &[dir])?;
-    let cells = open_cells(dir, opts.allow_partial)?;
+    let mut cells = open_cells(dir, opts.allow_partial)?;
+    cells.sort_by(|a, b| cell_order(&a.0, &b.0));
     let mut done = Vec::with_capacity(cells.len());
     for (path, data) in cells {
         let a = analyze_dataset(data, opts)?;

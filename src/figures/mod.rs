@@ -446,6 +446,7 @@ pub fn run(adir: &Path, out: &Path) -> Result<Vec<String>, FigureError> {
         }
         let mut cells = Vec::new();
         find_cells(adir, adir, &mut cells);
+        cells.sort_by(|a, b| crate::analysis::sweep::cell_order(&a.to_string_lossy(), &b.to_string_lossy()));
         for cell in cells {
             let dir = staged.path().join(&cell);
             std::fs::create_dir_all(&dir).map_err(|e| FigureError::Draw { name: cell.display().to_string(), message: e.to_string() })?;

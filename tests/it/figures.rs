@@ -150,3 +150,31 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
     let md = std::fs::read_to_string(tmp.path().join("run/report.md")).unwrap();
     assert!(md.contains("| T_1 |") && md.contains("fig13_d1_d2.png"));
 }
+
+#[test]
+fn the_report_escapes_what_it_interpolates() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    for args in [
+        &["simulate", "--out", "d", "--realizations", "300", "-q"][..],
+        &["analyze", "d", "--out", "a", "-q"],
+        &["figures", "a", "--out", "f", "-q"],
+    ] {
+        let o = stickslip(args, t);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    // a label in the analysis and a figure name carrying markup, and a figure with a script
+    let path = t.join("a/summary.json");
+    let mut summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    summary["growth"][0]["variable"] = "<script>alert(1)</script>".into();
+    std::fs::write(&path, summary.to_string()).unwrap();
+    std::fs::write(t.join("f/x<b>\".svg"), "<svg xmlns=\"http://www.w3.org/2000/svg\"><script>alert(2)</script></svg>").unwrap();
+    std::fs::write(t.join("f/y.svg"), "<svg xmlns=\"http://www.w3.org/2000/svg\"><rect onload=\"alert(3)\"/></svg>").unwrap();
+    let o = stickslip(&["report", "d", "a", "f", "--out", "r.html", "-q"], t);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(t.join("r.html")).unwrap();
+    assert!(!html.contains("<script") && !html.contains("alert(2)") && !html.contains("onload"), "unescaped markup in the report");
+    assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;"), "the label is shown, escaped");
+    assert!(html.contains("id=\"x&lt;b&gt;&quot;\""), "the figure id is escaped");
+    check_tags(&html).unwrap();
+}

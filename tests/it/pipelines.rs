@@ -26,6 +26,9 @@ fn sweep_maps_show_the_expected_trends() {
     assert_eq!(t.height(), 6);
     let (lam, mu) = (t.floats("switch_rate").unwrap(), t.floats("friction_coefficient").unwrap());
     let (d, frac) = (t.floats("mean_D").unwrap(), t.floats("stick_fraction").unwrap());
+    // cells in numeric order (by text, "switch_rate=20" would come before "switch_rate=5")
+    let order: Vec<(f64, f64)> = (0..t.height()).map(|r| (lam[r].unwrap(), mu[r].unwrap())).collect();
+    assert_eq!(order, [(1.0, 0.3), (1.0, 1.0), (5.0, 0.3), (5.0, 1.0), (20.0, 0.3), (20.0, 1.0)]);
     let at = |l: f64, m: f64, v: &[Option<f64>]| (0..t.height()).find(|&r| lam[r] == Some(l) && mu[r] == Some(m)).and_then(|r| v[r]).unwrap();
     for m in [0.3, 1.0] {
         // more switches → shorter sticks
@@ -115,6 +118,12 @@ df = pl.scan_parquet(g).select(pl.col("n_stick").mean().alias("st"), pl.col("sti
 print("polars_mean_S_T", df["st"][0]); print("polars_var_T_2", df["v"][0])
 st, v = duckdb.sql(f"SELECT avg(n_stick), var_samp(stick_start[2]) FROM read_parquet('{{g}}')").fetchall()[0]
 print("duckdb_mean_S_T", st); print("duckdb_var_T_2", v)
+# schema v2 as the clients see it: int64 counts, rows declared sorted by realization
+full = pl.read_parquet(g)
+print("polars_int64_counts", float(all(full.schema[c] == pl.Int64 for c in ["realization", "n_switches", "n_stick", "n_slip"])))
+print("polars_sorted_flag", float(full["realization"].flags["SORTED_ASC"]))
+types = duckdb.sql(f"SELECT typeof(n_switches), typeof(n_stick), typeof(n_slip) FROM read_parquet('{{g}}') LIMIT 1").fetchall()[0]
+print("duckdb_bigint_counts", float(all(t == "BIGINT" for t in types)))
 "#,
         d = dir.display()
     );
@@ -124,11 +133,16 @@ print("duckdb_mean_S_T", st); print("duckdb_var_T_2", v)
     let row = |v: &str, i: Option<i64>| (0..m.height()).find(|&r| var[r] == v && idx[r] == i).unwrap();
     let ours_st = m.floats("mean").unwrap()[row("S_T", None)].unwrap();
     let ours_v = m.floats("variance").unwrap()[row("T", Some(2))].unwrap();
-    for (name, value) in &got {
+    let (stats, flags): (Vec<_>, Vec<_>) = got.iter().partition(|(n, _)| n.ends_with("S_T") || n.ends_with("T_2"));
+    for (name, value) in &stats {
         let ours = if name.ends_with("S_T") { ours_st } else { ours_v };
         assert!(close(*value, ours), "{name} = {value}, analyze says {ours}");
     }
-    assert_eq!(got.len(), 4);
+    assert_eq!(stats.len(), 4);
+    assert_eq!(flags.len(), 3);
+    for (name, value) in flags {
+        assert_eq!(*value, 1.0, "{name}");
+    }
 }
 
 #[test]

@@ -7,9 +7,9 @@ use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use arrow::array::{Array, ArrayRef, Float64Array, Int64Array, ListArray, RecordBatch};
-use arrow::buffer::{NullBuffer, OffsetBuffer};
-use arrow::datatypes::{DataType, Field};
+use arrow_array::{Array, ArrayRef, Float64Array, Int64Array, ListArray, RecordBatch};
+use arrow_buffer::{NullBuffer, OffsetBuffer};
+use arrow_schema::{DataType, Field};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use parquet::arrow::ArrowWriter;
 use parquet::file::properties::WriterProperties;
@@ -322,17 +322,30 @@ fn incomplete_overlapping_and_duplicated_parts_are_refused() {
 
 /// Rewrite the part file in `dir` with `column` replaced by `f(column)` (metadata kept).
 fn mutate(dir: &Path, column: &str, f: impl Fn(&ArrayRef) -> ArrayRef) {
+    rewrite(dir, &[column], f, |kv| kv)
+}
+
+/// Rewrite the part file in `dir` with each of `columns` replaced by `f(column)` and its
+/// key-value metadata by `meta(metadata)`.
+fn rewrite(
+    dir: &Path,
+    columns: &[&str],
+    f: impl Fn(&ArrayRef) -> ArrayRef,
+    meta: impl Fn(Option<Vec<parquet::file::metadata::KeyValue>>) -> Option<Vec<parquet::file::metadata::KeyValue>>,
+) {
     let path = dir.join("part-00000-of-00001.parquet");
     let builder = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&path).unwrap()).unwrap();
-    let kv = builder.metadata().file_metadata().key_value_metadata().cloned();
+    let kv = meta(builder.metadata().file_metadata().key_value_metadata().cloned());
     let batches: Vec<RecordBatch> = builder.build().unwrap().map(Result::unwrap).collect();
     let schema = batches[0].schema();
-    let i = schema.index_of(column).unwrap();
+    let at: Vec<usize> = columns.iter().map(|c| schema.index_of(c).unwrap()).collect();
     let mutated: Vec<Vec<ArrayRef>> = batches
         .iter()
         .map(|b| {
             let mut cols = b.columns().to_vec();
-            cols[i] = f(&cols[i]);
+            for &i in &at {
+                cols[i] = f(&cols[i]);
+            }
             cols
         })
         .collect();
@@ -342,7 +355,7 @@ fn mutate(dir: &Path, column: &str, f: impl Fn(&ArrayRef) -> ArrayRef) {
         .enumerate()
         .map(|(j, fl)| Field::new(fl.name(), mutated[0][j].data_type().clone(), fl.is_nullable()))
         .collect();
-    let schema = Arc::new(arrow::datatypes::Schema::new(fields));
+    let schema = Arc::new(arrow_schema::Schema::new(fields));
     let props = WriterProperties::builder().set_key_value_metadata(kv).build();
     let mut w = ArrowWriter::try_new(std::fs::File::create(&path).unwrap(), schema.clone(), Some(props)).unwrap();
     for cols in mutated {
@@ -487,5 +500,42 @@ proptest! {
         if let Err(e) = Scenario::from_text(Some(&text), Path::new("<scenario>"), &[]) {
             prop_assert!(names_a_culprit(&e.to_string(), &[]), "{e}");
         }
+    }
+}
+
+#[test]
+fn schema_v1_datasets_still_analyse() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    for d in ["v2", "v1"] {
+        ok(&stickslip(&["simulate", "--out", d, "--realizations", "2000", "-q"], t));
+    }
+    // v1: int32 counts and schema_version 1
+    let to_i32 = |c: &ArrayRef| -> ArrayRef {
+        let a = c.as_any().downcast_ref::<Int64Array>().unwrap();
+        Arc::new(arrow_array::Int32Array::from(a.values().iter().map(|&x| x as i32).collect::<Vec<_>>()))
+    };
+    rewrite(&t.join("v1"), &["n_switches", "n_stick", "n_slip"], to_i32, |kv| {
+        kv.map(|kv| {
+            kv.into_iter()
+                .map(|mut e| {
+                    if e.key == "stickslip.schema_version" {
+                        e.value = Some("1".into());
+                    }
+                    e
+                })
+                .collect()
+        })
+    });
+    let file = t.join("v1/part-00000-of-00001.parquet");
+    let schema = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap()).unwrap().schema().clone();
+    assert_eq!(schema.field_with_name("n_stick").unwrap().data_type(), &DataType::Int32);
+    for d in ["v2", "v1"] {
+        ok(&stickslip(&["analyze", d, "--out", &format!("{d}-a"), "-q"], t));
+    }
+    for table in ["moments", "histograms", "growth"] {
+        let read = |d: &str| stickslip::analysis::frame::Table::read_parquet(&t.join(format!("{d}-a/{table}.parquet"))).unwrap();
+        let (a, b) = (read("v1"), read("v2"));
+        assert_eq!(format!("{:?}", a.columns), format!("{:?}", b.columns), "{table}: v1 and v2 analyses differ");
     }
 }
