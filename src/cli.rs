@@ -339,7 +339,8 @@ fn reproduce_command(mut args: SimulateArgs, quiet: bool) -> anyhow::Result<()> 
     args.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
     args.out = layout.dataset.clone();
     simulate_command(args, quiet)?;
-    let cells = analyze_and_print(&layout.dataset, &layout.analysis, &analysis::Options::default(), quiet)?;
+    let opts = analysis::Options { progress: !quiet && std::io::stderr().is_terminal(), ..Default::default() };
+    let cells = analyze_and_print(&layout.dataset, &layout.analysis, &opts, quiet)?;
     figures_command(&layout.analysis, &layout.figures, quiet)?;
     // one report per sweep cell (a plain dataset is the single cell with the empty path)
     for cell in cells {
@@ -360,6 +361,7 @@ fn analyze_command(args: AnalyzeArgs, quiet: bool) -> anyhow::Result<()> {
         bins: args.bins,
         permutations: args.permutations,
         allow_partial: args.allow_partial,
+        progress: !quiet && std::io::stderr().is_terminal(),
         ..Default::default()
     };
     if !args.pairs.is_empty() {

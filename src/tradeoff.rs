@@ -213,6 +213,7 @@ pub fn figure(rows: &[Row]) -> Figure {
                 .filter(|r| r.solver == *solver && r.error_rms > 0.0 && !r.setting.contains("max_step=1e-4"))
                 .map(|r| (r.seconds_per_realization.log10(), r.error_rms.log10()))
                 .collect(),
+            ..Default::default()
         })
         .collect::<Vec<Series>>();
     let mut points: Vec<Series> = lines.iter().map(|l| Series { label: String::new(), ..l.clone() }).collect();
@@ -220,6 +221,7 @@ pub fn figure(rows: &[Row]) -> Figure {
         label: "rk45 at the paper's ode45 settings".into(),
         color: 6,
         points: vec![(r.seconds_per_realization.log10(), r.error_rms.max(1e-16).log10())],
+        ..Default::default()
     }));
     let exact = rows.iter().find(|r| r.solver == "exact").map(|r| r.seconds_per_realization.log10());
     // room above the highest point for the legend (upper right)

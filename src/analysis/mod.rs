@@ -48,6 +48,8 @@ pub struct Options {
     pub permutations: u32,
     /// Analyse a dataset with missing realization ranges (recorded in `summary.json`).
     pub allow_partial: bool,
+    /// Show a progress bar on stderr while reading.
+    pub progress: bool,
 }
 
 /// Default largest event index analysed (the paper's Table 1 goes to 6).
@@ -67,6 +69,7 @@ impl Default for Options {
             pairs: vec![pair("T1", "T2"), pair("D1", "D2")],
             permutations: DEFAULT_PERMUTATIONS,
             allow_partial: false,
+            progress: false,
         }
     }
 }
@@ -181,13 +184,22 @@ fn for_each_value(series: &[Series], b: &Batch, mut value: impl FnMut(usize, f64
     }
 }
 
-/// Stream the dataset through `state`, file by file in path order; a failure names the file.
-fn pass<S>(data: &Dataset, series: &[Series], mut state: S, step: fn(&mut S, &[Series], &Batch)) -> Result<S, AnalysisError> {
+/// Stream the dataset through `state`, file by file in realization order; a failure names the
+/// file. `progress` shows a bar of realizations read.
+fn pass<S>(data: &Dataset, series: &[Series], progress: bool, mut state: S, step: fn(&mut S, &[Series], &Batch)) -> Result<S, AnalysisError> {
+    let bar = if progress { indicatif::ProgressBar::new(data.rows) } else { indicatif::ProgressBar::hidden() };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("analyze {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}").expect("valid template"),
+    );
     for (i, path) in data.files.iter().enumerate() {
         let part = frame::FilePart { path, rows: data.file_rows[i], first: data.file_starts[i], stamp: data.file_stamps[i] };
-        frame::stream_file(&part, series, data.switch_times, &mut |b: &Batch| step(&mut state, series, b))
-            .map_err(|e| AnalysisError::Read { path: path.clone(), message: e.to_string() })?;
+        frame::stream_file(&part, series, data.switch_times, &mut |b: &Batch| {
+            step(&mut state, series, b);
+            bar.inc(b.n_stick.len() as u64);
+        })
+        .map_err(|e| AnalysisError::Read { path: path.clone(), message: e.to_string() })?;
     }
+    bar.finish_and_clear();
     Ok(state)
 }
 
@@ -232,7 +244,7 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
         sketches: series.iter().map(|s| (!s.var.is_count()).then(|| Sketch::new(scale))).collect(),
         joints: opts.pairs.iter().map(|p| (index_of(&p.0), index_of(&p.1), Sketch2::new(scale))).collect(),
     };
-    let acc = pass(&data, &series, start, |st, series, b| {
+    let acc = pass(&data, &series, opts.progress, start, |st, series, b| {
         let Accumulated { moments, n_cut, pmf, sketches, joints } = st;
         for_each_value(
             series,

@@ -6,6 +6,7 @@
 //! `fig06_y` (when it stored switch times), `fig07_variance_growth`, `fig08_counts`, `fig09_t`,
 //! `fig10_l`, `fig11_t1_t2`, `fig12_d`, `fig13_d1_d2`, `fig14_h`.
 
+pub mod contour;
 pub mod render;
 
 use std::path::{Path, PathBuf};
@@ -15,13 +16,15 @@ use crate::analysis::special::ln_gamma;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::Scenario;
 
-/// A series of (x, y) points, drawn as a line or as markers.
+/// A series of (x, y) points, drawn as a line, as markers or as stems.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Series {
     pub label: String,
     /// index into [`render::PALETTE`]
     pub color: usize,
     pub points: Vec<(f64, f64)>,
+    /// half-widths of vertical error bars, one per point (empty: none)
+    pub errors: Vec<f64>,
 }
 
 /// One chart.
@@ -32,12 +35,26 @@ pub struct Panel {
     pub y_label: String,
     /// (lo, hi, height) bars from 0
     pub bars: Vec<(f64, f64, f64)>,
-    /// (x0, x1, y0, y1, value) cells of a heat map, coloured by √(value / heat_max)
+    /// (x0, x1, y0, y1, value) cells of a heat map, coloured by √(value / heat_max), with a
+    /// colour bar labelled `heat_label`
     pub heat: Vec<[f64; 5]>,
     /// the value of the top colour (default: the panel's largest cell)
     pub heat_max: Option<f64>,
+    pub heat_label: String,
+    /// write each cell's value in it (for small grids)
+    pub heat_values: bool,
+    /// colour linear in the value from the smallest to the largest cell (for maps of statistics
+    /// that may be negative), instead of √(value / heat_max) from 0 (for densities)
+    pub heat_linear: bool,
+    /// contour segments drawn over the heat map
+    pub contours: Vec<[(f64, f64); 2]>,
     pub lines: Vec<Series>,
     pub points: Vec<Series>,
+    /// probability mass functions: a stem from 0 to each point, with a marker
+    pub stems: Vec<Series>,
+    /// logarithmic axes (the data must be positive)
+    pub x_log: bool,
+    pub y_log: bool,
     /// vertical guide lines
     pub vlines: Vec<f64>,
     pub x_range: Option<(f64, f64)>,
@@ -137,6 +154,13 @@ fn poisson_pmf(mean: f64, q: u32) -> f64 {
     (q as f64 * mean.ln() - mean - ln_gamma(q as f64 + 1.0)).exp()
 }
 
+/// A probability mass function from unit-bin histogram rows (lo, hi, probability): a stem at
+/// each integer.
+fn pmf_stems(bars: &[(f64, f64, f64)], label: &str, color: usize) -> Series {
+    let points = bars.iter().filter(|b| b.2 > 0.0).map(|&(lo, hi, p)| (0.5 * (lo + hi), p)).collect();
+    Series { label: label.into(), color, points, ..Default::default() }
+}
+
 fn histogram_panel(title: String, x_label: &str, bars: Vec<(f64, f64, f64)>) -> Panel {
     Panel { title, x_label: x_label.into(), y_label: "density".into(), bars, ..Default::default() }
 }
@@ -164,13 +188,15 @@ pub fn poisson_figure(inp: &Inputs) -> Figure {
         means.push(own);
     }
     let top = means.iter().fold(0.0f64, |m, &x| m.max(x + 4.0 * x.sqrt() + 4.0)).min(1000.0) as u32;
-    let lines = means
+    // a PMF lives on the integers: markers on stems, not a line through them
+    let stems = means
         .iter()
         .enumerate()
         .map(|(i, &m)| Series {
             label: format!("λ t_a = {m}"),
             color: i,
-            points: (0..=top).map(|q| (q as f64, poisson_pmf(m, q))).collect(),
+            points: (0..=top).map(|q| (q as f64, poisson_pmf(m, q))).filter(|&(_, p)| p >= 1e-5).collect(),
+            ..Default::default()
         })
         .collect();
     Figure {
@@ -179,7 +205,7 @@ pub fn poisson_figure(inp: &Inputs) -> Figure {
         rows: 1,
         cols: 1,
         size: (800, 520),
-        panels: vec![Panel { x_label: "q".into(), y_label: "Pr(Q = q)".into(), lines, ..Default::default() }],
+        panels: vec![Panel { x_label: "q".into(), y_label: "Pr(Q = q)".into(), stems, ..Default::default() }],
     }
 }
 
@@ -187,6 +213,7 @@ pub fn poisson_figure(inp: &Inputs) -> Figure {
 pub fn q_figure(inp: &Inputs) -> Option<Figure> {
     let bars = inp.histogram("Q", None);
     let (lo, hi) = (bars.first()?.0, bars.last()?.1);
+    let observed = pmf_stems(&bars, "observed", 0);
     let mean = inp.scenario.belt.switch_rate * inp.scenario.belt.duration;
     let pmf = (lo.ceil().max(0.0) as u32..=hi.floor() as u32).map(|q| (q as f64, poisson_pmf(mean, q))).collect();
     Some(Figure {
@@ -198,8 +225,8 @@ pub fn q_figure(inp: &Inputs) -> Option<Figure> {
         panels: vec![Panel {
             x_label: "Q".into(),
             y_label: "probability".into(),
-            bars,
-            points: vec![Series { label: format!("Poisson({mean})"), color: 1, points: pmf }],
+            stems: vec![observed],
+            points: vec![Series { label: format!("Poisson({mean})"), color: 1, points: pmf, ..Default::default() }],
             ..Default::default()
         }],
     })
@@ -221,8 +248,8 @@ pub fn growth_figure(inp: &Inputs) -> Option<Figure> {
                 title: format!("Var {var}_k = {a:.3} + {b:.3} k   (R² = {:.4})", r2[r].unwrap_or(f64::NAN)),
                 x_label: "k".into(),
                 y_label: format!("variance of {var}_k [s²]"),
-                points: vec![Series { label: "sample variance".into(), color: 0, points: pts }],
-                lines: vec![Series { label: "OLS fit".into(), color: 1, points: vec![(1.0, a + b), (kmax, a + b * kmax)] }],
+                points: vec![Series { label: "sample variance".into(), color: 0, points: pts, ..Default::default() }],
+                lines: vec![Series { label: "OLS fit".into(), color: 1, points: vec![(1.0, a + b), (kmax, a + b * kmax)], ..Default::default() }],
                 ..Default::default()
             })
         })
@@ -243,7 +270,7 @@ pub fn counts_figure(inp: &Inputs) -> Figure {
         title: format!("{var}: mean {:.2}, variance {:.2}", inp.moment(var, None, "mean").unwrap_or(f64::NAN), inp.moment(var, None, "variance").unwrap_or(f64::NAN)),
         x_label: what.into(),
         y_label: "probability".into(),
-        bars: inp.histogram(var, None),
+        stems: vec![pmf_stems(&inp.histogram(var, None), "", 0)],
         ..Default::default()
     };
     Figure {
@@ -268,7 +295,7 @@ pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure
         return None;
     }
     let cells = |v: &[Option<f64>]| -> Vec<[f64; 5]> {
-        rows.iter().filter_map(|&r| Some([x0[r]?, x1[r]?, y0[r]?, y1[r]?, v[r]?])).filter(|c| c[4] > 0.0).collect()
+        rows.iter().filter_map(|&r| Some([x0[r]?, x1[r]?, y0[r]?, y1[r]?, v[r]?])).filter(|c| c.iter().all(|x| x.is_finite())).collect()
     };
     let it = &inp.independence;
     let test = (0..it.height())
@@ -280,14 +307,28 @@ pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure
         })
         .unwrap_or_default();
     // one colour scale for both panels, so that they compare cell by cell
-    let top = dens.iter().chain(prod.iter()).flatten().copied().fold(0.0, f64::max);
-    let panel = |title: &str, v| Panel {
-        title: title.into(),
-        x_label: format!("{x} [s]"),
-        y_label: format!("{y} [s]"),
-        heat: cells(v),
-        heat_max: Some(top),
-        ..Default::default()
+    // the colour scale tops out at the 99.5th percentile of the positive cells, so that a few
+    // spike cells (e.g. T_1 ≈ 0) do not wash the rest out; cells above it saturate
+    let mut positive: Vec<f64> = dens.iter().chain(prod.iter()).flatten().copied().filter(|v| *v > 0.0 && v.is_finite()).collect();
+    positive.sort_by(f64::total_cmp);
+    let top = positive.get(((positive.len() as f64 * 0.995) as usize).min(positive.len().saturating_sub(1))).copied().unwrap_or(1.0);
+    // contours at the same levels in both panels, of the lightly smoothed field (as the paper's
+    // Fig. 11); the cells themselves are drawn unsmoothed
+    let grids = [dens, prod].map(|v| contour::Grid::from_cells(&cells(v)).smoothed());
+    let smax = grids.iter().flat_map(|g| g.z.iter().flatten()).copied().fold(0.0, f64::max);
+    let levels = [0.05, 0.15, 0.3, 0.5, 0.75].map(|f| f * smax);
+    let panel = |title: &str, v, grid: &contour::Grid| {
+        let heat = cells(v);
+        Panel {
+            title: title.into(),
+            x_label: format!("{x} [s]"),
+            y_label: format!("{y} [s]"),
+            contours: levels.iter().flat_map(|&l| grid.contour(l)).collect(),
+            heat,
+            heat_max: Some(top),
+            heat_label: "density [1/s²] (top 0.5 % of cells saturate)".into(),
+            ..Default::default()
+        }
     };
     Some(Figure {
         name: name.into(),
@@ -295,7 +336,7 @@ pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure
         rows: 1,
         cols: 2,
         size: (1300, 600),
-        panels: vec![panel("(a) joint density", dens), panel("(b) product of the marginals", prod)],
+        panels: vec![panel("(a) joint density", dens, &grids[0]), panel("(b) product of the marginals", prod, &grids[1])],
     })
 }
 
@@ -345,12 +386,12 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
             x_label: "t [s]".into(),
             y_label: "velocity [m/s]".into(),
             lines: vec![
-                Series { label: "mass".into(), color: 0, points: shown.iter().copied().step_by(stride).collect() },
-                Series { label: "belt".into(), color: 1, points: keep(&step) },
+                Series { label: "mass".into(), color: 0, points: shown.iter().copied().step_by(stride).collect(), ..Default::default() },
+                Series { label: "belt".into(), color: 1, points: keep(&step), ..Default::default() },
             ],
             points: vec![
-                Series { label: "stick starts".into(), color: 6, points: keep(&mark(&starts, &after)) },
-                Series { label: "stick ends".into(), color: 2, points: keep(&mark(&ends, &before)) },
+                Series { label: "stick starts".into(), color: 6, points: keep(&mark(&starts, &after)), ..Default::default() },
+                Series { label: "stick ends".into(), color: 2, points: keep(&mark(&ends, &before)), ..Default::default() },
             ],
             vlines: flips.iter().copied().filter(|&t| t <= until).collect(),
             x_range: Some((0.0, until)),
@@ -394,39 +435,102 @@ pub const SWEEP_METRICS: [(&str, &str); 6] = [
     ("mean_T_slope", "mean cycle E[D] + E[H] [s]"),
 ];
 
-/// Maps of a sweep: each metric against the first swept key, one line per value of the second.
+/// Whether a swept key's values span a factor of 10 or more (then its axis is logarithmic).
+fn wide(values: &[f64]) -> bool {
+    let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    lo > 0.0 && hi / lo >= 10.0
+}
+
+/// Cell edges around sorted distinct grid values: midpoints (geometric on a log axis), the outer
+/// edges half a spacing out.
+fn edges(v: &[f64], log: bool) -> Vec<(f64, f64)> {
+    let (to, from) = (|x: f64| if log { x.ln() } else { x }, |u: f64| if log { u.exp() } else { u });
+    let u: Vec<f64> = v.iter().map(|&x| to(x)).collect();
+    (0..u.len())
+        .map(|i| {
+            let left = if i > 0 { 0.5 * (u[i - 1] + u[i]) } else if u.len() > 1 { u[0] - 0.5 * (u[1] - u[0]) } else { u[0] - 0.5 };
+            let right = if i + 1 < u.len() { 0.5 * (u[i] + u[i + 1]) } else if u.len() > 1 { u[i] + 0.5 * (u[i] - u[i - 1]) } else { u[0] + 0.5 };
+            (from(left), from(right))
+        })
+        .collect()
+}
+
+/// Maps of a sweep. One or three and more swept keys: each metric against the first key (one
+/// line per value of the second), with ±1.96 standard-error bars where the table has them. Two
+/// keys: each metric as a heat map over the grid, with a colour bar. An axis is logarithmic when
+/// its key spans a factor of 10 or more.
 pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
     let keys: Vec<&str> = sweep.columns.iter().map(|(n, _)| n.as_str()).take_while(|n| *n != "realizations").collect();
     let x = *keys.first()?;
     let xs = sweep.floats(x)?;
+    let distinct = |k: &str| -> Option<Vec<f64>> {
+        let mut v: Vec<f64> = sweep.floats(k)?.iter().flatten().copied().collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        Some(v)
+    };
+    let x_values = distinct(x)?;
+    let x_log = wide(&x_values);
+    if keys.len() == 2 {
+        let y = keys[1];
+        let (ys, y_values) = (sweep.floats(y)?, distinct(y)?);
+        let y_log = wide(&y_values);
+        let (xe, ye) = (edges(&x_values, x_log), edges(&y_values, y_log));
+        let panels = SWEEP_METRICS
+            .iter()
+            .filter_map(|&(col, title)| {
+                let v = sweep.floats(col)?;
+                let heat: Vec<[f64; 5]> = (0..sweep.height())
+                    .filter_map(|r| {
+                        let (i, j) = (x_values.iter().position(|&a| Some(a) == xs[r])?, y_values.iter().position(|&b| Some(b) == ys[r])?);
+                        Some([xe[i].0, xe[i].1, ye[j].0, ye[j].1, v[r].filter(|z| z.is_finite()).unwrap_or(f64::NAN)])
+                    })
+                    .collect();
+                let missing = heat.iter().any(|c| c[4].is_nan());
+                (!heat.is_empty()).then(|| Panel {
+                    title: if missing { format!("{title} (grey: no value)") } else { title.into() },
+                    x_label: x.into(),
+                    y_label: y.into(),
+                    heat,
+                    heat_label: title.into(),
+                    heat_values: x_values.len() * y_values.len() <= 64,
+                    heat_linear: true,
+                    x_log,
+                    y_log,
+                    ..Default::default()
+                })
+            })
+            .collect::<Vec<_>>();
+        return Some(Figure { name: "sweep_maps".into(), title: format!("Sweep over {x} × {y}"), rows: 2, cols: 3, size: (1500, 860), panels });
+    }
     let groups: Vec<Option<f64>> = match keys.get(1) {
-        Some(k) => {
-            let mut v: Vec<f64> = sweep.floats(k)?.iter().flatten().copied().collect();
-            v.sort_by(f64::total_cmp);
-            v.dedup();
-            v.into_iter().map(Some).collect()
-        }
+        Some(k) => distinct(k)?.into_iter().map(Some).collect(),
         None => vec![None],
     };
     let panels = SWEEP_METRICS
         .iter()
         .filter_map(|&(col, title)| {
             let ys = sweep.floats(col)?;
+            let se = sweep.floats(&format!("{col}_se"));
             let lines: Vec<Series> = groups
                 .iter()
                 .enumerate()
                 .map(|(i, g)| {
-                    let mut points: Vec<(f64, f64)> = (0..sweep.height())
+                    let mut rows: Vec<(f64, f64, f64)> = (0..sweep.height())
                         .filter(|&r| g.is_none_or(|g| keys.get(1).and_then(|k| sweep.floats(k)).is_some_and(|v| v[r] == Some(g))))
-                        .filter_map(|r| Some((xs[r]?, ys[r]?)))
+                        .filter_map(|r| Some((xs[r]?, ys[r]?, se.and_then(|s| s[r]).map_or(0.0, |s| 1.96 * s))))
                         .collect();
-                    points.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
                     let label = g.map_or(String::new(), |g| format!("{} = {g}", keys[1]));
-                    Series { label, color: i, points }
+                    let points = rows.iter().map(|r| (r.0, r.1)).collect();
+                    let errors = if se.is_some() { rows.iter().map(|r| r.2).collect() } else { Vec::new() };
+                    Series { label, color: i, points, errors }
                 })
                 .collect();
-            let points = lines.iter().map(|l: &Series| Series { label: String::new(), ..l.clone() }).collect();
-            Some(Panel { title: title.into(), x_label: x.into(), y_label: title.into(), points, lines, ..Default::default() })
+            let points = lines.iter().map(|l: &Series| Series { label: String::new(), errors: Vec::new(), ..l.clone() }).collect();
+            let title = if se.is_some() { format!("{title} (± 1.96 se)") } else { title.to_string() };
+            Some(Panel { title, x_label: x.into(), y_label: String::new(), points, lines, x_log, ..Default::default() })
         })
         .collect::<Vec<_>>();
     Some(Figure { name: "sweep_maps".into(), title: format!("Sweep over {}", keys.join(" × ")), rows: 2, cols: 3, size: (1400, 820), panels })

@@ -8,7 +8,7 @@ use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::colors::colormaps::ViridisRGB;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::{Figure, Panel};
 
@@ -37,8 +37,33 @@ fn err(e: impl std::fmt::Display) -> String {
     e.to_string()
 }
 
-/// Axis ranges covering everything a panel draws (or its explicit ranges), with a little room.
+/// The sequential colour of a heat map at `t` ∈ [0, 1]: white through light blue to dark navy,
+/// so that empty and nearly empty cells look alike (no stripes where a marginal bin is empty).
+pub fn heat_color(t: f64) -> RGBColor {
+    const STOPS: [(f64, [f64; 3]); 5] = [
+        (0.0, [255.0, 255.0, 255.0]),
+        (0.25, [198.0, 219.0, 239.0]),
+        (0.5, [107.0, 174.0, 214.0]),
+        (0.75, [33.0, 113.0, 181.0]),
+        (1.0, [8.0, 48.0, 107.0]),
+    ];
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let i = STOPS.iter().rposition(|(s, _)| *s <= t).unwrap_or(0).min(STOPS.len() - 2);
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    let u = (t - a.0) / (b.0 - a.0);
+    let c = |k: usize| (a.1[k] + (b.1[k] - a.1[k]) * u).round() as u8;
+    RGBColor(c(0), c(1), c(2))
+}
+
+/// The map from data to drawing coordinates of one axis (log10 on a log axis).
+fn axis(log: bool) -> impl Fn(f64) -> f64 {
+    move |v: f64| if log { v.log10() } else { v }
+}
+
+/// Axis ranges covering everything a panel draws (or its explicit ranges), with a little room,
+/// in drawing coordinates.
 fn ranges(p: &Panel) -> ((f64, f64), (f64, f64)) {
+    let (fx, fy) = (axis(p.x_log), axis(p.y_log));
     let mut xs: Vec<f64> = Vec::new();
     let mut ys: Vec<f64> = vec![];
     for b in &p.bars {
@@ -50,33 +75,95 @@ fn ranges(p: &Panel) -> ((f64, f64), (f64, f64)) {
         ys.extend([c[2], c[3]]);
     }
     for s in p.lines.iter().chain(&p.points) {
+        for (i, &(x, y)) in s.points.iter().enumerate() {
+            xs.push(x);
+            let e = s.errors.get(i).copied().unwrap_or(0.0);
+            ys.extend([y - e, y + e]);
+        }
+    }
+    for s in &p.stems {
         for &(x, y) in &s.points {
             xs.push(x);
-            ys.push(y);
+            ys.extend([0.0, y]);
         }
     }
     xs.extend(&p.vlines);
-    let span = |v: &[f64], pad: f64| {
+    // a linear axis whose data start at 0 starts there; otherwise both ends get room
+    let span = |v: &[f64], pad: f64, log: bool| {
         let lo = v.iter().copied().filter(|x| x.is_finite()).fold(f64::INFINITY, f64::min);
         let hi = v.iter().copied().filter(|x| x.is_finite()).fold(f64::NEG_INFINITY, f64::max);
         if !(lo <= hi) {
             return (0.0, 1.0);
         }
         let d = if hi > lo { (hi - lo) * pad } else { 0.5 };
-        (lo - if lo == 0.0 { 0.0 } else { d }, hi + d)
+        (lo - if lo == 0.0 && !log { 0.0 } else { d }, hi + d)
     };
-    (p.x_range.unwrap_or_else(|| span(&xs, 0.02)), p.y_range.unwrap_or_else(|| span(&ys, 0.05)))
+    let xs: Vec<f64> = xs.into_iter().map(&fx).collect();
+    let ys: Vec<f64> = ys.into_iter().map(&fy).collect();
+    (
+        p.x_range.map(|(a, b)| (fx(a), fx(b))).unwrap_or_else(|| span(&xs, 0.04, p.x_log)),
+        p.y_range.map(|(a, b)| (fy(a), fy(b))).unwrap_or_else(|| span(&ys, 0.05, p.y_log)),
+    )
 }
+
+/// A tick label: on a log axis the value 10^v, else v, in a short form.
+fn tick(log: bool) -> impl Fn(&f64) -> String {
+    move |v: &f64| {
+        let x = if log { 10f64.powf(*v) } else { *v };
+        if x == 0.0 {
+            "0".into()
+        } else if x.abs() >= 1e4 || x.abs() < 1e-3 {
+            format!("{x:.1e}")
+        } else {
+            // two significant digits on a log axis (3.2, not 3.162), three decimals otherwise
+            let decimals = if log { (1 - x.abs().log10().floor() as i32).max(0) as usize } else { 3 };
+            let s = format!("{x:.decimals$}");
+            if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+        }
+    }
+}
+
+/// The corner of the plot where the legend covers the fewest data points.
+fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> SeriesLabelPosition {
+    let (fx, fy) = (axis(p.x_log), axis(p.y_log));
+    let mut pts: Vec<(f64, f64)> = p.lines.iter().chain(&p.points).chain(&p.stems).flat_map(|s| s.points.iter().copied()).collect();
+    pts.extend(p.bars.iter().map(|b| (0.5 * (b.0 + b.1), b.2)));
+    let norm: Vec<(f64, f64)> = pts.iter().map(|&(x, y)| ((fx(x) - x0) / (x1 - x0), (fy(y) - y0) / (y1 - y0))).collect();
+    let count = |left: bool, top: bool| {
+        norm.iter().filter(|(u, v)| (if left { *u < 0.4 } else { *u > 0.6 }) && (if top { *v > 0.55 } else { *v < 0.45 })).count()
+    };
+    [
+        (SeriesLabelPosition::UpperRight, count(false, true)),
+        (SeriesLabelPosition::UpperLeft, count(true, true)),
+        (SeriesLabelPosition::LowerRight, count(false, false)),
+        (SeriesLabelPosition::LowerLeft, count(true, false)),
+    ]
+    .into_iter()
+    .min_by_key(|(_, n)| *n)
+    .map_or(SeriesLabelPosition::UpperRight, |(pos, _)| pos)
+}
+
+/// Pixels of the colour bar strip beside a heat map.
+const COLOUR_BAR: u32 = 96;
 
 fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), String> {
     let ((x0, x1), (y0, y1)) = ranges(p);
-    let mut chart = ChartBuilder::on(area)
+    let (fx, fy) = (axis(p.x_log), axis(p.y_log));
+    let (area, bar_area) = if p.heat.is_empty() {
+        (area.clone(), None)
+    } else {
+        let (w, _) = area.dim_in_pixel();
+        let (a, b) = area.split_horizontally(w.saturating_sub(COLOUR_BAR));
+        (a, Some(b))
+    };
+    let mut chart = ChartBuilder::on(&area)
         .caption(&p.title, ("sans-serif", 17))
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(52)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(err)?;
+    let (tx, ty) = (tick(p.x_log), tick(p.y_log));
     chart
         .configure_mesh()
         .disable_mesh()
@@ -86,38 +173,84 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
         .axis_desc_style(("sans-serif", 14))
         .x_labels(6)
         .y_labels(6)
+        .x_label_formatter(&tx)
+        .y_label_formatter(&ty)
         .draw()
         .map_err(err)?;
+    let finite = || p.heat.iter().map(|c| c[4]).filter(|v| v.is_finite());
+    let max = p.heat_max.unwrap_or_else(|| finite().fold(0.0, f64::max)).max(f64::MIN_POSITIVE);
+    let scale = if p.heat_linear {
+        let (lo, hi) = (finite().fold(f64::INFINITY, f64::min), finite().fold(f64::NEG_INFINITY, f64::max));
+        let hi = if hi > lo { hi } else { lo + 1.0 };
+        HeatScale { lo, hi, sqrt: false }
+    } else {
+        HeatScale { lo: 0.0, hi: max, sqrt: true }
+    };
     if !p.heat.is_empty() {
-        let max = p.heat_max.unwrap_or_else(|| p.heat.iter().map(|c| c[4]).fold(0.0, f64::max)).max(f64::MIN_POSITIVE);
         chart
             .draw_series(p.heat.iter().map(|c| {
-                let color = ViridisRGB.get_color((c[4] / max).clamp(0.0, 1.0).sqrt() as f32);
-                Rectangle::new([(c[0], c[2]), (c[1], c[3])], color.filled())
+                // a cell without a value (NaN) is grey, never confused with a small value
+                let color = if c[4].is_finite() { heat_color(scale.t(c[4])) } else { RGBColor(200, 200, 200) };
+                Rectangle::new([(fx(c[0]), fy(c[2])), (fx(c[1]), fy(c[3]))], color.filled())
             }))
+            .map_err(err)?;
+        if p.heat_values {
+            chart
+                .draw_series(p.heat.iter().filter(|c| c[4].is_finite()).map(|c| {
+                    let t = scale.t(c[4]);
+                    let ink = if t > 0.6 { WHITE } else { BLACK };
+                    let centre = (0.5 * (fx(c[0]) + fx(c[1])), 0.5 * (fy(c[2]) + fy(c[3])));
+                    let style = ("sans-serif", 12).into_font().color(&ink).pos(Pos::new(HPos::Center, VPos::Center));
+                    Text::new(format!("{:.3}", c[4]).trim_end_matches('0').trim_end_matches('.').to_string(), centre, style)
+                }))
+                .map_err(err)?;
+        }
+        chart
+            .draw_series(p.contours.iter().map(|&[a, b]| PathElement::new([(fx(a.0), fy(a.1)), (fx(b.0), fy(b.1))], BLACK.mix(0.75).stroke_width(1))))
             .map_err(err)?;
     }
     chart
-        .draw_series(p.bars.iter().map(|&(lo, hi, h)| Rectangle::new([(lo, 0.0), (hi, h)], PALETTE[0].mix(0.55).filled())))
+        .draw_series(p.bars.iter().map(|&(lo, hi, h)| Rectangle::new([(fx(lo), fy(0.0)), (fx(hi), fy(h))], PALETTE[0].mix(0.55).filled())))
         .map_err(err)?;
     for &x in &p.vlines {
-        chart.draw_series(LineSeries::new([(x, y0), (x, y1)], RGBColor(170, 170, 170).stroke_width(1))).map_err(err)?;
+        chart.draw_series(LineSeries::new([(fx(x), y0), (fx(x), y1)], RGBColor(170, 170, 170).stroke_width(1))).map_err(err)?;
     }
     let mut labelled = false;
     for s in &p.lines {
         let color = PALETTE[s.color % PALETTE.len()];
         // the bitmap rasterizer joins many short thick segments raggedly: dense lines are thin
         let width = if s.points.len() > 200 { 1 } else { 2 };
-        let series = chart.draw_series(LineSeries::new(s.points.iter().copied(), color.stroke_width(width))).map_err(err)?;
+        let series = chart.draw_series(LineSeries::new(s.points.iter().map(|&(x, y)| (fx(x), fy(y))), color.stroke_width(width))).map_err(err)?;
         if !s.label.is_empty() {
             labelled = true;
             series.label(s.label.as_str()).legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], color.stroke_width(2)));
         }
     }
+    for s in p.points.iter().chain(&p.lines) {
+        let color = PALETTE[s.color % PALETTE.len()];
+        chart
+            .draw_series(s.points.iter().zip(&s.errors).filter(|(_, e)| e.is_finite() && **e > 0.0).map(|(&(x, y), &e)| {
+                ErrorBar::new_vertical(fx(x), fy(y - e), fy(y), fy(y + e), color.stroke_width(1), 8)
+            }))
+            .map_err(err)?;
+    }
     for s in &p.points {
         let color = PALETTE[s.color % PALETTE.len()];
         let series = chart
-            .draw_series(s.points.iter().map(|&(x, y)| Circle::new((x, y), 3, color.filled())))
+            .draw_series(s.points.iter().map(|&(x, y)| Circle::new((fx(x), fy(y)), 3, color.filled())))
+            .map_err(err)?;
+        if !s.label.is_empty() {
+            labelled = true;
+            series.label(s.label.as_str()).legend(move |(x, y)| Circle::new((x + 8, y), 3, color.filled()));
+        }
+    }
+    for s in &p.stems {
+        let color = PALETTE[s.color % PALETTE.len()];
+        chart
+            .draw_series(s.points.iter().map(|&(x, y)| PathElement::new([(fx(x), fy(0.0).max(y0)), (fx(x), fy(y))], color.stroke_width(1))))
+            .map_err(err)?;
+        let series = chart
+            .draw_series(s.points.iter().map(|&(x, y)| Circle::new((fx(x), fy(y)), 3, color.filled())))
             .map_err(err)?;
         if !s.label.is_empty() {
             labelled = true;
@@ -127,13 +260,68 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     if labelled {
         chart
             .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend_corner(p, (x0, x1), (y0, y1)))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.3))
             .label_font(("sans-serif", 12))
             .draw()
             .map_err(err)?;
     }
+    if let Some(bar) = bar_area {
+        colour_bar(&bar, scale, &p.heat_label)?;
+    }
+    Ok(())
+}
+
+/// How a heat map's values map to colours: from `lo` to `hi`, linearly or by the square root.
+#[derive(Debug, Clone, Copy)]
+struct HeatScale {
+    lo: f64,
+    hi: f64,
+    sqrt: bool,
+}
+
+impl HeatScale {
+    fn t(&self, v: f64) -> f64 {
+        let u = ((v - self.lo) / (self.hi - self.lo)).clamp(0.0, 1.0);
+        if self.sqrt {
+            u.sqrt()
+        } else {
+            u
+        }
+    }
+}
+
+/// The colour bar of a heat map: its scale from `lo` to `hi`, labelled.
+fn colour_bar<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, scale: HeatScale, label: &str) -> Result<(), String> {
+    let (lo, hi) = (scale.lo, scale.hi);
+    let mut chart = ChartBuilder::on(area)
+        .margin_top(34)
+        .margin_bottom(44)
+        .margin_right(6)
+        .y_label_area_size(56)
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(err)?;
+    let ty = tick(false);
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(6)
+        .y_label_formatter(&ty)
+        .y_desc(label)
+        .label_style(("sans-serif", 12))
+        .axis_desc_style(("sans-serif", 13))
+        .draw()
+        .map_err(err)?;
+    let steps = 128;
+    chart
+        .draw_series((0..steps).map(|i| {
+            let (a, b) = (lo + (hi - lo) * i as f64 / steps as f64, lo + (hi - lo) * (i + 1) as f64 / steps as f64);
+            Rectangle::new([(0.0, a), (1.0, b)], heat_color(scale.t(0.5 * (a + b))).filled())
+        }))
+        .map_err(err)?;
+    chart.draw_series([Rectangle::new([(0.0, lo), (1.0, hi)], BLACK.mix(0.6).stroke_width(1))]).map_err(err)?;
     Ok(())
 }
 
