@@ -76,17 +76,22 @@ fn figures_draw_exactly_the_analysis_tables() {
     let j = figures::joint_figure(&inp, "T_1", "T_2", "fig11_t1_t2").unwrap();
     assert_eq!(j.panels[0].heat, [[0.0, 0.5, 1.0, 2.0, 1.5], [0.5, 1.0, 1.0, 2.0, 0.5]]);
     assert_eq!(j.panels[1].heat.len(), 2);
+    assert!(!j.panels[0].heat_label.is_empty(), "a heat map has a labelled colour bar");
     assert!(j.title.contains("0.010") && j.title.contains("dependent"), "{}", j.title);
     let q = figures::q_figure(&inp).unwrap();
-    assert_eq!(q.panels[0].bars, [(49.5, 50.5, 0.6), (50.5, 51.5, 0.4)]);
+    // a PMF is drawn as stems at the integers, not as bars or a line
+    assert!(q.panels[0].bars.is_empty() && q.panels[0].lines.is_empty());
+    assert_eq!(q.panels[0].stems[0].points, [(50.0, 0.6), (51.0, 0.4)]);
     // Poisson(λ t_a = 50) at 50 and 51: 50^q e^-50 / q!
     let pmf50 = (50.0f64.ln() * 50.0 - 50.0 - (1..=50).map(|k| (k as f64).ln()).sum::<f64>()).exp();
     assert!((q.panels[0].points[0].points[0].1 - pmf50).abs() < 1e-12);
     // each plotted PMF spans 0..mean + 4√mean + 4: all but < 1e-4 of its mass
     let p = figures::poisson_figure(&inp);
-    for line in &p.panels[0].lines {
-        let total: f64 = line.points.iter().map(|pt| pt.1).sum();
-        assert!(total <= 1.0 + 1e-12 && total > 1.0 - 1e-4, "{}: {total}", line.label);
+    assert!(p.panels[0].lines.is_empty());
+    for stems in &p.panels[0].stems {
+        let total: f64 = stems.points.iter().map(|pt| pt.1).sum();
+        assert!(total <= 1.0 + 1e-12 && total > 1.0 - 1e-4, "{}: {total}", stems.label);
+        assert!(stems.points.iter().all(|pt| pt.0.fract() == 0.0), "stems stand on the integers");
     }
     assert!(figures::trajectory_figure(&inp).is_none() && figures::indexed_histograms(&inp, "Y", "fig06_y", "Y").is_none());
 }
@@ -177,4 +182,32 @@ fn the_report_escapes_what_it_interpolates() {
     assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;"), "the label is shown, escaped");
     assert!(html.contains("id=\"x&lt;b&gt;&quot;\""), "the figure id is escaped");
     check_tags(&html).unwrap();
+}
+
+#[test]
+fn sweep_maps_have_error_bars_log_axes_and_heat_maps_for_two_keys() {
+    let mut one = Table::default();
+    one.push("switch_rate", float(&[1.0, 5.0, 20.0]))
+        .push("realizations", Col::Int(vec![Some(100); 3]))
+        .push("mean_S_T", float(&[5.0, 10.0, 20.0]))
+        .push("mean_S_T_se", float(&[0.1, 0.2, 0.4]));
+    let f = figures::sweep_figure(&one).unwrap();
+    let p = &f.panels[0];
+    assert!(p.x_log, "1..20 spans 20x: log axis");
+    assert_eq!(p.lines[0].points, [(1.0, 5.0), (5.0, 10.0), (20.0, 20.0)]);
+    let want = [0.196, 0.392, 0.784];
+    assert!(p.lines[0].errors.iter().zip(want).all(|(e, w)| (e - w).abs() < 1e-12), "{:?}", p.lines[0].errors);
+    let mut two = Table::default();
+    two.push("switch_rate", float(&[1.0, 1.0, 2.0, 2.0]))
+        .push("friction_coefficient", float(&[0.3, 1.0, 0.3, 1.0]))
+        .push("realizations", Col::Int(vec![Some(100); 4]))
+        .push("mean_S_T", float(&[5.0, 6.0, 7.0, 8.0]));
+    let f = figures::sweep_figure(&two).unwrap();
+    let p = &f.panels[0];
+    assert!(!p.x_log && !p.y_log, "spans under 10x stay linear");
+    assert_eq!(p.heat.len(), 4);
+    // cells around the grid values, meeting at the midpoints
+    let want = [0.5, 1.5, -0.05, 0.65];
+    assert!(p.heat[0][..4].iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", p.heat[0]);
+    assert!(!p.heat_label.is_empty());
 }
