@@ -163,7 +163,9 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
     let mut chunks = (range.start..range.end).step_by(chunk as usize).map(|lo| lo..(lo + chunk).min(range.end)).peekable();
     let mut total_sticks = 0u64;
     let (computed, written) = std::thread::scope(|scope| {
-        let (tx, rx) = sync_channel::<Rows>(2 * threads);
+        // The writer runs beside the workers; the queue holds about four windows, so the workers
+        // never wait for the encoder while it catches up.
+        let (tx, rx) = sync_channel::<Rows>(16 * threads);
         let writer_thread = scope.spawn(move || -> Result<PartWriter, DatasetError> {
             let mut writer = writer;
             for rows in rx {
@@ -173,7 +175,7 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
         });
         let computed = (|| -> Result<(), RunError> {
             while chunks.peek().is_some() {
-                let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(4 * threads).collect();
+                let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
                 let rows: Vec<Result<Rows, RunError>> =
                     pool.install(|| window.par_iter().map(|r| ensemble.rows(r.clone())).collect());
                 for r in rows {
