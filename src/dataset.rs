@@ -302,8 +302,8 @@ fn properties(with_switch_times: bool, metadata: Vec<(String, String)>) -> Write
     let lists = LIST_COLUMNS.iter().copied().chain(with_switch_times.then_some("switch_times"));
     floats.extend(lists.map(|c| ColumnPath::new(vec![c.into(), "list".into(), "element".into()])));
     // No dictionaries (the counts are small integers zstd packs anyway; interning cost 2 % of a
-    // run) and statistics only for the scalar columns: min/max of the event times serve no query
-    // and cost another 2 %.
+    // run); min/max statistics per row group for the integer columns (realization ranges let
+    // readers skip row groups), none for the floats.
     let mut builder = WriterProperties::builder()
         .set_compression(Compression::ZSTD(ZstdLevel::try_new(1).expect("valid level")))
         .set_dictionary_enabled(false)
@@ -313,14 +313,13 @@ fn properties(with_switch_times: bool, metadata: Vec<(String, String)>) -> Write
         // rows are in realization order (column 0): declared, so readers can rely on it
         .set_sorting_columns(Some(vec![SortingColumn { column_idx: 0, descending: false, nulls_first: false }]))
         .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()));
+    // Floats are near-incompressible (random initial conditions, event times): stored PLAIN and
+    // uncompressed (zstd saved 8 % of the size and cost 12 % of the run), without statistics.
     for col in floats {
-        let list = col.parts().len() > 1;
-        builder = builder.set_column_encoding(col.clone(), Encoding::PLAIN);
-        if list {
-            builder = builder
-                .set_column_statistics_enabled(col.clone(), EnabledStatistics::None)
-                .set_column_compression(col, Compression::UNCOMPRESSED);
-        }
+        builder = builder
+            .set_column_encoding(col.clone(), Encoding::PLAIN)
+            .set_column_statistics_enabled(col.clone(), EnabledStatistics::None)
+            .set_column_compression(col, Compression::UNCOMPRESSED);
     }
     builder.build()
 }
