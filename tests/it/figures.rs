@@ -131,6 +131,14 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
     let args = ["reproduce", "--out", "run", "--realizations", "600", "--set", "output.switch_times=true", "--set", "output.trajectories=2", "--quiet"];
     let o = stickslip(&args, tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // the layout: the dataset directory holds only its parts (and the trajectories, outside the
+    // *.parquet glob); analysis, figures and report sit beside it
+    let mut dataset: Vec<String> = std::fs::read_dir(tmp.path().join("run/dataset")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    dataset.sort();
+    assert_eq!(dataset, [".stickslip-output", "part-00000-of-00001.parquet", "trajectories.csv"]);
+    for beside in ["analysis/moments.parquet", "analysis/summary.json", "figures", "report.html", "report.md"] {
+        assert!(tmp.path().join("run").join(beside).exists(), "run/{beside}");
+    }
     let figs = tmp.path().join("run/figures");
     let names = [
         "fig02_poisson_pmf", "fig04_trajectories", "fig05_q", "fig06_y", "fig07_variance_growth", "fig08_counts",
