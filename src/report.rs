@@ -124,6 +124,18 @@ pub fn table1(moments: &Table) -> Vec<Row> {
     rows
 }
 
+/// Whether an SVG is inert, so that inlining it runs nothing (ours are): no script, no
+/// `javascript:` link, no foreign HTML, no event-handler attribute (` onload=`, ` onclick =` …).
+fn is_inert(svg: &str) -> bool {
+    let lower = svg.to_ascii_lowercase();
+    let handler = lower.match_indices(" on").any(|(i, _)| {
+        let rest = &lower[i + 3..];
+        let name = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_alphabetic()).len();
+        name > 1 && rest[name..].trim_start().starts_with('=')
+    });
+    !handler && !["<script", "javascript:", "<foreignobject"].iter().any(|p| lower.contains(p))
+}
+
 /// Text made safe for HTML content and attribute values.
 pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&#39;")
@@ -289,13 +301,7 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
     for (name, path) in &c.figures {
         let svg = std::fs::read_to_string(path).map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
         let body = svg.find("<svg").map_or(svg.as_str(), |i| &svg[i..]);
-        // an SVG is inlined only if it is inert (ours are): no scripts, handlers or foreign HTML
-        let lower = body.to_ascii_lowercase();
-        let active = ["<script", "javascript:", "<foreignobject", " on"].iter().any(|p| match *p {
-            " on" => lower.match_indices(" on").any(|(i, _)| lower[i + 3..].chars().take_while(|c| c.is_ascii_alphabetic()).count() > 1 && lower[i + 3..].trim_start_matches(|c: char| c.is_ascii_alphabetic()).starts_with('=')),
-            p => lower.contains(p),
-        });
-        let body = if active { "<p>(not inlined: the SVG holds active content)</p>" } else { body };
+        let body = if is_inert(body) { body } else { "<p>(not inlined: the SVG holds active content)</p>" };
         let name = escape(name);
         let _ = write!(h, "<figure id=\"{name}\">\n{body}\n<figcaption>{name} (PNG: {})</figcaption>\n</figure>\n", escape(&figdir.join(format!("{name}.png")).display().to_string()));
     }

@@ -83,7 +83,8 @@ fn ints(df: &DataFrame, name: &str) -> PolarsResult<Vec<i64>> {
 /// Check every value of a slice before anything is folded: realization ids are the declared
 /// consecutive range, counts are non-negative and equal their lists' lengths, event times are
 /// finite and non-negative, starts do not decrease. The error names row, realization and column.
-fn validate(df: &DataFrame, first: u64, switch_times: bool) -> PolarsResult<()> {
+/// Returns the rows of the list columns it checked, for [`to_batch`].
+fn validate(df: &DataFrame, first: u64, switch_times: bool) -> PolarsResult<Lists<'_>> {
     let ids = ints(df, "realization")?;
     let at = |r: usize, col: &str, why: String| polars_err!(ComputeError: "row {} (realization {}), column `{col}`: {why}", first + r as u64, ids[r]);
     for (r, &id) in ids.iter().enumerate() {
@@ -91,15 +92,15 @@ fn validate(df: &DataFrame, first: u64, switch_times: bool) -> PolarsResult<()> 
             return Err(at(r, "realization", format!("expected realization {} (the part's declared range), found {id}", first + r as u64)));
         }
     }
-    let lists = |name: &str| list_rows(df.column(name)?, first);
+    let mut checked = Lists::new();
     let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
     if switch_times {
         counted.push(("n_switches", ["switch_times"].as_slice()));
     }
     for (count, cols) in counted {
         let n = ints(df, count)?;
-        for col in cols {
-            let rows = lists(col)?;
+        for &col in cols {
+            let rows = list_rows(df.column(col)?, first)?;
             for (r, row) in rows.iter().enumerate() {
                 if n[r] < 0 || row.len() as i64 != n[r] {
                     return Err(at(r, col, format!("{} values, but `{count}` = {}", row.len(), n[r])));
@@ -107,27 +108,31 @@ fn validate(df: &DataFrame, first: u64, switch_times: bool) -> PolarsResult<()> 
                 if let Some(x) = row.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
                     return Err(at(r, col, format!("value {x} (event times and durations are finite and >= 0)")));
                 }
-                let is_start = col.ends_with("_start") || *col == "switch_times";
+                let is_start = col.ends_with("_start") || col == "switch_times";
                 if is_start && row.windows(2).any(|w| w[1] < w[0]) {
                     return Err(at(r, col, "values decrease (start instants are in increasing order)".into()));
                 }
             }
+            checked.insert(col, rows);
         }
     }
     if df.column("last_truncated")?.null_count() > 0 {
         polars_bail!(ComputeError: "column `last_truncated` has null values");
     }
-    Ok(())
+    Ok(checked)
 }
 
-fn to_batch(df: &DataFrame, series: &[Series]) -> PolarsResult<Batch> {
+/// The rows of list columns, by column name.
+type Lists<'a> = std::collections::HashMap<&'static str, Vec<&'a [f64]>>;
+
+/// The batch of `series` from a validated slice and the list rows [`validate`] returned.
+fn to_batch<'a>(df: &'a DataFrame, series: &[Series], mut rows_of: Lists<'a>) -> PolarsResult<Batch> {
     let mut batch = Batch {
         values: vec![Vec::new(); series.len()],
         n_stick: ints(df, "n_stick")?,
         n_slip: ints(df, "n_slip")?,
         last_truncated: df.column("last_truncated")?.bool()?.iter().map(|v| v.unwrap_or(false)).collect(),
     };
-    let mut rows_of: std::collections::HashMap<&str, Vec<&[f64]>> = Default::default();
     for (i, s) in series.iter().enumerate() {
         let name = s.var.column();
         if s.var == Variable::StickTime || s.index.is_some() {
@@ -181,8 +186,8 @@ pub fn stream_file(part: &FilePart, series: &[Series], switch_times: bool, sink:
         if df.height() as u64 != SLICE_ROWS.min(part.rows - offset) {
             polars_bail!(ComputeError: "rows {offset}.. could not be read in full");
         }
-        validate(&df, part.first + offset, with_switches)?;
-        let batch = to_batch(&df, series)?;
+        let lists = validate(&df, part.first + offset, with_switches)?;
+        let batch = to_batch(&df, series, lists)?;
         unchanged()?;
         Ok(batch)
     };
