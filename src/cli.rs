@@ -367,12 +367,6 @@ fn analyze_command(args: AnalyzeArgs, quiet: bool) -> anyhow::Result<()> {
     if !args.pairs.is_empty() {
         opts.pairs = args.pairs;
     }
-    if opts.max_index == 0 || opts.max_index > analysis::MAX_INDEX {
-        return Err(usage(format!("--max-index {}: must be between 1 and {}", opts.max_index, analysis::MAX_INDEX)));
-    }
-    if opts.bins == Some(0) || opts.bins.is_some_and(|b| b > 100_000) {
-        return Err(usage("--bins must be between 1 and 100000"));
-    }
     analyze_and_print(&args.dataset, &args.out, &opts, quiet).map(drop)
 }
 
@@ -442,9 +436,7 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
         }
         sets.push(format!("run.seed={s}"));
     }
-    if let Some(t) = args.threads.filter(|&t| t == 0 || t > simulate::MAX_THREADS) {
-        return Err(usage(format!("--threads {t}: must be between 1 and {}", simulate::MAX_THREADS)));
-    }
+    simulate::worker_threads(args.threads)?;
     let cells = Scenario::resolve_sweep(args.input.scenario.as_deref(), &sets)?;
     let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&args.input))?;
     let progress = !quiet && std::io::stderr().is_terminal();

@@ -87,6 +87,15 @@ pub enum SimulateError {
 /// Most worker threads accepted (`--threads`).
 pub const MAX_THREADS: usize = 1024;
 
+/// The worker threads for `--threads` (None: all cores), checked.
+pub fn worker_threads(asked: Option<usize>) -> Result<usize, SimulateError> {
+    match asked {
+        Some(t) if t == 0 || t > MAX_THREADS => Err(SimulateError::Threads(t)),
+        Some(t) => Ok(t),
+        None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
+}
+
 /// Key-value metadata recorded in every part file.
 pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
     let range = shard.range(scenario.realizations);
@@ -138,11 +147,7 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError
 /// Simulate into a finished, uncommitted part file; `opts.out` is a prepared dataset directory.
 pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateError> {
     let start = Instant::now();
-    let threads = match opts.threads {
-        Some(t) if t == 0 || t > MAX_THREADS => return Err(SimulateError::Threads(t)),
-        Some(t) => t,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
+    let threads = worker_threads(opts.threads)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

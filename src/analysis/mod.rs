@@ -60,6 +60,22 @@ pub const MAX_INDEX: u32 = 1000;
 /// Default number of permutations of the mutual-information null.
 pub const DEFAULT_PERMUTATIONS: u32 = 199;
 
+/// Most histogram bins (`--bins`).
+pub const MAX_BINS: usize = 100_000;
+
+impl Options {
+    /// Refuse options that cannot work, before any input is read.
+    pub fn check(&self) -> Result<(), AnalysisError> {
+        if self.max_index == 0 || self.max_index > MAX_INDEX {
+            return Err(AnalysisError::Options(format!("--max-index {}: must be between 1 and {MAX_INDEX}", self.max_index)));
+        }
+        if let Some(b) = self.bins.filter(|&b| b == 0 || b > MAX_BINS) {
+            return Err(AnalysisError::Options(format!("--bins {b}: must be between 1 and {MAX_BINS}")));
+        }
+        Ok(())
+    }
+}
+
 impl Default for Options {
     fn default() -> Self {
         let pair = |a: &str, b: &str| Pair(a.parse().unwrap(), b.parse().unwrap());
@@ -222,9 +238,7 @@ pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
 
 /// Analyse one checked dataset.
 pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, AnalysisError> {
-    if opts.max_index == 0 || opts.max_index > MAX_INDEX {
-        return Err(AnalysisError::Options(format!("--max-index {}: must be between 1 and {MAX_INDEX}", opts.max_index)));
-    }
+    opts.check()?;
     if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.var == Variable::Y) && !data.switch_times) {
         return Err(AnalysisError::Options(format!(
             "--pair {},{}: the dataset has no switch_times (simulate with output.switch_times = true)",

@@ -111,6 +111,7 @@ pub fn table(cells: &[CellSummary]) -> Table {
 /// Analyse every cell of the dataset below `dir` into `out` (replaced when complete). A plain
 /// dataset (one cell at `dir` itself) gets the ordinary analysis; returns the analyses by cell.
 pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String, Analysis)>, AnalysisError> {
+    opts.check()?;
     let staged = StagedDir::new(out, Kind::Analysis, "--out", &[dir])?;
     let mut cells = open_cells(dir, opts.allow_partial)?;
     cells.sort_by(|a, b| cell_order(&a.0, &b.0));
