@@ -69,7 +69,7 @@ fn main() {
 
     // The exact solver alone: 5 repetitions of 100,000 realizations (this VM's speed varies by
     // ±20% from run to run; best and median are reported).
-    let ens = Ensemble::new(&Scenario::paper());
+    let ens = Ensemble::new(&Scenario::paper()).unwrap();
     let mut out = Outcome::default();
     for i in 0..10_000 {
         ens.realization(i, &mut out).unwrap();
@@ -97,7 +97,7 @@ fn main() {
             for (k, v) in sets {
                 sc = sc.with(k, v).unwrap();
             }
-            let ens = Ensemble::new(&sc);
+            let ens = Ensemble::new(&sc).unwrap();
             let mut out = Outcome::default();
             let start = Instant::now();
             for _ in 0..reps {

@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use crate::analysis;
 use crate::outdir::{check_separate, DatasetDir};
-use crate::scenario::Scenario;
+use crate::scenario::{Overrides, Scenario};
 use crate::simulate::{self, Shard};
 
 /// Stick-slip statistics of a dry-friction oscillator on a randomly reversing belt.
@@ -109,7 +109,7 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
     }
     if let Some(s) = e.downcast_ref::<SimulateError>() {
         return match s {
-            SimulateError::Threads(_) => true,
+            SimulateError::Threads(_) | SimulateError::Scenario(_) => true,
             SimulateError::Dataset(d) => dataset(d),
             SimulateError::Out(o) => out(o),
             SimulateError::Run(_) | SimulateError::Pool(_) => false,
@@ -426,18 +426,15 @@ fn print_analysis(a: &analysis::Analysis) {
 }
 
 fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
-    let mut sets = args.input.sets.clone();
-    if let Some(n) = args.realizations {
-        sets.push(format!("run.realizations={n}"));
+    if let Some(s) = args.seed.filter(|&s| s > i64::MAX as u64) {
+        return Err(usage(format!("--seed {s}: must be at most {}", i64::MAX)));
     }
-    if let Some(s) = args.seed {
-        if s > i64::MAX as u64 {
-            return Err(usage(format!("--seed {s}: must be at most {}", i64::MAX)));
-        }
-        sets.push(format!("run.seed={s}"));
+    if let Some(n) = args.realizations.filter(|&n| n == 0 || n > crate::scenario::MAX_REALIZATIONS) {
+        return Err(usage(format!("--realizations {n} (run.realizations): must be between 1 and {}", crate::scenario::MAX_REALIZATIONS)));
     }
     simulate::worker_threads(args.threads)?;
-    let cells = Scenario::resolve_sweep(args.input.scenario.as_deref(), &sets)?;
+    let over = Overrides { realizations: args.realizations, seed: args.seed };
+    let cells = Scenario::resolve_sweep(args.input.scenario.as_deref(), &args.input.sets, over)?;
     let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&args.input))?;
     let progress = !quiet && std::io::stderr().is_terminal();
     // A sweep is committed whole: every cell is simulated into a temporary part first, and the

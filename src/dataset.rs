@@ -5,7 +5,9 @@
 //! `initial_sign` int32 (belt sign at t = 0), `n_switches` int64 (Q), `n_stick`, `n_slip` int64
 //! (S_T, S_L; schema v2 — v1 had int32 counts), `stick_start`, `stick_duration`, `slip_start`, `slip_duration` list<float64>
 //! (T, D, L, H; non-null lists, `[]` when empty), `last_truncated` bool, and `switch_times`
-//! list<float64> (Y) only when the scenario asks for it.
+//! list<float64> (Y) only when the scenario asks for it, then one float64 column per random scene
+//! key, named after the key's last component (e.g. `friction_coefficient`), with the value drawn
+//! for the realization.
 //!
 //! Rows are sorted by `realization`, declared as the sorting column of every row group. Files are
 //! written under a unique hidden temporary name and renamed when complete (see [`crate::outdir`]),
@@ -29,9 +31,8 @@ use parquet::file::metadata::{KeyValue, SortingColumn};
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 use parquet::schema::types::ColumnPath;
 
-use crate::events::Record;
 use crate::outdir::{Lock, OutDirError, TempFile};
-use crate::excitation::BeltPath;
+use crate::ensemble::Outcome;
 
 /// Version of the column layout, recorded in every file.
 pub const SCHEMA_VERSION: &str = "2";
@@ -46,8 +47,15 @@ const ROW_GROUP_BYTES: usize = 128 << 20;
 /// List columns, in schema order.
 pub const LIST_COLUMNS: [&str; 4] = ["stick_start", "stick_duration", "slip_start", "slip_duration"];
 
+/// The optional columns of a dataset: `switch_times`, and the drawn scene keys.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Layout {
+    pub switch_times: bool,
+    pub drawn: Vec<&'static str>,
+}
+
 /// The Arrow schema of a dataset file.
-pub fn schema(with_switch_times: bool) -> SchemaRef {
+pub fn schema(layout: &Layout) -> SchemaRef {
     let mut fields = vec![
         Field::new("realization", DataType::Int64, false),
         Field::new("x0", DataType::Float64, false),
@@ -59,9 +67,10 @@ pub fn schema(with_switch_times: bool) -> SchemaRef {
     ];
     fields.extend(LIST_COLUMNS.iter().map(|name| list_field(name)));
     fields.push(Field::new("last_truncated", DataType::Boolean, false));
-    if with_switch_times {
+    if layout.switch_times {
         fields.push(list_field("switch_times"));
     }
+    fields.extend(layout.drawn.iter().map(|name| Field::new(*name, DataType::Float64, false)));
     Arc::new(Schema::new(fields))
 }
 
@@ -106,10 +115,12 @@ pub struct Rows {
     lists: [ListColumn; 4],
     last_truncated: Vec<bool>,
     switch_times: Option<ListColumn>,
+    drawn: Vec<Vec<f64>>,
 }
 
 impl Rows {
-    pub fn new(with_switch_times: bool) -> Rows {
+    /// Rows with the switch times column (or not) and `drawn` columns of drawn scene keys.
+    pub fn new(with_switch_times: bool, drawn: usize) -> Rows {
         Rows {
             realization: Vec::new(),
             x0: Vec::new(),
@@ -121,6 +132,7 @@ impl Rows {
             lists: std::array::from_fn(|_| ListColumn::new()),
             last_truncated: Vec::new(),
             switch_times: with_switch_times.then(ListColumn::new),
+            drawn: vec![Vec::new(); drawn],
         }
     }
 
@@ -138,7 +150,8 @@ impl Rows {
     }
 
     /// Append realization `index`.
-    pub fn push(&mut self, index: u64, x0: f64, xdot0: f64, belt: &BeltPath, rec: &Record) {
+    pub fn push(&mut self, index: u64, out: &Outcome) {
+        let (x0, xdot0, belt, rec) = (out.x0, out.xdot0, &out.belt, &out.record);
         let count = |n: usize| n as i64;
         self.realization.push(index as i64);
         self.x0.push(x0);
@@ -159,11 +172,14 @@ impl Rows {
         if let Some(col) = &mut self.switch_times {
             col.push(&belt.switch_times);
         }
+        for (col, &x) in self.drawn.iter_mut().zip(&out.drawn) {
+            col.push(x);
+        }
     }
 
     /// The rows as an Arrow record batch with [`schema`].
-    pub fn into_batch(self) -> RecordBatch {
-        let schema = schema(self.switch_times.is_some());
+    pub fn into_batch(self, layout: &Layout) -> RecordBatch {
+        let schema = schema(layout);
         let mut columns: Vec<ArrayRef> = vec![
             Arc::new(Int64Array::from(self.realization)),
             Arc::new(Float64Array::from(self.x0)),
@@ -176,6 +192,7 @@ impl Rows {
         columns.extend(self.lists.into_iter().map(ListColumn::into_array));
         columns.push(Arc::new(BooleanArray::from(self.last_truncated)));
         columns.extend(self.switch_times.map(ListColumn::into_array));
+        columns.extend(self.drawn.into_iter().map(|v| Arc::new(Float64Array::from(v)) as ArrayRef));
         RecordBatch::try_new(schema, columns).expect("columns match the schema")
     }
 }
@@ -209,6 +226,7 @@ fn is_stickslip_part(path: &Path) -> bool {
 /// renamed by [`PartWriter::commit`], removed if dropped before that.
 pub struct PartWriter {
     writer: Option<ArrowWriter<File>>,
+    layout: Layout,
     tmp: Option<TempFile>,
     _lock: Lock,
 }
@@ -220,7 +238,7 @@ impl PartWriter {
         dir: &Path,
         index: u64,
         count: u64,
-        with_switch_times: bool,
+        layout: Layout,
         metadata: Vec<(String, String)>,
     ) -> Result<PartWriter, DatasetError> {
         let out_err = |e: std::io::Error| DatasetError::Write { path: dir.to_owned(), source: Box::new(e) };
@@ -228,10 +246,10 @@ impl PartWriter {
         let name = part_name(index, count);
         let path = dir.join(&name);
         let lock = Lock::acquire(&path)?;
-        let layout = format!("-of-{count:05}.parquet");
+        let suffix = format!("-of-{count:05}.parquet");
         for entry in std::fs::read_dir(dir).map_err(out_err)? {
             let file = entry.map_err(out_err)?.file_name().to_string_lossy().into_owned();
-            if file.starts_with("part-") && file.ends_with(".parquet") && !file.ends_with(&layout) {
+            if file.starts_with("part-") && file.ends_with(".parquet") && !file.ends_with(&suffix) {
                 return Err(DatasetError::Layout { dir: dir.to_owned(), other: dir.join(file) });
             }
         }
@@ -244,9 +262,9 @@ impl PartWriter {
             .into());
         }
         let (tmp, file) = TempFile::create(&path)?;
-        let writer = ArrowWriter::try_new(file, schema(with_switch_times), Some(properties(with_switch_times, metadata)))
+        let writer = ArrowWriter::try_new(file, schema(&layout), Some(properties(&layout, metadata)))
             .map_err(|e| DatasetError::Write { path: path.clone(), source: Box::new(e) })?;
-        Ok(PartWriter { writer: Some(writer), tmp: Some(tmp), _lock: lock })
+        Ok(PartWriter { writer: Some(writer), layout, tmp: Some(tmp), _lock: lock })
     }
 
     fn write_err(&self, e: impl std::error::Error + Send + Sync + 'static) -> DatasetError {
@@ -257,7 +275,7 @@ impl PartWriter {
     /// Append rows; row groups are cut at a fixed row count (or size), never by timing.
     pub fn write(&mut self, rows: Rows) -> Result<(), DatasetError> {
         let writer = self.writer.as_mut().expect("open until finished");
-        let result = writer.write(&rows.into_batch()).and_then(|()| {
+        let result = writer.write(&rows.into_batch(&self.layout)).and_then(|()| {
             if writer.in_progress_size() > ROW_GROUP_BYTES {
                 writer.flush()
             } else {
@@ -299,9 +317,10 @@ impl Finished {
     }
 }
 
-fn properties(with_switch_times: bool, metadata: Vec<(String, String)>) -> WriterProperties {
+fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterProperties {
     let mut floats = vec![ColumnPath::from("x0"), ColumnPath::from("xdot0")];
-    let lists = LIST_COLUMNS.iter().copied().chain(with_switch_times.then_some("switch_times"));
+    floats.extend(layout.drawn.iter().map(|c| ColumnPath::from(*c)));
+    let lists = LIST_COLUMNS.iter().copied().chain(layout.switch_times.then_some("switch_times"));
     floats.extend(lists.map(|c| ColumnPath::new(vec![c.into(), "list".into(), "element".into()])));
     // No dictionaries (the counts are small integers zstd packs anyway; interning cost 2 % of a
     // run); min/max statistics per row group for the integer columns (realization ranges let

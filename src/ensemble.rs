@@ -2,19 +2,22 @@
 //!
 //! Realization `i` draws, from its own stream `realization_rng(seed, i)` and in this order:
 //! X0 ~ U[lo, hi], Ẋ0 ~ U[lo, hi] (one 53-bit uniform each), then the belt path
-//! ([`Belt::sample_into`]). Chunks of consecutive indices are the unit of parallel work; the
-//! chunk length depends only on the scenario, so the rows — and the bytes written — are the same
-//! for any number of threads or shards.
+//! ([`Belt::sample_into`]); each random scene key draws from its own sub-stream
+//! ([`crate::params`]), so the belt and initial conditions do not depend on which keys are random.
+//! Chunks of consecutive indices are the unit of parallel work; the chunk length depends only on
+//! the scenario, so the rows — and the bytes written — are the same for any number of threads or
+//! shards.
 
 use std::ops::Range;
 
+use crate::belt::{Belt, BeltPath};
 use crate::dataset::Rows;
 use crate::events::{Observer, Record};
-use crate::excitation::{Belt, BeltPath};
-use crate::model::Accel;
+use crate::params::Scene;
+use crate::physics::Params;
 use crate::rng::{realization_rng, unit_f64};
-use crate::scenario::Scenario;
-use crate::solver::{AnySolver, Drive, SolveError, Solver};
+use crate::scenario::{Scenario, ScenarioError};
+use crate::solver::{Drive, SolveError, Solver};
 use crate::trajectory::{Sampler, Tee};
 
 /// A realization that could not be solved.
@@ -32,39 +35,52 @@ pub struct Outcome {
     pub xdot0: f64,
     pub belt: BeltPath,
     pub record: Record,
+    /// The drawn values of the scene's random keys ([`Scene::columns`] order).
+    pub drawn: Vec<f64>,
     switches: Vec<f64>,
+    velocities: Vec<f64>,
 }
 
 impl Outcome {
-    /// The effective belt flips (see `BeltPath::effective_switches`).
+    /// The effective belt switches (see [`BeltPath::segments`]).
     pub fn switches(&self) -> &[f64] {
         &self.switches
+    }
+
+    /// The belt velocity of each segment.
+    pub fn velocities(&self) -> &[f64] {
+        &self.velocities
     }
 }
 
 /// A scenario ready to run.
 #[derive(Debug, Clone)]
 pub struct Ensemble {
-    belt: Belt,
+    scene: Scene,
     position: [f64; 2],
     velocity: [f64; 2],
     seed: u64,
     store_switch_times: bool,
-    accel: Accel,
-    solver: AnySolver,
+    solver: Solver,
 }
 
 impl Ensemble {
-    pub fn new(scenario: &Scenario) -> Ensemble {
-        Ensemble {
-            belt: scenario.belt,
-            position: scenario.position,
-            velocity: scenario.velocity,
-            seed: scenario.seed,
-            store_switch_times: scenario.store_switch_times,
-            accel: scenario.model.per_unit_mass(),
-            solver: AnySolver::new(&scenario.solver, &scenario.model, scenario.numerics),
-        }
+    pub fn new(scenario: &Scenario) -> Result<Ensemble, ScenarioError> {
+        let scene = scenario.scene()?;
+        let solver = Solver::new(scenario.run.solver, scenario.numerics, scene.damped());
+        Ok(Ensemble {
+            scene,
+            position: scenario.initial_conditions.position,
+            velocity: scenario.initial_conditions.velocity,
+            seed: scenario.run.seed,
+            store_switch_times: scenario.output.switch_times,
+            solver,
+        })
+    }
+
+    /// The scene the realizations are drawn from.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
     }
 
     /// Simulate realization `index` into `out` (its buffers are reused).
@@ -74,7 +90,7 @@ impl Ensemble {
 
     /// Simulate realization `index` and sample its trajectory every `step` seconds.
     pub fn trajectory(&self, index: u64, step: f64, out: &mut Outcome) -> Result<Sampler, RunError> {
-        let mut sampler = Sampler::new(self.accel, step);
+        let mut sampler = Sampler::new(step);
         self.run(index, out, &mut sampler)?;
         Ok(sampler)
     }
@@ -85,24 +101,28 @@ impl Ensemble {
         let uniform = |r: [f64; 2], u: f64| r[0] + (r[1] - r[0]) * u;
         out.x0 = uniform(self.position, unit_f64(&mut rng));
         out.xdot0 = uniform(self.velocity, unit_f64(&mut rng));
-        self.belt.sample_into(&mut rng, &mut out.belt);
-        let sign0 = out.belt.effective_switches(&mut out.switches);
-        let drive = Drive { sign0, switches: &out.switches, speed: self.belt.speed, t_end: self.belt.duration };
+        let (mut params, mut belt): (Params, Belt) = (self.scene.params, self.scene.belt);
+        if !self.scene.random.is_empty() {
+            self.scene.draw(self.seed, index, &mut params, &mut belt, &mut out.drawn);
+        }
+        belt.sample_into(&mut rng, &mut out.belt);
+        out.belt.segments(belt.speeds(), &mut out.switches, &mut out.velocities);
+        let drive = Drive { velocities: &out.velocities, switches: &out.switches, t_end: belt.duration };
         out.record.clear();
         self.solver
-            .solve(&drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
+            .solve(&params, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
-        out.record.finish(self.belt.duration);
+        out.record.finish(belt.duration);
         Ok(())
     }
 
     /// Simulate a contiguous range of realizations into dataset rows.
     pub fn rows(&self, range: Range<u64>) -> Result<Rows, RunError> {
-        let mut rows = Rows::new(self.store_switch_times);
+        let mut rows = Rows::new(self.store_switch_times, self.scene.columns().len());
         let mut out = Outcome::default();
         for index in range {
             self.realization(index, &mut out)?;
-            rows.push(index, out.x0, out.xdot0, &out.belt, &out.record);
+            rows.push(index, &out);
         }
         Ok(rows)
     }
@@ -110,7 +130,7 @@ impl Ensemble {
     /// Realizations per chunk: about 2^18 list values per chunk (≈ 1,000 paper realizations:
     /// few, large batches for the Parquet encoder), at most 8192 rows.
     pub fn chunk_len(&self) -> u64 {
-        let per_realization = 4.0 * self.belt.switch_rate * self.belt.duration + 64.0;
+        let per_realization = 4.0 * self.scene.belt.expected_switches() + 64.0;
         (262_144.0 / per_realization).clamp(1.0, 8192.0) as u64
     }
 }

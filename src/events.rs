@@ -11,29 +11,19 @@
 //! - S_T, S_L: their numbers, S_T − S_L ∈ {0, 1};
 //! - the interval still running at t_a is cut at t_a and flagged by `last_truncated`.
 
-/// One piece of the motion in closed form, valid on `[t0, t1)` under belt velocity `v`
-/// (see [`crate::model`]): a stick `x = x0 + v (t − t0)`, or a slip from `(x0, xdot0)` with
-/// initial acceleration `a0`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Segment {
-    pub t0: f64,
-    pub t1: f64,
-    pub stick: bool,
-    pub x0: f64,
-    pub xdot0: f64,
-    pub a0: f64,
-    pub v: f64,
-}
-
 /// Receives the mode changes of one realization, in time order.
 pub trait Observer {
     /// A stick begins at time `t` [s] at position `x` [m] (the mass moves with the belt).
     fn stick(&mut self, t: f64, x: f64);
     /// A slip interval begins at time `t` [s] from position `x` [m] and velocity `xdot` [m/s].
     fn slip(&mut self, t: f64, x: f64, xdot: f64);
-    /// Every piece of the motion, in order, covering [0, t_a] (only trajectory sampling needs
-    /// them; the default ignores them).
-    fn segment(&mut self, _segment: &Segment) {}
+    /// The grid step [s] at which this observer wants the motion sampled (None: never; only
+    /// trajectory sampling asks).
+    fn sample_step(&self) -> Option<f64> {
+        None
+    }
+    /// A grid sample at time `t`: position, velocity and belt velocity.
+    fn sample(&mut self, _t: f64, _x: f64, _xdot: f64, _v: f64) {}
 }
 
 /// Observes nothing.

@@ -4,19 +4,23 @@
 //! by a stochastic base motion" (Monte Carlo study of stick and slip instants and durations).
 //!
 //! Dependencies point one way:
-//! [`model`] → [`excitation`] → [`solver`] → [`events`] → [`ensemble`] → [`dataset`] →
-//! [`simulate`] → [`analysis`] → [`figures`] → [`report`], with [`scenario`] loading and validating input and [`cli`] on top.
+//! [`physics`] (parameters, friction law, equation of motion, stick/arrival/breakaway rules,
+//! closed forms) and [`belt`] (velocity segments) → [`solver`] (one driver, the methods) →
+//! [`events`] → [`params`] (random keys) → [`ensemble`] → [`dataset`] → [`simulate`] →
+//! [`analysis`] → [`figures`] → [`report`], with [`scenario`] loading and validating input and
+//! [`cli`] on top.
 
 pub mod analysis;
+pub mod belt;
 pub mod cli;
 pub mod dataset;
 pub mod ensemble;
 pub mod events;
-pub mod excitation;
 pub mod figures;
 pub mod interrupt;
-pub mod model;
 pub mod outdir;
+pub mod params;
+pub mod physics;
 pub mod report;
 pub mod rng;
 pub mod scenario;

@@ -190,8 +190,8 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
             let gaps: Vec<String> = data.missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect();
             format!("{} of the run's {} — PARTIAL (--allow-partial): missing {}", data.rows, data.expected_rows, gaps.join(", "))
         }),
-        ("seed".into(), sc.seed.to_string()),
-        ("solver".into(), sc.solver.clone()),
+        ("seed".into(), sc.run.seed.to_string()),
+        ("solver".into(), sc.solver().name().to_string()),
         ("generator".into(), crate::rng::GENERATOR.into()),
         ("stickslip".into(), summary["stickslip_version"].as_str().unwrap_or("?").into()),
         ("analysis".into(), adir.display().to_string()),

@@ -1,20 +1,28 @@
 //! Per-realization random streams.
 //!
 //! Realization `i` of a run with seed `s` draws from ChaCha8 (rand_chacha, a portable,
-//! version-stable algorithm) keyed by `s` (little-endian in the first 8 key bytes, the rest zero)
-//! on stream `i`. Its numbers therefore depend only on `(s, i)`: any thread count, chunking or
-//! shard split reproduces them bit for bit.
+//! version-stable algorithm) keyed by `s` (little-endian in the first 8 key bytes) and a purpose
+//! `p` (little-endian in the next 8; the rest zero) on stream `i`. Purpose 0 is the initial
+//! conditions and the belt (the paper's draws); each random scene key has its own purpose
+//! ([`crate::params`]). The numbers therefore depend only on `(s, p, i)`: any thread count,
+//! chunking or shard split reproduces them bit for bit, and the sub-streams never overlap.
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// The generator's name as recorded in dataset metadata.
-pub const GENERATOR: &str = "ChaCha8Rng(key = seed u64 LE zero-padded, stream = realization index)";
+pub const GENERATOR: &str = "ChaCha8Rng(key = seed u64 LE, purpose u64 LE, zero-padded; stream = realization index)";
 
-/// The random stream of realization `index` in a run seeded with `seed`.
+/// The main random stream of realization `index` in a run seeded with `seed` (purpose 0).
 pub fn realization_rng(seed: u64, index: u64) -> ChaCha8Rng {
+    substream(seed, index, 0)
+}
+
+/// The sub-stream `purpose` of realization `index`.
+pub fn substream(seed: u64, index: u64, purpose: u64) -> ChaCha8Rng {
     let mut key = [0u8; 32];
     key[..8].copy_from_slice(&seed.to_le_bytes());
+    key[8..16].copy_from_slice(&purpose.to_le_bytes());
     let mut rng = ChaCha8Rng::from_seed(key);
     rng.set_stream(index);
     rng

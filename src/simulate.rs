@@ -14,11 +14,11 @@ use rayon::prelude::*;
 
 use std::io::Write as _;
 
-use crate::dataset::{DatasetError, Finished, PartWriter, Rows, SCHEMA_VERSION};
+use crate::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
 use crate::outdir::{DatasetDir, Lock, OutDirError, TempFile};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::rng::GENERATOR;
-use crate::scenario::Scenario;
+use crate::scenario::{Scenario, ScenarioError};
 use crate::trajectory;
 
 /// Shard `index` of `count` (`--shard I/N`): the contiguous realization range
@@ -78,6 +78,8 @@ pub enum SimulateError {
     Out(#[from] OutDirError),
     #[error(transparent)]
     Run(#[from] RunError),
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
     #[error("--threads {0}: must be between 1 and {MAX_THREADS}")]
     Threads(usize),
     #[error("cannot start worker threads: {0}")]
@@ -98,16 +100,16 @@ pub fn worker_threads(asked: Option<usize>) -> Result<usize, SimulateError> {
 
 /// Key-value metadata recorded in every part file.
 pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
-    let range = shard.range(scenario.realizations);
+    let range = shard.range(scenario.run.realizations);
     [
         ("stickslip.schema_version", SCHEMA_VERSION.to_string()),
         ("stickslip.version", env!("CARGO_PKG_VERSION").to_string()),
         ("stickslip.scenario", scenario.to_toml()),
-        ("stickslip.seed", scenario.seed.to_string()),
-        ("stickslip.solver", scenario.solver.clone()),
+        ("stickslip.seed", scenario.run.seed.to_string()),
+        ("stickslip.solver", scenario.solver().name().to_string()),
         ("stickslip.generator", GENERATOR.to_string()),
         ("stickslip.poisson", "rand_distr 0.6.0 Poisson (Knuth for mean < 12, Ahrens-Dieter 1982 otherwise)".into()),
-        ("stickslip.realizations", scenario.realizations.to_string()),
+        ("stickslip.realizations", scenario.run.realizations.to_string()),
         ("stickslip.shard", format!("{}/{}", shard.index, shard.count)),
         ("stickslip.realization_range", format!("{}..{}", range.start, range.end)),
     ]
@@ -152,15 +154,10 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
         .num_threads(threads)
         .build()
         .map_err(|e| SimulateError::Pool(e.to_string()))?;
-    let range = opts.shard.range(scenario.realizations);
-    let ensemble = Ensemble::new(scenario);
-    let writer = PartWriter::create(
-        &opts.out,
-        opts.shard.index,
-        opts.shard.count,
-        scenario.store_switch_times,
-        provenance(scenario, opts.shard),
-    )?;
+    let range = opts.shard.range(scenario.run.realizations);
+    let ensemble = Ensemble::new(scenario)?;
+    let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
+    let writer = PartWriter::create(&opts.out, opts.shard.index, opts.shard.count, layout, provenance(scenario, opts.shard))?;
     let progress = progress_bar(range.end - range.start, opts.progress);
 
     // chunks of realizations, generated lazily (a run may have ~10^12 of them)
@@ -201,7 +198,7 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
     computed?;
     let part = written?.finish()?;
     // Trajectories (Fig. 4) of realizations 0..N, written by the shard that holds realization 0.
-    let trajectories = if scenario.trajectories > 0 && range.start == 0 {
+    let trajectories = if scenario.output.trajectories > 0 && range.start == 0 {
         Some(write_trajectories(&ensemble, scenario, &opts.out)?)
     } else {
         None
@@ -225,8 +222,8 @@ fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path:
     let mut w = std::io::BufWriter::new(file);
     w.write_all(trajectory::CSV_HEADER.as_bytes()).map_err(werr)?;
     let mut out = Outcome::default();
-    for index in 0..scenario.trajectories.min(scenario.realizations) {
-        let sampler = ensemble.trajectory(index, scenario.trajectory_step, &mut out)?;
+    for index in 0..scenario.output.trajectories.min(scenario.run.realizations) {
+        let sampler = ensemble.trajectory(index, scenario.output.trajectory_step, &mut out)?;
         let mut csv = String::new();
         trajectory::csv_rows(&mut csv, index, &sampler.samples, out.switches(), &out.record);
         w.write_all(csv.as_bytes()).map_err(werr)?;

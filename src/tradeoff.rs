@@ -18,44 +18,44 @@ use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::events::Record;
 use crate::figures::{render, Figure, Panel, Series};
 use crate::outdir::{Kind, StagedDir};
-use crate::scenario::{Scenario, ScenarioError};
+use crate::scenario::{Numerics, Scenario, ScenarioError};
+use crate::solver::SolverKind;
 
 /// Largest time difference [s] at which a numerical event is matched to an exact one.
 pub const MATCH_WINDOW: f64 = 0.05;
 
-/// The ladder: (solver, setting label, parameter value, overrides).
-pub fn ladder(duration: f64) -> Vec<(&'static str, String, f64, Vec<(String, String)>)> {
-    let mut out = vec![("exact", "exact".to_string(), 0.0, vec![])];
-    let no_max = format!("{duration:e}");
+/// One rung of the ladder: a solver, its setting's label and parameter, and the numerics it sets.
+pub struct Setting {
+    pub solver: SolverKind,
+    pub label: String,
+    pub parameter: f64,
+    pub apply: Box<dyn Fn(&mut Numerics)>,
+}
+
+/// The ladder: exact, then every numerical solver over its settings.
+pub fn ladder(duration: f64) -> Vec<Setting> {
+    let rung = |solver, label: String, parameter, apply: Box<dyn Fn(&mut Numerics)>| Setting { solver, label, parameter, apply };
+    let mut out = vec![rung(SolverKind::Exact, "exact".into(), 0.0, Box::new(|_| {}))];
     // rk45 at rtol = atol = tol, with the step limit `max_step` (t_a: none)
-    let rk45 = |label: String, tol: f64, max_step: &str| {
-        let t = format!("{tol:e}");
-        let sets = [("numerics.rtol", t.as_str()), ("numerics.atol", &t), ("numerics.max_step", max_step)];
-        ("rk45", label, tol, sets.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect())
+    let rk45 = |label: String, tol: f64, max_step: f64| {
+        rung(SolverKind::Rk45, label, tol, Box::new(move |n: &mut Numerics| (n.rtol, n.atol, n.max_step) = (tol, tol, max_step)))
     };
     for tol in [1e-3, 1e-6, 1e-9] {
-        out.push(rk45(format!("rtol=atol={tol:e}"), tol, &no_max));
+        out.push(rk45(format!("rtol=atol={tol:e}"), tol, duration));
     }
-    out.push(rk45("rtol=atol=1e-6, max_step=1e-4".into(), 1e-6, "1e-4"));
-    out.push(rk45("paper ode45: rtol=atol=1e-9, max_step=1e-4".into(), 1e-9, "1e-4"));
-    for solver in ["rk4", "moreau"] {
+    out.push(rk45("rtol=atol=1e-6, max_step=1e-4".into(), 1e-6, 1e-4));
+    out.push(rk45("paper ode45: rtol=atol=1e-9, max_step=1e-4".into(), 1e-9, 1e-4));
+    for solver in [SolverKind::Rk4, SolverKind::Moreau] {
         for h in [1e-2, 1e-3, 1e-4] {
-            out.push((solver, format!("step={h:e}"), h, vec![("numerics.step".into(), format!("{h:e}"))]));
+            out.push(rung(solver, format!("step={h:e}"), h, Box::new(move |n: &mut Numerics| n.step = h)));
         }
     }
     for eps in [1e-2, 1e-3, 1e-4] {
-        let e = format!("{eps:e}");
-        out.push((
-            "smooth",
-            format!("epsilon=stick_velocity={e}, rtol=1e-6"),
+        out.push(rung(
+            SolverKind::Smooth,
+            format!("epsilon=stick_velocity={eps:e}, rtol=1e-6"),
             eps,
-            vec![
-                ("numerics.epsilon".into(), e.clone()),
-                ("numerics.stick_velocity".into(), e),
-                ("numerics.rtol".into(), "1e-6".into()),
-                ("numerics.atol".into(), "1e-6".into()),
-                ("numerics.max_step".into(), no_max.clone()),
-            ],
+            Box::new(move |n: &mut Numerics| (n.epsilon, n.stick_velocity, n.rtol, n.atol, n.max_step) = (eps, eps, 1e-6, 1e-6, duration)),
         ));
     }
     out
@@ -114,14 +114,14 @@ pub struct Row {
 
 /// The records of realizations 0..n and the CPU seconds per realization of solving them alone
 /// (keeping the records for the comparison is not timed).
-fn run_all(sc: &Scenario, n: u64) -> Result<(Vec<Record>, f64), RunError> {
-    let ens = Ensemble::new(sc);
+fn run_all(sc: &Scenario, n: u64) -> Result<(Vec<Record>, f64), TradeoffError> {
+    let ens = Ensemble::new(sc)?;
     let mut out = Outcome::default();
     let mut seconds = 0.0;
     let mut records = Vec::with_capacity(n as usize);
     for i in 0..n {
         let start = Instant::now();
-        ens.realization(i, &mut out)?;
+        ens.realization(i, &mut out).map_err(|source| TradeoffError::Run { solver: sc.solver().name().into(), setting: String::new(), source })?;
         seconds += start.elapsed().as_secs_f64();
         records.push(out.record.clone());
     }
@@ -143,12 +143,16 @@ fn mean_tk(rs: &[Record], k: usize) -> f64 {
 pub fn measure(base: &Scenario, n: u64) -> Result<Vec<Row>, TradeoffError> {
     let mut rows = Vec::new();
     let mut reference: Option<Vec<Record>> = None;
-    for (solver, setting, parameter, sets) in ladder(base.belt.duration) {
-        let mut sc = base.clone().with("run.solver", solver)?;
-        for (k, v) in &sets {
-            sc = sc.with(k, v)?;
-        }
-        let (records, secs) = run_all(&sc, n).map_err(|source| TradeoffError::Run { solver: solver.into(), setting: setting.clone(), source })?;
+    for Setting { solver, label: setting, parameter, apply } in ladder(base.run.duration) {
+        let mut sc = base.clone();
+        sc.run.solver = solver;
+        apply(&mut sc.numerics);
+        sc.check()?;
+        let (records, secs) = run_all(&sc, n).map_err(|e| match e {
+            TradeoffError::Run { solver, source, .. } => TradeoffError::Run { solver, setting: setting.clone(), source },
+            other => other,
+        })?;
+        let solver = solver.name();
         let exact = reference.get_or_insert_with(|| records.clone());
         let (mut errors, mut missed, mut spurious) = (Vec::new(), 0, 0);
         for (e, r) in exact.iter().zip(&records) {

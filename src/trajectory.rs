@@ -1,5 +1,6 @@
 //! Sampled trajectories for the paper's Fig. 4: mass and belt velocity on a time grid, evaluated
-//! from the exact closed-form pieces of the motion (no integrator), plus the event marks.
+//! by the solver's driver on each method's own pieces of motion (closed forms for `exact`, dense
+//! output for the integrators), plus the event marks.
 //!
 //! Only the first `output.trajectories` realizations are sampled, and only when asked: the file
 //! `DIR/trajectories.csv` (not Parquet, so `DIR/**/*.parquet` stays the event table) has columns
@@ -8,39 +9,30 @@
 
 use std::fmt::Write as _;
 
-use crate::events::{Observer, Record, Segment};
-use crate::model::Accel;
+use crate::events::{Observer, Record};
 
-/// Records grid samples of every segment it is shown.
+/// Records the grid samples the driver hands it.
 #[derive(Debug, Clone)]
 pub struct Sampler {
-    accel: Accel,
     step: f64,
     /// (t, x, ẋ, belt velocity)
     pub samples: Vec<[f64; 4]>,
 }
 
 impl Sampler {
-    pub fn new(accel: Accel, step: f64) -> Sampler {
-        Sampler { accel, step, samples: Vec::new() }
+    pub fn new(step: f64) -> Sampler {
+        Sampler { step, samples: Vec::new() }
     }
 }
 
 impl Observer for Sampler {
     fn stick(&mut self, _t: f64, _x: f64) {}
     fn slip(&mut self, _t: f64, _x: f64, _xdot: f64) {}
-    fn segment(&mut self, s: &Segment) {
-        let mut j = (s.t0 / self.step).ceil() as u64;
-        loop {
-            let t = j as f64 * self.step;
-            if t >= s.t1 {
-                break;
-            }
-            let tau = t - s.t0;
-            let (x, xdot) = if s.stick { (s.x0 + s.v * tau, s.v) } else { self.accel.slip_state(s.x0, s.xdot0, s.a0, tau) };
-            self.samples.push([t, x, xdot, s.v]);
-            j += 1;
-        }
+    fn sample_step(&self) -> Option<f64> {
+        Some(self.step)
+    }
+    fn sample(&mut self, t: f64, x: f64, xdot: f64, v: f64) {
+        self.samples.push([t, x, xdot, v]);
     }
 }
 
@@ -56,9 +48,12 @@ impl<A: Observer, B: Observer> Observer for Tee<'_, A, B> {
         self.0.slip(t, x, xdot);
         self.1.slip(t, x, xdot);
     }
-    fn segment(&mut self, s: &Segment) {
-        self.0.segment(s);
-        self.1.segment(s);
+    fn sample_step(&self) -> Option<f64> {
+        self.0.sample_step().or(self.1.sample_step())
+    }
+    fn sample(&mut self, t: f64, x: f64, xdot: f64, v: f64) {
+        self.0.sample(t, x, xdot, v);
+        self.1.sample(t, x, xdot, v);
     }
 }
 

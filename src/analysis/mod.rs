@@ -247,7 +247,7 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
     }
     let series = series_list(opts, data.switch_times);
     let n = series.len();
-    let scale = data.scenario.belt.duration;
+    let scale = data.scenario.run.duration;
     let index_of = |s: &Series| series.iter().position(|x| x == s).expect("pair series are analysed");
 
     // One pass: moments, exact PMFs of the counts, dyadic sketches (see `sketch`).
@@ -333,7 +333,7 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
                 pair: *p,
                 x: hist[*i].clone(),
                 y: hist[*j].clone(),
-                test: independence::test(&counts, permutations, data.scenario.seed),
+                test: independence::test(&counts, permutations, data.scenario.run.seed),
                 counts,
             }
         })
@@ -359,7 +359,7 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
     let st = stats.iter().find(|s| s.series == Series::count(Variable::St)).map(|s| s.moments);
     let renewal = match (fit("mean"), fit("variance"), st) {
         (Some(m), Some(v), Some(st)) => {
-            growth::renewal(data.scenario.belt.duration, m, v, st.mean, st.variance().unwrap_or(0.0))
+            growth::renewal(data.scenario.run.duration, m, v, st.mean, st.variance().unwrap_or(0.0))
         }
         _ => None,
     };

@@ -218,7 +218,7 @@ fn summary(a: &Analysis) -> serde_json::Value {
     json!({
         "stickslip_version": env!("CARGO_PKG_VERSION"),
         "dataset": {"files": a.dataset.files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-                    "realizations": a.dataset.rows, "seed": sc.seed, "solver": sc.solver,
+                    "realizations": a.dataset.rows, "seed": sc.run.seed, "solver": sc.solver().name(),
                     "scenario": sc.to_toml(),
                     "complete": a.dataset.missing.is_empty(),
                     "realizations_of_the_run": a.dataset.expected_rows,

@@ -80,7 +80,7 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
         realizations: a.dataset.rows,
         mean_st: st.mean,
         mean_st_se: st.mean_se(),
-        stick_fraction: stick.mean / a.dataset.scenario.belt.duration,
+        stick_fraction: stick.mean / a.dataset.scenario.run.duration,
         mean_d: pooled(a, Variable::D),
         mean_h: pooled(a, Variable::H),
         var_t_slope: line("variance").map(|l| l.slope),

@@ -182,9 +182,8 @@ pub fn indexed_histograms(inp: &Inputs, var: &str, name: &str, what: &str) -> Op
 
 /// Fig 2: the Poisson PMF of the number of belt flips for several λ t_a (and the scenario's).
 pub fn poisson_figure(inp: &Inputs) -> Figure {
-    let own = inp.scenario.belt.switch_rate * inp.scenario.belt.duration;
     let mut means = vec![1.0, 5.0, 20.0, 50.0];
-    if !means.contains(&own) {
+    if let Some(own) = inp.scenario.poisson_mean().filter(|m| !means.contains(m)) {
         means.push(own);
     }
     let top = means.iter().fold(0.0f64, |m, &x| m.max(x + 4.0 * x.sqrt() + 4.0)).min(1000.0) as u32;
@@ -214,8 +213,10 @@ pub fn q_figure(inp: &Inputs) -> Option<Figure> {
     let bars = inp.histogram("Q", None);
     let (lo, hi) = (bars.first()?.0, bars.last()?.1);
     let observed = pmf_stems(&bars, "observed", 0);
-    let mean = inp.scenario.belt.switch_rate * inp.scenario.belt.duration;
-    let pmf = (lo.ceil().max(0.0) as u32..=hi.floor() as u32).map(|q| (q as f64, poisson_pmf(mean, q))).collect();
+    // the Poisson law holds for the paper's belt at a fixed rate (not for a telegraph belt or a
+    // random rate): no overlay otherwise
+    let mean = inp.scenario.poisson_mean();
+    let pmf = mean.map(|m| (lo.ceil().max(0.0) as u32..=hi.floor() as u32).map(|q| (q as f64, poisson_pmf(m, q))).collect());
     Some(Figure {
         name: "fig05_q".into(),
         title: "Number of belt sign changes Q".into(),
@@ -226,7 +227,7 @@ pub fn q_figure(inp: &Inputs) -> Option<Figure> {
             x_label: "Q".into(),
             y_label: "probability".into(),
             stems: vec![observed],
-            points: vec![Series { label: format!("Poisson({mean})"), color: 1, points: pmf, ..Default::default() }],
+            points: mean.zip(pmf).map(|(m, points)| Series { label: format!("Poisson({m})"), color: 1, points, ..Default::default() }).into_iter().collect(),
             ..Default::default()
         }],
     })

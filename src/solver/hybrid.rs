@@ -1,35 +1,35 @@
 //! `rk45` and `rk4`: the slip integrated numerically, transitions located as events.
 //!
-//! The mode logic is the exact solver's (see [`super::exact`]): a slip ends where the relative
+//! The mode logic is the physics home's ([`Physics::arrival`]): a slip ends where the relative
 //! velocity `g = σ(v − ẋ)` falls from positive to zero, and there the mass sticks, touches or
-//! reverses by the same rule ([`arrival`]). The stick itself (`x = x₀ + v τ`) and its breakaway
-//! at `s k x = f_max` are linear, which any Runge–Kutta method integrates exactly, so they are
-//! evaluated directly; belt flips are integration stops, as in a piecewise ode45 run.
+//! passes through. The stick itself (`x = x₀ + v τ`) and its breakaway are linear, which any
+//! Runge–Kutta method integrates exactly, so they are evaluated directly; belt switches are
+//! segment ends, as in a piecewise ode45 run. The slip's right-hand side is the equation of
+//! motion of [`Physics::slip_accel`] (damping included).
 //!
 //! Where the numerical velocity reaches belt speed is located on each step's dense output
 //! ([`Step::first_zero`]) from three signs, so that a whole excursion inside one long step is not
 //! stepped over:
 //! - `g` positive at the start and ≤ 0 at the end: bisection;
-//! - `g` zero at the start (the step begins at a reversal) and ≤ 0 at the end: it rose and fell
-//!   back, so the root after the interior maximum (a reversal followed within the step by a stick);
+//! - `g` zero at the start (the step begins at a reversal or a breakaway with μ_s > μ_k) and ≤ 0
+//!   at the end: it rose and fell back, so the root after the interior maximum;
 //! - `g` positive at both ends while `g′ = −σ ẍ` goes from − to +: the interior minimum, and the
 //!   root before it if the minimum is ≤ 0 (a near-graze crossing and recrossing within one step).
-//! The orbit that leaves a breakaway at belt speed with zero acceleration only touches belt speed
-//! (exactly, in the exact solver); it is marked `grazing` and no crossing is looked for on it until
-//! the next flip, so round-off at a touch is never taken for a stick. What this solver cannot see
-//! exactly — and the trade-off measures — is the crossing time itself, located only as well as the
-//! step's error allows.
+//!
+//! The orbit that leaves a breakaway at belt speed with zero acceleration (μ_s = μ_k) only
+//! touches belt speed (exactly, in the exact method; with damping not even that); it is marked
+//! `grazing` and no crossing is looked for on it until the next switch, so round-off at a touch is
+//! never taken for a stick. What this method cannot see exactly — and the trade-off measures — is
+//! the crossing time itself, located only as well as the step's error allows.
 
 use super::rk::{rk4, Dopri, State, Step};
-use super::exact::{arrival, Arrival};
-use super::{Drive, SolveError, Solver};
-use crate::events::Observer;
-use crate::model::{Accel, Model};
+use super::{Event, Method, Stop};
+use crate::physics::{Arrival, Physics};
 use crate::scenario::Numerics;
 
-/// Which integrator.
+/// Which Runge–Kutta scheme.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Method {
+pub enum Scheme {
     /// Dormand–Prince 5(4), adaptive (rtol, atol, max_step)
     Rk45,
     /// classical RK4 at a fixed step
@@ -37,109 +37,152 @@ pub enum Method {
 }
 
 #[derive(Debug, Clone, Copy)]
-pub struct Hybrid {
-    a: Accel,
-    method: Method,
-    num: Numerics,
-}
-
 enum Mode {
     Stick { t0: f64, x0: f64 },
-    /// Slipping with the friction `σ f_max`; `grazing`: on the orbit that leaves a breakaway (or a
-    /// touch) at belt speed with zero acceleration, which only touches belt speed until the next
-    /// flip — no crossing is looked for, as in the exact solver.
+    /// Slipping with the friction `σ a_k`; `grazing`: on the orbit that leaves a breakaway (or a
+    /// touch) at belt speed with zero acceleration, which never crosses belt speed again before
+    /// the next switch — no crossing is looked for, as in the exact method.
     Slip { sigma: f64, grazing: bool },
 }
 
+/// One realization's integration by rk45 or rk4.
+#[derive(Debug, Clone)]
+pub struct Hybrid {
+    p: Physics,
+    scheme: Scheme,
+    step: f64,
+    dopri: Dopri,
+    steps: u64,
+    mode: Mode,
+    t: f64,
+    y: State,
+    /// the last piece: a stick `(t0, x0, v)` or a step's dense output
+    piece: Piece,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Piece {
+    Stick { t0: f64, x0: f64, v: f64 },
+    Step(Step),
+}
+
 impl Hybrid {
-    pub fn new(model: &Model, method: Method, num: Numerics) -> Hybrid {
-        Hybrid { a: model.per_unit_mass(), method, num }
+    pub fn new(p: &Physics, scheme: Scheme, num: &Numerics) -> Hybrid {
+        Hybrid {
+            p: *p,
+            scheme,
+            step: num.step,
+            dopri: Dopri::new(num.rtol, num.atol, num.max_step),
+            steps: 0,
+            mode: Mode::Stick { t0: 0.0, x0: 0.0 },
+            t: 0.0,
+            y: [0.0, 0.0],
+            piece: Piece::Stick { t0: 0.0, x0: 0.0, v: 0.0 },
+        }
     }
 
-    /// The mass reaches belt velocity `v = s v0` at time `t` at position `x`: stick, touch or
-    /// reverse (the exact solver's rule, [`arrival`]); the mode and the state to go on from.
-    fn classify<O: Observer>(&self, t: f64, x: f64, s: f64, v: f64, obs: &mut O) -> (Mode, State) {
-        match arrival(&self.a, x, s) {
+    /// The mass reaches belt velocity `v` at time `t` at position `x`: stick, touch or pass
+    /// through; the stick event, if any.
+    fn classify(&mut self, t: f64, x: f64, v: f64) -> Option<Event> {
+        self.t = t;
+        match self.p.arrival(x, v) {
             Arrival::Stick { x } => {
-                obs.stick(t, x);
-                (Mode::Stick { t0: t, x0: x }, [x, v])
+                (self.mode, self.y) = (Mode::Stick { t0: t, x0: x }, [x, v]);
+                return Some(Event::Stick { t, x });
             }
-            Arrival::Touch => (Mode::Slip { sigma: s, grazing: true }, [self.a.breakaway_position(s), v]),
-            Arrival::Reverse { sigma } => (Mode::Slip { sigma, grazing: false }, [x, v]),
+            Arrival::Touch => self.leave_breakaway(v),
+            Arrival::Reverse { sigma } => (self.mode, self.y) = (Mode::Slip { sigma, grazing: false }, [x, v]),
         }
+        None
     }
 
-    /// Go on from state `y` at time `t` under belt velocity `v = s v0` (at t = 0 or just after a
-    /// flip): classified if the mass moves at belt speed, else a slip against the relative velocity.
-    fn resume<O: Observer>(&self, t: f64, y: State, s: f64, v: f64, obs: &mut O) -> (Mode, State) {
+    /// Slip away from the breakaway point under belt velocity `v`.
+    fn leave_breakaway(&mut self, v: f64) {
+        let grazing = self.p.breakaway_accel(v) == 0.0;
+        (self.mode, self.y) = (Mode::Slip { sigma: v.signum(), grazing }, [self.p.holding_limit(v, 1.0), v]);
+    }
+
+    /// Go on from state `y` at time `t` under belt velocity `v` (at t = 0 or after a switch).
+    fn resume(&mut self, t: f64, y: State, v: f64) -> Option<Event> {
         if y[1] == v {
-            self.classify(t, y[0], s, v, obs)
-        } else {
-            (Mode::Slip { sigma: (v - y[1]).signum(), grazing: false }, y)
+            return self.classify(t, y[0], v);
         }
+        (self.t, self.y, self.mode) = (t, y, Mode::Slip { sigma: (v - y[1]).signum(), grazing: false });
+        None
     }
 }
 
-impl Solver for Hybrid {
-    fn solve<O: Observer>(&self, drive: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError> {
-        let a = self.a;
-        let num = &self.num;
-        let (mut s, mut t) = (drive.sign0, 0.0);
-        let mut v = s * drive.speed;
-        let mut dopri = Dopri::new(num.rtol, num.atol, num.max_step);
-        let mut steps = 0u64;
-        let (mut mode, mut y) = self.resume(0.0, [x0, xdot0], s, v, obs);
-        if let Mode::Slip { .. } = mode {
-            obs.slip(0.0, x0, xdot0);
-        }
-        let ends = drive.switches.iter().copied().chain(std::iter::once(drive.t_end));
-        for (k, seg_end) in ends.enumerate() {
-            while t < seg_end {
-                match mode {
-                    Mode::Stick { t0, x0 } => {
-                        let t_b = t0 + a.stick_duration(x0, s, drive.speed);
-                        if t_b < seg_end {
-                            (t, y) = (t_b, [a.breakaway_position(s), v]);
-                            obs.slip(t, y[0], v);
-                            mode = Mode::Slip { sigma: s, grazing: true };
-                        } else {
-                            (t, y) = (seg_end, [x0 + v * (seg_end - t0), v]);
-                        }
-                    }
-                    Mode::Slip { sigma, grazing } => {
-                        let acc = |y: State| sigma * a.friction - a.omega2 * y[0];
-                        let step: Step = match self.method {
-                            Method::Rk45 => dopri.step(&acc, t, y, seg_end - t, &mut steps),
-                            Method::Rk4 => {
-                                steps += 1;
-                                rk4(&acc, t, y, num.step.min(seg_end - t))
-                            }
-                        };
-                        if steps > num.step_budget {
-                            return Err(SolveError::StepBudget { limit: num.step_budget, t });
-                        }
-                        // g = σ(v − ẋ) > 0 in this slip, g′ = −σ ẍ: a velocity extremum inside the
-                        // step (g′ from − to +) may hide a crossing and its return (a near-graze)
-                        let g = |y: State| sigma * (v - y[1]);
-                        let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
-                        if let Some(theta) = (!grazing).then(|| step.first_zero(g, dips)).flatten() {
-                            t = step.t0 + theta * step.h;
-                            (mode, y) = self.classify(t, step.at(theta)[0], s, v, obs);
-                        } else {
-                            t = if step.h >= seg_end - step.t0 { seg_end } else { step.t0 + step.h };
-                            y = step.y1;
-                        }
-                    }
+impl Method for Hybrid {
+    fn start(&mut self, x0: f64, xdot0: f64, v: f64) -> Event {
+        self.resume(0.0, [x0, xdot0], v).unwrap_or(Event::Slip { t: 0.0, x: x0, xdot: xdot0 })
+    }
+
+    fn advance(&mut self, t1: f64, v: f64) -> Stop {
+        match self.mode {
+            Mode::Stick { t0, x0 } => {
+                self.piece = Piece::Stick { t0, x0, v };
+                let t_b = t0 + self.p.stick_duration(x0, v);
+                if t_b < t1 {
+                    self.t = t_b;
+                    self.leave_breakaway(v);
+                    return Stop::Event(Event::Slip { t: t_b, x: self.y[0], xdot: v });
                 }
+                (self.t, self.y) = (t1, [x0 + v * (t1 - t0), v]);
+                Stop::SegmentEnd
             }
-            if k < drive.switches.len() {
-                if let Mode::Stick { .. } = mode {
-                    obs.slip(t, y[0], v);
+            Mode::Slip { sigma, grazing } => {
+                let p = self.p;
+                let acc = |y: State| p.slip_accel(y[0], y[1], sigma);
+                let step: Step = match self.scheme {
+                    Scheme::Rk45 => self.dopri.step(&acc, self.t, self.y, t1 - self.t, &mut self.steps),
+                    Scheme::Rk4 => {
+                        self.steps += 1;
+                        rk4(&acc, self.t, self.y, self.step.min(t1 - self.t))
+                    }
+                };
+                self.piece = Piece::Step(step);
+                // g = σ(v − ẋ) > 0 in this slip, g′ = −σ ẍ: a velocity extremum inside the step
+                // (g′ from − to +) may hide a crossing and its return (a near-graze)
+                let g = |y: State| sigma * (v - y[1]);
+                let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
+                if let Some(theta) = (!grazing).then(|| step.first_zero(g, dips)).flatten() {
+                    let t = step.t0 + theta * step.h;
+                    return match self.classify(t, step.at(theta)[0], v) {
+                        Some(e) => Stop::Event(e),
+                        None => Stop::Advanced,
+                    };
                 }
-                (s, v) = (-s, -v);
-                (mode, y) = self.resume(t, y, s, v, obs);
+                let end = step.h >= t1 - step.t0;
+                (self.t, self.y) = (if end { t1 } else { step.t0 + step.h }, step.y1);
+                if end { Stop::SegmentEnd } else { Stop::Advanced }
             }
         }
-        Ok(())
+    }
+
+    fn switch(&mut self, t: f64, v_old: f64, v_new: f64) -> Option<Event> {
+        if let Mode::Stick { .. } = self.mode {
+            let x = self.y[0];
+            self.resume(t, [x, v_old], v_new);
+            return Some(Event::Slip { t, x, xdot: v_old });
+        }
+        self.resume(t, self.y, v_new)
+    }
+
+    fn time(&self) -> f64 {
+        self.t
+    }
+
+    fn state_at(&self, t: f64) -> (f64, f64) {
+        match self.piece {
+            Piece::Stick { t0, x0, v } => (x0 + v * (t - t0), v),
+            Piece::Step(s) => {
+                let y = s.at(((t - s.t0) / s.h).clamp(0.0, 1.0));
+                (y[0], y[1])
+            }
+        }
+    }
+
+    fn steps(&self) -> u64 {
+        self.steps
     }
 }

@@ -1,7 +1,12 @@
-//! Solvers: given one belt path and initial state, report the mode changes on [0, t_a].
+//! Solvers: given one realization's belt segments and initial state, report the mode changes on
+//! [0, t_a].
 //!
-//! Every solver answers the same question through the same interface, [`Solver::solve`], so the
-//! ensemble, the dataset and any comparison between solvers are written once.
+//! One driver ([`drive`]) owns the belt segments, the step and event budgets, the emission of
+//! events and the trajectory sampling; each method only advances within a segment and says why it
+//! stopped ([`Stop`]), so every method is compared, budgeted and sampled the same way. The methods:
+//! [`exact`] (closed forms, generic over the slip form: undamped or damped), [`hybrid`] (rk45 and
+//! rk4 with located events), [`moreau`] (time stepping of the set-valued law) and [`smooth`] (a
+//! regularized law).
 
 pub mod exact;
 pub mod hybrid;
@@ -9,22 +14,59 @@ pub mod moreau;
 pub mod rk;
 pub mod smooth;
 
-pub use exact::Exact;
-
-use crate::model::Model;
-use crate::scenario::Numerics;
+use serde::{Deserialize, Serialize};
 
 use crate::events::Observer;
+use crate::physics::{Damped, Params, Undamped};
+use crate::scenario::Numerics;
 
-/// The deterministic input of one realization: belt sign at t = 0⁺, the effective switch
-/// instants in (0, t_end) (sorted, no duplicates, see `BeltPath::effective_switches`), the belt
-/// speed v0 [m/s] and the end of the window t_end = t_a [s].
+/// The deterministic input of one realization: the belt velocity of each segment (`switches.len()
+/// + 1` of them, [`crate::belt::BeltPath::segments`]), the switch instants in (0, t_end) (sorted,
+/// no duplicates) and the end of the window t_end = t_a [s].
 #[derive(Debug, Clone, Copy)]
 pub struct Drive<'a> {
-    pub sign0: f64,
+    pub velocities: &'a [f64],
     pub switches: &'a [f64],
-    pub speed: f64,
     pub t_end: f64,
+}
+
+/// A change of mode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Event {
+    /// A stick begins at `t` [s] at position `x` [m].
+    Stick { t: f64, x: f64 },
+    /// A slip begins at `t` [s] from `(x, ẋ)`.
+    Slip { t: f64, x: f64, xdot: f64 },
+}
+
+/// Why a method's [`Method::advance`] returned.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stop {
+    /// It took a step (or passed through belt speed) without a change of mode.
+    Advanced,
+    /// A change of mode.
+    Event(Event),
+    /// It reached the end of the belt segment.
+    SegmentEnd,
+}
+
+/// One realization's integration by one method (see the module docs).
+pub trait Method {
+    /// Begin at t = 0 in `(x₀, ẋ₀)` under belt velocity `v`: the initial mode.
+    fn start(&mut self, x0: f64, xdot0: f64, v: f64) -> Event;
+    /// Advance within the segment that ends at `t1` under belt velocity `v`.
+    fn advance(&mut self, t1: f64, v: f64) -> Stop;
+    /// The belt switches at `t` from `v_old` to `v_new`: a stick ends, a slip goes on (and may
+    /// land exactly at the new belt speed).
+    fn switch(&mut self, t: f64, v_old: f64, v_new: f64) -> Option<Event>;
+    /// The time reached.
+    fn time(&self) -> f64;
+    /// The state at `t` on the piece of motion covered by the last [`Method::advance`].
+    fn state_at(&self, t: f64) -> (f64, f64);
+    /// Integration steps taken so far (0 for an event-driven method).
+    fn steps(&self) -> u64 {
+        0
+    }
 }
 
 /// Why a realization could not be solved.
@@ -36,43 +78,128 @@ pub enum SolveError {
     StepBudget { limit: u64, t: f64 },
 }
 
-/// A method that integrates the oscillator over one realization.
-pub trait Solver: Sync {
-    /// Report every mode change of the realization with initial position `x0` [m] and velocity
-    /// `xdot0` [m/s] to `obs`, in time order. Slip → slip reversals and grazing touches are not
-    /// mode changes.
-    fn solve<O: Observer>(&self, drive: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError>;
-}
+/// At most this many stops per realization (a guard against runaway input, never reached by
+/// physical scenarios: events are bounded by about two per half period and per belt switch).
+pub const EVENT_LIMIT: u64 = 200_000_000;
 
-/// The solver a scenario names (`run.solver`), ready to run.
-#[derive(Debug, Clone, Copy)]
-pub enum AnySolver {
-    Exact(Exact),
-    Hybrid(hybrid::Hybrid),
-    Moreau(moreau::Moreau),
-    Smooth(smooth::Smooth),
-}
-
-impl AnySolver {
-    /// `name` is one of `scenario::SOLVERS` (validated there).
-    pub fn new(name: &str, model: &Model, numerics: Numerics) -> AnySolver {
-        match name {
-            "rk45" => AnySolver::Hybrid(hybrid::Hybrid::new(model, hybrid::Method::Rk45, numerics)),
-            "rk4" => AnySolver::Hybrid(hybrid::Hybrid::new(model, hybrid::Method::Rk4, numerics)),
-            "moreau" => AnySolver::Moreau(moreau::Moreau::new(model, numerics)),
-            "smooth" => AnySolver::Smooth(smooth::Smooth::new(model, numerics)),
-            _ => AnySolver::Exact(Exact::new(model)),
+/// The one driver: run `method` over the segments of `drive` from `(x₀, ẋ₀)`, reporting every
+/// change of mode to `obs` (and grid samples, when `obs` asks for them).
+pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64, xdot0: f64, step_budget: u64, obs: &mut O) -> Result<(), SolveError> {
+    let mut v = drive.velocities[0];
+    emit(obs, method.start(x0, xdot0, v));
+    let grid = obs.sample_step();
+    let (mut stops, mut sampled) = (0u64, 0.0);
+    let ends = drive.switches.iter().copied().chain(std::iter::once(drive.t_end));
+    for (k, t1) in ends.enumerate() {
+        loop {
+            let stop = method.advance(t1, v);
+            stops += 1;
+            if let Some(step) = grid {
+                sampled = sample(method, obs, sampled, step, v);
+            }
+            match stop {
+                Stop::SegmentEnd => break,
+                Stop::Event(e) => emit(obs, e),
+                Stop::Advanced => {}
+            }
+            if stops > EVENT_LIMIT {
+                return Err(SolveError::EventBudget { limit: EVENT_LIMIT, t: method.time() });
+            }
+            if method.steps() > step_budget {
+                return Err(SolveError::StepBudget { limit: step_budget, t: method.time() });
+            }
         }
+        if let Some(&v_new) = drive.velocities.get(k + 1) {
+            if let Some(e) = method.switch(t1, v, v_new) {
+                emit(obs, e);
+            }
+            v = v_new;
+        }
+    }
+    Ok(())
+}
+
+#[inline]
+fn emit<O: Observer>(obs: &mut O, e: Event) {
+    match e {
+        Event::Stick { t, x } => obs.stick(t, x),
+        Event::Slip { t, x, xdot } => obs.slip(t, x, xdot),
     }
 }
 
-impl Solver for AnySolver {
-    fn solve<O: Observer>(&self, drive: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError> {
+/// Sample the grid instants `j·step` in `[from, method.time())`; the next `from`.
+fn sample<M: Method, O: Observer>(method: &M, obs: &mut O, from: f64, step: f64, v: f64) -> f64 {
+    let to = method.time();
+    let mut j = (from / step).ceil() as u64;
+    loop {
+        let t = j as f64 * step;
+        if t >= to {
+            return to;
+        }
+        let (x, xdot) = method.state_at(t);
+        obs.sample(t, x, xdot, v);
+        j += 1;
+    }
+}
+
+/// The solver `run.solver` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SolverKind {
+    /// Closed forms where the scene has them (today: every scene).
+    Auto,
+    Exact,
+    Rk45,
+    Rk4,
+    Moreau,
+    Smooth,
+}
+
+impl SolverKind {
+    /// Every name, for messages.
+    pub const NAMES: [&'static str; 6] = ["auto", "exact", "rk45", "rk4", "moreau", "smooth"];
+
+    /// The method actually run (`auto` resolved for the scene).
+    pub fn resolved(self) -> SolverKind {
         match self {
-            AnySolver::Exact(s) => s.solve(drive, x0, xdot0, obs),
-            AnySolver::Hybrid(s) => s.solve(drive, x0, xdot0, obs),
-            AnySolver::Moreau(s) => s.solve(drive, x0, xdot0, obs),
-            AnySolver::Smooth(s) => s.solve(drive, x0, xdot0, obs),
+            SolverKind::Auto => SolverKind::Exact,
+            other => other,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+}
+
+/// A solver ready to run one realization of given parameters.
+#[derive(Debug, Clone, Copy)]
+pub struct Solver {
+    kind: SolverKind,
+    numerics: Numerics,
+    /// the damped closed forms even at c = 0 (the damping is drawn per realization)
+    damped: bool,
+}
+
+impl Solver {
+    /// `damped`: use the damped closed forms (a scene whose damping may be nonzero).
+    pub fn new(kind: SolverKind, numerics: Numerics, damped: bool) -> Solver {
+        Solver { kind: kind.resolved(), numerics, damped }
+    }
+
+    /// Solve one realization of the oscillator `params`.
+    pub fn solve<O: Observer>(&self, params: &Params, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError> {
+        let p = params.per_unit_mass();
+        let (num, budget) = (&self.numerics, self.numerics.step_budget);
+        match self.kind {
+            SolverKind::Exact | SolverKind::Auto if self.damped || p.gamma != 0.0 => {
+                drive(&mut exact::Exact::<Damped>::new(&p), d, x0, xdot0, budget, obs)
+            }
+            SolverKind::Exact | SolverKind::Auto => drive(&mut exact::Exact::<Undamped>::new(&p), d, x0, xdot0, budget, obs),
+            SolverKind::Rk45 => drive(&mut hybrid::Hybrid::new(&p, hybrid::Scheme::Rk45, num), d, x0, xdot0, budget, obs),
+            SolverKind::Rk4 => drive(&mut hybrid::Hybrid::new(&p, hybrid::Scheme::Rk4, num), d, x0, xdot0, budget, obs),
+            SolverKind::Moreau => drive(&mut moreau::Moreau::new(&p, num), d, x0, xdot0, budget, obs),
+            SolverKind::Smooth => drive(&mut smooth::Smooth::new(&p, num), d, x0, xdot0, budget, obs),
         }
     }
 }

@@ -1,81 +1,131 @@
 //! `smooth`: a regularized friction law integrated by Dormand–Prince — what many users do.
 //!
-//! `m ẍ + k x = f_max tanh((v − ẋ)/ε)` is an ordinary ODE (stiff for small ε: the friction's
-//! slope f_max/ε bounds the explicit step), integrated through each belt segment with `rk45`'s
-//! tolerances. Classification rule: the mass is *stuck* while `|v − ẋ| < δ` (`stick_velocity`),
-//! slipping otherwise; the crossings of `|v − ẋ| = δ` are located on the dense output. With a
-//! smooth law the mass never moves exactly with the belt: it creeps at a relative speed of about
-//! ε·|k x|/f_max, so stick durations and breakaway depend on ε and δ.
+//! `ẍ = f_ε(v − ẋ) − ω² x − γ ẋ` is an ordinary ODE (stiff for small ε: the friction's slope
+//! a_k/ε bounds the explicit step), integrated through each belt segment with `rk45`'s
+//! tolerances. The regularized law, per unit mass, with w = u/ε:
+//!
+//! ```text
+//!   f_ε(u) = a_k tanh(w) + (a_s − a_k) · w e^{(1 − w²)/2}
+//! ```
+//!
+//! (the second term, present only when μ_s > μ_k, is a bump of height a_s − a_k at |u| = ε, so
+//! that the largest friction the law can exert is about the static limit). Classification rule:
+//! the mass is *stuck* while `|v − ẋ| < δ` (`stick_velocity`), slipping otherwise; the crossings
+//! of `|v − ẋ| = δ` are located on the dense output. With a smooth law the mass never moves
+//! exactly with the belt: it creeps at a relative speed of about ε·|F|/a_k, so stick durations
+//! and breakaway depend on ε and δ.
 
-use super::rk::{Dopri, State};
-use super::{Drive, SolveError, Solver};
-use crate::events::Observer;
-use crate::model::{Accel, Model};
+use super::rk::{Dopri, State, Step};
+use super::{Event, Method, Stop};
+use crate::physics::Physics;
 use crate::scenario::Numerics;
 
-#[derive(Debug, Clone, Copy)]
+/// One realization's regularized integration.
+#[derive(Debug, Clone)]
 pub struct Smooth {
-    a: Accel,
-    num: Numerics,
+    p: Physics,
+    epsilon: f64,
+    delta: f64,
+    dopri: Dopri,
+    steps: u64,
+    stuck: bool,
+    t: f64,
+    y: State,
+    piece: Option<Step>,
 }
 
 impl Smooth {
-    pub fn new(model: &Model, num: Numerics) -> Smooth {
-        Smooth { a: model.per_unit_mass(), num }
+    pub fn new(p: &Physics, num: &Numerics) -> Smooth {
+        Smooth {
+            p: *p,
+            epsilon: num.epsilon,
+            delta: num.stick_velocity,
+            dopri: Dopri::new(num.rtol, num.atol, num.max_step),
+            steps: 0,
+            stuck: false,
+            t: 0.0,
+            y: [0.0, 0.0],
+            piece: None,
+        }
+    }
+
+
+    fn mode_event(&mut self, now: bool) -> Option<Event> {
+        let was = std::mem::replace(&mut self.stuck, now);
+        let [x, xdot] = self.y;
+        match (was, now) {
+            (false, true) => Some(Event::Stick { t: self.t, x }),
+            (true, false) => Some(Event::Slip { t: self.t, x, xdot }),
+            _ => None,
+        }
     }
 }
 
-impl Solver for Smooth {
-    fn solve<O: Observer>(&self, drive: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError> {
-        let (a, num) = (self.a, &self.num);
-        let (mut t, mut y): (f64, State) = (0.0, [x0, xdot0]);
-        let mut v = drive.sign0 * drive.speed;
-        let mut dopri = Dopri::new(num.rtol, num.atol, num.max_step);
-        let mut steps = 0u64;
-        let mut stuck = (v - xdot0).abs() < num.stick_velocity;
-        if stuck {
-            obs.stick(0.0, x0);
+/// The regularized friction per unit mass at relative velocity u (module docs).
+fn friction(p: &Physics, epsilon: f64, u: f64) -> f64 {
+    let w = u / epsilon;
+    let excess = p.breakaway - p.kinetic;
+    let bump = if excess > 0.0 { excess * w * (0.5 * (1.0 - w * w)).exp() } else { 0.0 };
+    p.kinetic * w.tanh() + bump
+}
+
+impl Method for Smooth {
+    fn start(&mut self, x0: f64, xdot0: f64, v: f64) -> Event {
+        self.y = [x0, xdot0];
+        self.stuck = (v - xdot0).abs() < self.delta;
+        if self.stuck {
+            Event::Stick { t: 0.0, x: x0 }
         } else {
-            obs.slip(0.0, x0, xdot0);
+            Event::Slip { t: 0.0, x: x0, xdot: xdot0 }
         }
-        let ends = drive.switches.iter().copied().chain(std::iter::once(drive.t_end));
-        for (k, seg_end) in ends.enumerate() {
-            while t < seg_end {
-                let acc = |y: State| a.friction * ((v - y[1]) / num.epsilon).tanh() - a.omega2 * y[0];
-                let step = dopri.step(&acc, t, y, seg_end - t, &mut steps);
-                if steps > num.step_budget {
-                    return Err(SolveError::StepBudget { limit: num.step_budget, t });
-                }
-                // g > 0 in the current mode; a sign change is a transition
-                let g = |y: State| {
-                    let d = num.stick_velocity - (v - y[1]).abs();
-                    if stuck { d } else { -d }
-                };
-                if let Some(theta) = step.first_zero(g, false) {
-                    t = step.t0 + theta * step.h;
-                    y = step.at(theta);
-                    stuck = !stuck;
-                    if stuck {
-                        obs.stick(t, y[0]);
-                    } else {
-                        obs.slip(t, y[0], y[1]);
-                    }
-                } else {
-                    t = if step.h >= seg_end - step.t0 { seg_end } else { step.t0 + step.h };
-                    y = step.y1;
-                }
-            }
-            if k < drive.switches.len() {
-                v = -v;
-                let now = (v - y[1]).abs() < num.stick_velocity;
-                match (stuck, now) {
-                    (true, false) => obs.slip(t, y[0], y[1]),
-                    (false, true) => obs.stick(t, y[0]),
-                    _ => {}
-                }
-                stuck = now;
-            }
+    }
+
+    fn advance(&mut self, t1: f64, v: f64) -> Stop {
+        if self.t >= t1 {
+            return Stop::SegmentEnd;
         }
-        Ok(())
+        let (p, eps) = (self.p, self.epsilon);
+        let acc = |y: State| friction(&p, eps, v - y[1]) - p.omega2 * y[0] - p.gamma * y[1];
+        let step = self.dopri.step(&acc, self.t, self.y, t1 - self.t, &mut self.steps);
+        self.piece = Some(step);
+        // g > 0 in the current mode; a sign change is a transition
+        let (delta, stuck) = (self.delta, self.stuck);
+        let g = |y: State| {
+            let d = delta - (v - y[1]).abs();
+            if stuck { d } else { -d }
+        };
+        if let Some(theta) = step.first_zero(g, false) {
+            (self.t, self.y) = (step.t0 + theta * step.h, step.at(theta));
+            return match self.mode_event(!stuck) {
+                Some(e) => Stop::Event(e),
+                None => Stop::Advanced,
+            };
+        }
+        let end = step.h >= t1 - step.t0;
+        (self.t, self.y) = (if end { t1 } else { step.t0 + step.h }, step.y1);
+        if end { Stop::SegmentEnd } else { Stop::Advanced }
+    }
+
+    fn switch(&mut self, _t: f64, _v_old: f64, v_new: f64) -> Option<Event> {
+        let now = (v_new - self.y[1]).abs() < self.delta;
+        self.mode_event(now)
+    }
+
+    fn time(&self) -> f64 {
+        self.t
+    }
+
+    fn state_at(&self, t: f64) -> (f64, f64) {
+        match &self.piece {
+            Some(s) => {
+                let y = s.at(((t - s.t0) / s.h).clamp(0.0, 1.0));
+                (y[0], y[1])
+            }
+            None => (self.y[0], self.y[1]),
+        }
+    }
+
+    fn steps(&self) -> u64 {
+        self.steps
     }
 }

@@ -5,9 +5,8 @@ use std::path::Path;
 
 use polars::prelude::*;
 use stickslip::analysis::{self, output, Options};
-use stickslip::dataset::{PartWriter, Rows};
-use stickslip::events::Record;
-use stickslip::excitation::BeltPath;
+use stickslip::dataset::{Layout, PartWriter, Rows};
+use stickslip::ensemble::Outcome;
 use stickslip::simulate::{self, provenance, Shard};
 
 use crate::common::{outcomes, scenario, stickslip};
@@ -88,19 +87,21 @@ fn moments_match_a_direct_computation_including_truncation() {
 /// A dataset whose stick starts T_1 are the n quantiles of Exp(1) and T_2 = T_1 + 1.
 fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
     let sc = scenario(&[&format!("run.realizations={n}")]);
-    let mut w = PartWriter::create(dir, 0, 1, false, provenance(&sc, Shard::WHOLE)).unwrap();
-    let mut rows = Rows::new(false);
+    let mut w = PartWriter::create(dir, 0, 1, Layout::default(), provenance(&sc, Shard::WHOLE)).unwrap();
+    let mut rows = Rows::new(false, 0);
     let mut x = Vec::new();
     for i in 0..n {
         let t1 = -(1.0 - (i as f64 + 0.5) / n as f64).ln();
         x.push(t1);
-        let mut r = Record::default();
+        let mut o = Outcome::default();
+        o.belt.initial_sign = 1.0;
+        let r = &mut o.record;
         r.stick_start.extend([t1, t1 + 1.0]);
         r.stick_duration.extend([0.5, 0.25]);
         r.slip_start.push(t1 + 0.5);
         r.slip_duration.push(0.5);
         r.last_truncated = true;
-        rows.push(i as u64, 0.0, 0.0, &BeltPath { initial_sign: 1.0, switch_times: vec![] }, &r);
+        rows.push(i as u64, &o);
     }
     w.write(rows).unwrap();
     w.commit().unwrap();

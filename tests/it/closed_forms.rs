@@ -2,7 +2,7 @@
 
 use std::f64::consts::PI;
 
-use crate::common::{belt_sign, outcomes, scenario, solve_scripted};
+use crate::common::{belt_velocity, outcomes, scenario, solve_scripted};
 
 const FMAX: f64 = 0.51 * 9.8; // paper f_max, N
 const K: f64 = 4.0;
@@ -103,14 +103,13 @@ fn without_spring_slips_decelerate_uniformly() {
     let sc = scenario(&["model.stiffness=0"]);
     let mut checked = 0;
     for o in outcomes(&sc, 300) {
-        let mut sw = Vec::new();
-        let s0 = o.belt.effective_switches(&mut sw);
+        let (sw, vel) = (o.switches(), o.velocities());
         let r = &o.record;
         for (i, (&l, &h)) in r.slip_start.iter().zip(&r.slip_duration).enumerate() {
             let flip_inside = sw.iter().any(|&y| y > l && y < l + 2.0 * 1.0 / af + 1e-12);
             let truncated = i + 1 == r.slip_start.len() && r.stick_start.len() == r.slip_start.len();
             assert!(sw.contains(&l), "slips start at belt flips only");
-            assert!(belt_sign(s0, &sw, l) != belt_sign(s0, &sw, l - 1e-9));
+            assert!(belt_velocity(vel, sw, l) != belt_velocity(vel, sw, l - 1e-9));
             if !flip_inside && !truncated {
                 assert!(close(h, 2.0 / af, 1e-12), "H = {h}");
                 checked += 1;

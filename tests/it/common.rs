@@ -3,10 +3,12 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
+use stickslip::belt::BeltPath;
 use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::events::{Observer, Record};
+use stickslip::physics::Params;
 use stickslip::scenario::Scenario;
-use stickslip::solver::{Drive, Exact, Solver};
+use stickslip::solver::{Drive, Solver, SolverKind};
 
 /// The paper scenario with `KEY=VALUE` overrides.
 pub fn scenario(sets: &[&str]) -> Scenario {
@@ -16,7 +18,7 @@ pub fn scenario(sets: &[&str]) -> Scenario {
 
 /// Realizations `0..n` of a scenario.
 pub fn outcomes(sc: &Scenario, n: u64) -> Vec<Outcome> {
-    let ens = Ensemble::new(sc);
+    let ens = Ensemble::new(sc).expect("a valid scene");
     (0..n)
         .map(|i| {
             let mut o = Outcome::default();
@@ -43,19 +45,28 @@ impl Observer for WithPositions {
     }
 }
 
-/// Solve a scripted drive with the exact solver.
+/// The fixed parameters of a scenario's scene.
+pub fn params(sc: &Scenario) -> Params {
+    sc.scene().expect("a valid scene").params
+}
+
+/// Solve a scripted belt (initial sign, switch instants) with the exact solver.
 pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot0: f64) -> WithPositions {
-    let drive = Drive { sign0, switches, speed: sc.belt.speed, t_end: sc.belt.duration };
+    let scene = sc.scene().expect("a valid scene");
+    let path = BeltPath { initial_sign: sign0, switch_times: switches.to_vec() };
+    let (mut sw, mut vel) = (Vec::new(), Vec::new());
+    path.segments(scene.belt.speeds(), &mut sw, &mut vel);
+    let drive = Drive { velocities: &vel, switches: &sw, t_end: sc.run.duration };
     let mut obs = WithPositions::default();
-    Exact::new(&sc.model).solve(&drive, x0, xdot0, &mut obs).expect("solves");
-    obs.record.finish(sc.belt.duration);
+    Solver::new(SolverKind::Exact, sc.numerics, scene.damped()).solve(&scene.params, &drive, x0, xdot0, &mut obs).expect("solves");
+    obs.record.finish(sc.run.duration);
     obs
 }
 
-/// Belt sign at time t (just after t) for a sorted effective switch list.
-pub fn belt_sign(sign0: f64, switches: &[f64], t: f64) -> f64 {
-    let flips = switches.partition_point(|&y| y <= t);
-    if flips % 2 == 0 { sign0 } else { -sign0 }
+/// Belt velocity at time t (just after t) for a sorted effective switch list and the segments'
+/// velocities.
+pub fn belt_velocity(velocities: &[f64], switches: &[f64], t: f64) -> f64 {
+    velocities[switches.partition_point(|&y| y <= t)]
 }
 
 /// Check the counting invariants of one realization; `Err` describes the first violation.
@@ -63,7 +74,7 @@ pub fn belt_sign(sign0: f64, switches: &[f64], t: f64) -> f64 {
 /// the resolution of t, e.g. absurd friction).
 pub fn check_invariants(sc: &Scenario, o: &Outcome, strict: bool) -> Result<(), String> {
     let r = &o.record;
-    let ta = sc.belt.duration;
+    let ta = sc.run.duration;
     let (nt, nl) = (r.stick_start.len(), r.slip_start.len());
     let all = r.stick_start.iter().chain(&r.stick_duration).chain(&r.slip_start).chain(&r.slip_duration);
     if let Some(x) = all.clone().find(|x| !x.is_finite()) {
@@ -103,22 +114,22 @@ pub fn check_invariants(sc: &Scenario, o: &Outcome, strict: bool) -> Result<(), 
     if let Some(d) = r.stick_duration.iter().chain(&r.slip_duration).find(|&&d| d < 0.0) {
         return Err(format!("negative duration {d}"));
     }
-    // |k x| <= f_max throughout every stick: at its start and (x moves with the belt) at its end.
-    let k = sc.model.stiffness;
-    let fmax = sc.model.max_friction();
-    let mut switches = Vec::new();
-    let sign0 = o.belt.effective_switches(&mut switches);
-    let traced = solve_scripted(sc, sign0, &switches, o.x0, o.xdot0);
+    // |k x + c v| <= mu_s n throughout every stick: at its start and (x moves with the belt) at
+    // its end.
+    let p = params(sc);
+    let (k, c, fmax) = (p.stiffness, p.damping, p.static_ * p.normal_force);
+    let traced = solve_scripted(sc, o.belt.initial_sign, &o.belt.switch_times, o.x0, o.xdot0);
     if traced.record != *r {
         return Err("re-solving the same drive gave a different record".into());
     }
     let slack = fmax * 1e-9 + 1e-300;
     for (i, (&t, &x)) in r.stick_start.iter().zip(&traced.stick_x).enumerate() {
-        let v = belt_sign(sign0, &switches, t) * sc.belt.speed;
+        let v = belt_velocity(o.velocities(), o.switches(), t);
         let x_end = x + v * r.stick_duration[i];
         for (what, xx) in [("start", x), ("end", x_end)] {
-            if (k * xx).abs() > fmax + slack * (1.0 + (k * xx).abs()) {
-                return Err(format!("stick {} {what}: |k x| = {} > f_max = {fmax}", i + 1, (k * xx).abs()));
+            let f = (k * xx + c * v).abs();
+            if f > fmax + slack * (1.0 + f) {
+                return Err(format!("stick {} {what}: |k x + c v| = {f} > mu_s n = {fmax}", i + 1));
             }
         }
     }

@@ -29,9 +29,9 @@ impl Fnv {
 #[test]
 fn paper_rows_are_unchanged() {
     let sc = Scenario::paper();
-    assert_eq!((sc.seed, sc.realizations), (1, 18_000));
+    assert_eq!((sc.run.seed, sc.run.realizations), (1, 18_000));
     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
-    for (i, o) in outcomes(&sc, sc.realizations).iter().enumerate() {
+    for (i, o) in outcomes(&sc, sc.run.realizations).iter().enumerate() {
         let r = &o.record;
         h.bytes(&(i as u64).to_le_bytes());
         h.f64s(&[o.x0, o.xdot0]);

@@ -34,7 +34,8 @@ proptest! {
         let s = sets(m, k, mu, v0, lambda, ta, sign, seed);
         let refs: Vec<&str> = s.iter().map(String::as_str).collect();
         let sc = scenario(&refs);
-        let dmax = 2.0 * sc.model.max_friction() / (k * v0);
+        let p = crate::common::params(&sc);
+        let dmax = 2.0 * p.static_ * p.normal_force / (k * v0);
         for (i, o) in outcomes(&sc, 8).iter().enumerate() {
             if let Err(e) = check_invariants(&sc, o, true) {
                 return Err(TestCaseError::fail(format!("realization {i}: {e}")));

@@ -106,9 +106,8 @@ fn exact_solver_agrees_with_an_accurate_numerical_integration() {
     let mut compared = 0;
     let mut worst: f64 = 0.0;
     for (i, o) in outcomes(&sc, 36).iter().enumerate() {
-        let mut sw = Vec::new();
-        let s0 = o.belt.effective_switches(&mut sw);
-        let (sticks, slips) = integrate(&p, s0, &sw, o.x0, o.xdot0);
+        let (s0, sw) = (o.velocities()[0].signum(), o.switches());
+        let (sticks, slips) = integrate(&p, s0, sw, o.x0, o.xdot0);
         let r = &o.record;
         assert_eq!(sticks.len(), r.stick_start.len(), "realization {i}: S_T");
         assert_eq!(slips.len(), r.slip_start.len(), "realization {i}: S_L");

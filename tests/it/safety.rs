@@ -236,7 +236,8 @@ fn values_that_used_to_slip_through_are_refused_or_made_safe() {
     let t = tmp.path();
     // signed zeros are zeros: k = -0 is k = 0 (one stick, never -inf)
     let sc = Scenario::resolve(None, &["model.stiffness=-0.0".into()]).unwrap();
-    assert!(sc.model.stiffness == 0.0 && sc.model.stiffness.is_sign_positive());
+    let k = crate::common::params(&sc).stiffness;
+    assert!(k == 0.0 && k.is_sign_positive());
     assert!(!sc.to_toml().contains("-0.0"));
     let cases: &[(&[&str], &str)] = &[
         (&["simulate", "--out", "o", "--set", "initial_conditions.position=[-1e308, 1e308]"], "initial_conditions.position"),
@@ -485,7 +486,7 @@ proptest! {
             let e = e.to_string();
             prop_assert!(names_a_culprit(&e, &refs), "{e}");
         }
-        if let Err(e) = Scenario::resolve_sweep(None, std::slice::from_ref(&set)) {
+        if let Err(e) = Scenario::resolve_sweep(None, std::slice::from_ref(&set), Default::default()) {
             let e = e.to_string();
             prop_assert!(names_a_culprit(&e, &refs), "{e}");
         }

@@ -7,7 +7,7 @@ use stickslip::tradeoff::{self, match_events};
 use crate::common::{scenario, stickslip};
 
 fn records(sets: &[&str], n: u64) -> Vec<Record> {
-    let ens = Ensemble::new(&scenario(sets));
+    let ens = Ensemble::new(&scenario(sets)).unwrap();
     let mut out = Outcome::default();
     (0..n)
         .map(|i| {
@@ -77,7 +77,7 @@ fn grazing_touches_are_not_sticks_for_the_numerical_solvers() {
     ] {
         let run = |extra: &[&str]| {
             let all: Vec<&str> = ["belt.switch_rate=0", "run.duration=30"].iter().chain(extra).copied().collect();
-            let ens = Ensemble::new(&scenario(&all));
+            let ens = Ensemble::new(&scenario(&all)).unwrap();
             let mut out = Outcome::default();
             (0..20)
                 .map(|i| {
@@ -148,7 +148,7 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
                     continue;
                 }
             };
-            let ens = Ensemble::new(&sc);
+            let ens = Ensemble::new(&sc).unwrap();
             for i in 0..2 {
                 let mut o = Outcome::default();
                 match ens.realization(i, &mut o) {

@@ -1,22 +1,9 @@
-//! The oscillator: parameters and the closed-form motion inside one mode.
+//! Closed-form slip without damping (c = 0: the paper's system).
 //!
-//! Equation of motion (Lima & Sampaio, "Analysis of a dry-friction oscillator driven by a
-//! stochastic base motion", eq. 1–2):
-//!
-//! ```text
-//!     m ẍ + k x = f,      slip:  f = f_max · σ,   σ = sgn(v − ẋ),   f_max = μ n
-//!                         stick: ẋ = v,  f = k x,  |k x| ≤ f_max
-//! ```
-//!
-//! Everything below is written per unit mass, in the accelerations
-//! `ω² = k/m` [1/s²] and `a_f = f_max/m` [m/s²], so that m → 0 or m → ∞ never forms k·x − f
-//! out of two huge forces. With the belt at constant velocity `v` the motion is known in closed
-//! form in both modes:
+//! Per unit mass (see [`super`]), with `a₀ = σ a_k − ω² x₀` the acceleration at τ = 0:
 //!
 //! ```text
-//!  stick:  x(τ) = x₀ + v τ                                            (until s ω² x = a_f)
 //!  slip:   x(τ) = x₀ + ẋ₀ S(τ) + a₀ C(τ),   ẋ(τ) = ẋ₀ cos ωτ + a₀ S(τ)
-//!          a₀ = σ a_f − ω² x₀   (acceleration at τ = 0)
 //!          S(τ) = sin(ωτ)/ω,    C(τ) = (1 − cos ωτ)/ω² = 2 sin²(ωτ/2)/ω²
 //! ```
 //!
@@ -44,69 +31,34 @@
 
 use std::f64::consts::{PI, TAU};
 
-/// Physical parameters of the oscillator (SI units), as in the scenario's `[model]` table.
+use super::{Physics, SlipForm};
+
+/// The undamped closed forms: `ω² = k/m`, `ω`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Model {
-    /// m, kg (> 0)
-    pub mass: f64,
-    /// k, N/m (≥ 0)
-    pub stiffness: f64,
-    /// n, N (≥ 0)
-    pub normal_force: f64,
-    /// μ, dimensionless (≥ 0)
-    pub friction_coefficient: f64,
-}
-
-impl Model {
-    /// The paper's parameters: m = 1 kg, k = 4 N/m, n = 9.8 N, μ = 0.51.
-    pub const PAPER: Model = Model {
-        mass: 1.0,
-        stiffness: 4.0,
-        normal_force: 9.8,
-        friction_coefficient: 0.51,
-    };
-
-    /// f_max = μ n, N.
-    pub fn max_friction(&self) -> f64 {
-        self.friction_coefficient * self.normal_force
-    }
-
-    /// The per-unit-mass constants the solvers work with.
-    pub fn per_unit_mass(&self) -> Accel {
-        let omega2 = self.stiffness / self.mass;
-        Accel {
-            omega2,
-            omega: omega2.sqrt(),
-            friction: self.max_friction() / self.mass,
-        }
-    }
-}
-
-/// The model per unit mass: `ω² = k/m`, `ω`, and `a_f = f_max/m`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Accel {
+pub struct Undamped {
     pub omega2: f64,
     pub omega: f64,
-    pub friction: f64,
 }
 
 /// Below this ωτ the series of `S` and `C` are used (their first dropped terms are below
 /// 1e-17 relative), which also makes ω = 0 and an underflowing ω² exact.
 const SERIES_BELOW: f64 = 1e-4;
 
-impl Accel {
-    /// Breakaway position for belt direction `s` = ±1: where the spring force reaches the
-    /// friction limit along the belt, `s ω² x = a_f` (±∞ without a spring).
-    pub fn breakaway_position(&self, s: f64) -> f64 {
-        s * self.friction / self.omega2
+impl SlipForm for Undamped {
+    fn new(p: &Physics) -> Undamped {
+        Undamped { omega2: p.omega2, omega: p.omega }
     }
 
-    /// Time a stick at `x₀` under belt velocity `s·v0` lasts until breakaway:
-    /// `(a_f − s ω² x₀)/(ω² v0)` (∞ without a spring).
-    pub fn stick_duration(&self, x0: f64, s: f64, speed: f64) -> f64 {
-        (self.friction - s * self.omega2 * x0) / (self.omega2 * speed)
+    fn state(&self, x0: f64, xdot0: f64, a0: f64, tau: f64) -> (f64, f64) {
+        self.slip_state(x0, xdot0, a0, tau)
     }
 
+    fn crossing(&self, x0: f64, xdot0: f64, a0: f64, v: f64, horizon: f64) -> Option<(f64, f64)> {
+        self.belt_speed_crossing(x0, xdot0, a0, v, horizon)
+    }
+}
+
+impl Undamped {
     /// `(S(τ), C(τ), cos ωτ)` for a slip lasting τ (see the module docs).
     pub fn slip_basis(&self, tau: f64) -> (f64, f64, f64) {
         let theta = self.omega * tau;
@@ -202,12 +154,13 @@ impl Accel {
 mod tests {
     use super::*;
 
-    fn accel(k: f64, fmax: f64) -> Accel {
-        Model { mass: 1.0, stiffness: k, normal_force: fmax, friction_coefficient: 1.0 }.per_unit_mass()
+    /// The closed forms for k (m = 1) and the kinetic friction acceleration `fmax`.
+    fn accel(k: f64, fmax: f64) -> (Undamped, f64) {
+        (Undamped::new(&crate::physics::Params { stiffness: k, ..crate::physics::Params::PAPER }.per_unit_mass()), fmax)
     }
 
     /// Reference: direct trigonometric solution x = xe + A cos ωτ + B sin ωτ.
-    fn direct(a: &Accel, x0: f64, xd0: f64, a0: f64, tau: f64) -> (f64, f64) {
+    fn direct(a: &Undamped, x0: f64, xd0: f64, a0: f64, tau: f64) -> (f64, f64) {
         let xe = x0 + a0 / a.omega2;
         let (s, c) = (a.omega * tau).sin_cos();
         let (aa, bb) = (x0 - xe, xd0 / a.omega);
@@ -216,7 +169,7 @@ mod tests {
 
     #[test]
     fn slip_state_matches_direct_trigonometric_solution() {
-        let a = accel(4.0, 5.0);
+        let (a, _) = accel(4.0, 5.0);
         for &tau in &[1e-7, 1e-3, 0.3, 1.7, 12.0] {
             let (x, xd) = a.slip_state(0.3, -0.7, 2.1, tau);
             let (xr, xdr) = direct(&a, 0.3, -0.7, 2.1, tau);
@@ -227,7 +180,7 @@ mod tests {
 
     #[test]
     fn slip_state_without_spring_is_uniform_acceleration() {
-        let a = accel(0.0, 5.0);
+        let (a, _) = accel(0.0, 5.0);
         let (x, xd) = a.slip_state(0.5, 2.0, -5.0, 0.3);
         assert_eq!(x, 0.5 + 2.0 * 0.3 - 2.5 * 0.09);
         assert!((xd - (2.0 - 1.5)).abs() < 1e-15);
@@ -235,9 +188,9 @@ mod tests {
 
     #[test]
     fn crossing_is_a_root_of_relative_velocity() {
-        let a = accel(4.0, 5.0);
+        let (a, friction) = accel(4.0, 5.0);
         for &(x0, xd0, sig, v) in &[(0.2, -1.0, 1.0, 1.0), (-0.9, 3.0, -1.0, 1.0), (0.4, 0.9, 1.0, -1.0)] {
-            let a0 = sig * a.friction - a.omega2 * x0;
+            let a0 = sig * friction - a.omega2 * x0;
             let (tau, x) = a.belt_speed_crossing(x0, xd0, a0, v, f64::INFINITY).expect("crossing");
             let (xr, xdr) = direct(&a, x0, xd0, a0, tau);
             assert!((xdr - v).abs() < 1e-12, "u = {} at tau {tau}", xdr - v);
@@ -256,7 +209,7 @@ mod tests {
 
     #[test]
     fn no_crossing_when_velocity_amplitude_is_below_belt_speed() {
-        let a = accel(4.0, 0.0);
+        let (a, _) = accel(4.0, 0.0);
         // free oscillation with velocity amplitude 0.5 < v = 1
         assert!(a.belt_speed_crossing(0.0, 0.5, 0.0, 1.0, f64::INFINITY).is_none());
     }
@@ -264,8 +217,8 @@ mod tests {
     #[test]
     fn tiny_omega_crossing_tends_to_uniform_deceleration() {
         // k = 1e-20: ω = 1e-10; the crossing time must approach u₀/a_f without cancellation.
-        let a = accel(1e-20, 5.0);
-        let a0 = a.friction - a.omega2 * 0.3;
+        let (a, friction) = accel(1e-20, 5.0);
+        let a0 = friction - a.omega2 * 0.3;
         let (tau, x) = a.belt_speed_crossing(0.3, -1.0, a0, 1.0, f64::INFINITY).unwrap();
         assert!((tau - 2.0 / a0).abs() < 1e-14, "{tau}");
         assert!((x - (0.3 - 2.0 / a0 + 0.5 * a0 * (2.0 / a0).powi(2))).abs() < 1e-14);

@@ -1,0 +1,233 @@
+//! The physics home: the oscillator's parameters, its friction law, its equation of motion and
+//! the stick, arrival and breakaway rules — written once, called by every solver.
+//!
+//! Conventions (Lima & Sampaio, eq. 1–2, extended by damping and static friction): x is the
+//! absolute position [m], the spring k and the dashpot c tie the mass m to the fixed frame, the
+//! belt moves at v(t) [m/s], u = v − ẋ is the relative (sliding) velocity.
+//!
+//! ```text
+//!     m ẍ + c ẋ + k x = f
+//!     slip:  f = μ_k n · σ,   σ = sgn(u)                      (Coulomb, kinetic coefficient)
+//!     stick: ẋ = v,  f = F := k x + c v,  |F| ≤ μ_s n           (static coefficient μ_s ≥ μ_k)
+//! ```
+//!
+//! Everything is written per unit mass, in `ω² = k/m` [1/s²], `γ = c/m` [1/s], the kinetic and
+//! static friction accelerations `a_k = μ_k n/m`, `a_s = μ_s n/m` [m/s²], so that m → 0 or
+//! m → ∞ never forms k x − f out of two huge forces. With the belt at constant velocity v (sign
+//! s = sgn v), the rules are:
+//!
+//! - **stick** at x₀: x = x₀ + v τ, the holding force per unit mass `F/m = ω² x + γ v` grows
+//!   along the belt (s·F/m increases at ω²|v|); it **breaks away** when `s (ω² x + γ v) = a_s`,
+//!   after `τ_b = (a_s − s(ω² x₀ + γ v)) / (ω² |v|)`, at `x_b = (s a_s − γ v)/ω²`;
+//! - the slip after a breakaway leaves belt speed with the friction `σ = s` and the
+//!   acceleration `ẍ = s (a_k − a_s)`: zero when μ_s = μ_k (the *grazing* orbit, which only
+//!   touches belt speed), else the mass falls behind the belt at once;
+//! - **arrival** of a slip at belt speed at x, with `p = s (ω² x + γ v)`:
+//!   `−a_s ≤ p < a_s` → stick; `p ≈ a_s` (relative [`TOUCH_TOLERANCE`]) → a touch at the
+//!   breakaway point, a stick of zero length that is not counted (the slip goes on as after a
+//!   breakaway); `|p| > a_s` → the mass passes through, the friction becomes `σ = sgn(ω² x + γ v)`;
+//! - a belt switch always ends a stick (u jumps to v_new − v_old ≠ 0).
+//!
+//! In slip the motion is linear with constant forcing `σ a_k`; its closed forms live in
+//! [`undamped`] (c = 0: the paper's system, trigonometric) and [`damped`] (c > 0: under-,
+//! critically and over-damped in one form continuous through ζ = 1). A scene without damping
+//! runs the undamped forms and pays nothing for damping support.
+
+pub mod damped;
+pub mod undamped;
+
+use serde::{Deserialize, Serialize};
+
+pub use damped::Damped;
+pub use undamped::Undamped;
+
+/// Relative width of the band around `p = a_s` treated as a touch at the breakaway point.
+pub const TOUCH_TOLERANCE: f64 = 1e-12;
+
+/// The friction law as data: a new law is a new variant here and one solver file.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FrictionLaw {
+    /// Dry friction: μ_s n holds a stick, μ_k n opposes a slip (μ_s ≥ μ_k; equal in the paper).
+    Coulomb,
+}
+
+/// Physical parameters of one realization's oscillator (SI units), as in `[model]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Params {
+    /// m, kg (> 0)
+    pub mass: f64,
+    /// k, N/m (≥ 0)
+    pub stiffness: f64,
+    /// c, N·s/m (≥ 0)
+    pub damping: f64,
+    /// n, N (≥ 0)
+    pub normal_force: f64,
+    /// μ_k (≥ 0)
+    pub kinetic: f64,
+    /// μ_s (≥ μ_k)
+    pub static_: f64,
+    pub law: FrictionLaw,
+}
+
+impl Params {
+    /// The paper's parameters: m = 1 kg, k = 4 N/m, c = 0, n = 9.8 N, μ_s = μ_k = 0.51.
+    pub const PAPER: Params = Params {
+        mass: 1.0,
+        stiffness: 4.0,
+        damping: 0.0,
+        normal_force: 9.8,
+        kinetic: 0.51,
+        static_: 0.51,
+        law: FrictionLaw::Coulomb,
+    };
+
+    /// The per-unit-mass constants the solvers work with.
+    pub fn per_unit_mass(&self) -> Physics {
+        let omega2 = self.stiffness / self.mass;
+        Physics {
+            omega2,
+            omega: omega2.sqrt(),
+            gamma: self.damping / self.mass,
+            kinetic: self.kinetic * self.normal_force / self.mass,
+            breakaway: self.static_ * self.normal_force / self.mass,
+        }
+    }
+}
+
+/// The model per unit mass: `ω²`, `ω`, `γ = c/m`, `a_k`, `a_s`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Physics {
+    pub omega2: f64,
+    pub omega: f64,
+    pub gamma: f64,
+    /// a_k = μ_k n/m, m/s²
+    pub kinetic: f64,
+    /// a_s = μ_s n/m, m/s²
+    pub breakaway: f64,
+}
+
+/// What a slip that reaches belt velocity v at position x does next (the module docs' rule).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Arrival {
+    /// The static friction holds: a stick starts at `x` (clamped onto `|F| ≤ a_s` within the
+    /// touch band).
+    Stick { x: f64 },
+    /// A touch at the breakaway point: the slip goes on from `x_b` as after a breakaway.
+    Touch,
+    /// The mass passes through belt speed; the friction becomes `σ`.
+    Reverse { sigma: f64 },
+}
+
+impl Physics {
+    /// The equation of motion in slip: `ẍ = σ a_k − ω² x − γ ẋ` [m/s²].
+    #[inline]
+    pub fn slip_accel(&self, x: f64, xdot: f64, sigma: f64) -> f64 {
+        sigma * self.kinetic - self.omega2 * x - self.gamma * xdot
+    }
+
+    /// The holding force per unit mass in a stick at x under belt velocity v: `ω² x + γ v`.
+    #[inline]
+    pub fn holding(&self, x: f64, v: f64) -> f64 {
+        self.omega2 * x + self.gamma * v
+    }
+
+    /// Where the holding force reaches `side · a_s` along the belt (side = +1: the breakaway
+    /// point ahead, −1: the limit behind): `x = (side·s a_s − γ v)/ω²` (±∞ without a spring).
+    #[inline]
+    pub fn holding_limit(&self, v: f64, side: f64) -> f64 {
+        (side * v.signum() * self.breakaway - self.gamma * v) / self.omega2
+    }
+
+    /// How long a stick at `x₀` under belt velocity v lasts until breakaway:
+    /// `(a_s − s(ω² x₀ + γ v))/(ω² |v|)` (∞ without a spring, or when the dashpot alone cannot
+    /// reach the limit).
+    #[inline]
+    pub fn stick_duration(&self, x0: f64, v: f64) -> f64 {
+        (self.breakaway - v.signum() * self.holding(x0, v)) / (self.omega2 * v.abs())
+    }
+
+    /// The acceleration of the slip that starts at a breakaway (or a touch) under belt velocity
+    /// v: `s (a_k − a_s)` — exactly 0 when μ_s = μ_k (the grazing orbit).
+    #[inline]
+    pub fn breakaway_accel(&self, v: f64) -> f64 {
+        v.signum() * (self.kinetic - self.breakaway) + 0.0
+    }
+
+    /// The arrival rule at belt velocity v and position x.
+    #[inline]
+    pub fn arrival(&self, x: f64, v: f64) -> Arrival {
+        let s = v.signum();
+        let p = s * self.holding(x, v);
+        let a_s = self.breakaway;
+        if p > a_s * (1.0 + TOUCH_TOLERANCE) || p < -a_s * (1.0 + TOUCH_TOLERANCE) {
+            Arrival::Reverse { sigma: s * p.signum() }
+        } else if p >= a_s * (1.0 - TOUCH_TOLERANCE) {
+            Arrival::Touch
+        } else {
+            // Within [−a_s(1+tol), a_s): clamp the lower edge so that |F| ≤ a_s holds exactly.
+            Arrival::Stick { x: if p < -a_s { self.holding_limit(v, -1.0) } else { x } }
+        }
+    }
+
+    /// The friction direction of a slip with relative velocity `u = v − ẋ ≠ 0`.
+    #[inline]
+    pub fn slip_sign(u: f64) -> f64 {
+        u.signum()
+    }
+
+    /// The damping ratio ζ = γ/(2ω) (∞ without a spring).
+    pub fn damping_ratio(&self) -> f64 {
+        self.gamma / (2.0 * self.omega)
+    }
+}
+
+/// Closed-form slip under constant forcing, from `(x₀, ẋ₀)` with initial acceleration `a₀`.
+pub trait SlipForm: Copy + Send + Sync + std::fmt::Debug {
+    /// The closed forms of `p`.
+    fn new(p: &Physics) -> Self;
+    /// State `(x, ẋ)` after a slip of duration τ.
+    fn state(&self, x0: f64, xdot0: f64, a0: f64, tau: f64) -> (f64, f64);
+    /// The first τ ∈ (0, horizon) at which the velocity reaches `v`, and the position there;
+    /// `None` if it does not (a touch of the grazing orbit, `ẋ₀ = v` with `a₀ = 0`, is not a
+    /// crossing).
+    fn crossing(&self, x0: f64, xdot0: f64, a0: f64, v: f64, horizon: f64) -> Option<(f64, f64)>;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rules_reduce_to_the_paper_without_damping_and_static_excess() {
+        let p = Params::PAPER.per_unit_mass();
+        let a_f = 0.51 * 9.8;
+        assert_eq!(p.holding_limit(1.0, 1.0), a_f / 4.0);
+        assert_eq!(p.holding_limit(-1.0, 1.0), -a_f / 4.0);
+        assert_eq!(p.stick_duration(0.0, 1.0), a_f / 4.0);
+        assert_eq!(p.breakaway_accel(1.0).to_bits(), 0.0f64.to_bits());
+        assert_eq!(p.breakaway_accel(-1.0).to_bits(), 0.0f64.to_bits());
+        assert_eq!(p.arrival(0.3, 1.0), Arrival::Stick { x: 0.3 });
+        assert_eq!(p.arrival(a_f / 4.0, 1.0), Arrival::Touch);
+        assert_eq!(p.arrival(2.0, 1.0), Arrival::Reverse { sigma: 1.0 });
+        assert_eq!(p.arrival(-2.0, 1.0), Arrival::Reverse { sigma: -1.0 });
+    }
+
+    #[test]
+    fn damping_and_static_friction_enter_the_holding_force() {
+        let p = Params { damping: 0.5, static_: 0.6, ..Params::PAPER }.per_unit_mass();
+        let (a_s, v) = (0.6 * 9.8, -2.0);
+        // stick under v < 0: breakaway where −(4 x + 0.5 v) = a_s
+        let xb = p.holding_limit(v, 1.0);
+        assert!((-(4.0 * xb + 0.5 * v) - a_s).abs() < 1e-12);
+        let x0 = 0.2;
+        let tb = p.stick_duration(x0, v);
+        assert!(((x0 + v * tb) - xb).abs() < 1e-12);
+        // after breakaway the mass falls behind: relative acceleration s (a_s − a_k) ≠ 0
+        assert!((p.breakaway_accel(v) - (-(0.51 - 0.6) * 9.8)).abs() < 1e-12);
+        assert!((p.slip_accel(xb, v, -1.0) - p.breakaway_accel(v)).abs() < 1e-12);
+        // between a_k and a_s an arrival sticks
+        let x = (-(0.55 * 9.8) - 0.5 * v) / 4.0; // p = 0.55 n
+        assert!(matches!(p.arrival(x, v), Arrival::Stick { .. }));
+    }
+}
