@@ -195,12 +195,8 @@ impl BeltPath {
                 switches.push(t);
             }
         }
-        let v = |s: f64| if s > 0.0 { forward } else { -reverse };
-        velocities.push(v(sign));
-        for _ in 0..switches.len() {
-            sign = -sign;
-            velocities.push(v(sign));
-        }
+        let (v0, v1) = if sign > 0.0 { (forward, -reverse) } else { (-reverse, forward) };
+        velocities.extend((0..=switches.len()).map(|k| if k % 2 == 0 { v0 } else { v1 }));
     }
 }
 

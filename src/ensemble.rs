@@ -10,11 +10,11 @@
 
 use std::ops::Range;
 
-use crate::belt::{Belt, BeltPath};
+use crate::belt::BeltPath;
 use crate::dataset::Rows;
 use crate::events::{Observer, Record};
 use crate::params::Scene;
-use crate::physics::Params;
+use crate::physics::{Params, Physics};
 use crate::rng::{realization_rng, unit_f64};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::solver::{Drive, SolveError, Solver};
@@ -62,6 +62,8 @@ pub struct Ensemble {
     seed: u64,
     store_switch_times: bool,
     solver: Solver,
+    /// the scene per unit mass when no key is random (computed once)
+    physics: Physics,
 }
 
 impl Ensemble {
@@ -69,12 +71,13 @@ impl Ensemble {
         let scene = scenario.scene()?;
         let solver = Solver::new(scenario.run.solver, scenario.numerics, scene.damped());
         Ok(Ensemble {
-            scene,
             position: scenario.initial_conditions.position,
             velocity: scenario.initial_conditions.velocity,
             seed: scenario.run.seed,
             store_switch_times: scenario.output.switch_times,
             solver,
+            physics: scene.params.per_unit_mass(),
+            scene,
         })
     }
 
@@ -101,16 +104,18 @@ impl Ensemble {
         let uniform = |r: [f64; 2], u: f64| r[0] + (r[1] - r[0]) * u;
         out.x0 = uniform(self.position, unit_f64(&mut rng));
         out.xdot0 = uniform(self.velocity, unit_f64(&mut rng));
-        let (mut params, mut belt): (Params, Belt) = (self.scene.params, self.scene.belt);
+        let (mut physics, mut belt) = (self.physics, self.scene.belt);
         if !self.scene.random.is_empty() {
+            let mut params: Params = self.scene.params;
             self.scene.draw(self.seed, index, &mut params, &mut belt, &mut out.drawn);
+            physics = params.per_unit_mass();
         }
         belt.sample_into(&mut rng, &mut out.belt);
         out.belt.segments(belt.speeds(), &mut out.switches, &mut out.velocities);
         let drive = Drive { velocities: &out.velocities, switches: &out.switches, t_end: belt.duration };
         out.record.clear();
         self.solver
-            .solve(&params, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
+            .solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);
         Ok(())

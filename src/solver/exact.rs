@@ -32,18 +32,20 @@ pub struct Exact<K> {
     /// no friction at all: crossings of belt speed change nothing and are not looked for
     frictionless: bool,
     phase: Phase,
-    /// the phase the last advance covered, and the time reached
+    /// the phase the last advance covered and its belt velocity (kept only for sampling)
     piece: (Phase, f64),
+    keep_pieces: bool,
     t: f64,
 }
 
 impl<K: SlipForm> Exact<K> {
     pub fn new(p: &Physics) -> Exact<K> {
         let phase = Phase::Stick { t0: 0.0, x0: 0.0 };
-        Exact { p: *p, form: K::new(p), frictionless: p.kinetic == 0.0 && p.breakaway == 0.0, phase, piece: (phase, 0.0), t: 0.0 }
+        Exact { p: *p, form: K::new(p), frictionless: p.kinetic == 0.0 && p.breakaway == 0.0, phase, piece: (phase, 0.0), keep_pieces: false, t: 0.0 }
     }
 
     /// The mass is at belt velocity `v` at time `t` and position `x` (the arrival rule).
+    #[inline(always)]
     fn at_belt_speed(&mut self, t: f64, x: f64, v: f64) -> Stop {
         match self.p.arrival(x, v) {
             Arrival::Reverse { sigma } => {
@@ -62,11 +64,13 @@ impl<K: SlipForm> Exact<K> {
     }
 
     /// The slip that leaves the breakaway point at time `t` under belt velocity `v`.
+    #[inline(always)]
     fn after_breakaway(&self, t: f64, v: f64) -> Phase {
         Phase::Slip { t0: t, x0: self.p.holding_limit(v, 1.0), xdot0: v, a0: self.p.breakaway_accel(v) }
     }
 
     /// Slipping from `(x, ẋ)` at time `t` under belt velocity `v` (classified if at belt speed).
+    #[inline(always)]
     fn slip_from(&mut self, t: f64, x: f64, xdot: f64, v: f64) -> Option<Event> {
         let u0 = xdot - v;
         if u0 == 0.0 {
@@ -96,9 +100,11 @@ impl<K: SlipForm> Method for Exact<K> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn advance(&mut self, t1: f64, v: f64) -> Stop {
-        self.piece = (self.phase, v);
+        if self.keep_pieces {
+            self.piece = (self.phase, v);
+        }
         match self.phase {
             Phase::Stick { t0, x0 } => {
                 let t_b = t0 + self.p.stick_duration(x0, v);
@@ -123,6 +129,7 @@ impl<K: SlipForm> Method for Exact<K> {
         Stop::SegmentEnd
     }
 
+    #[inline(always)]
     fn switch(&mut self, t: f64, v_old: f64, v_new: f64) -> Option<Event> {
         match self.phase {
             Phase::Stick { t0, x0 } => {
@@ -141,6 +148,10 @@ impl<K: SlipForm> Method for Exact<K> {
 
     fn time(&self) -> f64 {
         self.t
+    }
+
+    fn keep_pieces(&mut self) {
+        self.keep_pieces = true;
     }
 
     fn state_at(&self, t: f64) -> (f64, f64) {

@@ -17,7 +17,7 @@ pub mod smooth;
 use serde::{Deserialize, Serialize};
 
 use crate::events::Observer;
-use crate::physics::{Damped, Params, Undamped};
+use crate::physics::{Damped, Physics, Undamped};
 use crate::scenario::Numerics;
 
 /// The deterministic input of one realization: the belt velocity of each segment (`switches.len()
@@ -61,7 +61,10 @@ pub trait Method {
     fn switch(&mut self, t: f64, v_old: f64, v_new: f64) -> Option<Event>;
     /// The time reached.
     fn time(&self) -> f64;
-    /// The state at `t` on the piece of motion covered by the last [`Method::advance`].
+    /// Ask the method to keep what [`Method::state_at`] needs (the driver samples a trajectory).
+    fn keep_pieces(&mut self) {}
+    /// The state at `t` on the piece of motion covered by the last [`Method::advance`] (after
+    /// [`Method::keep_pieces`]).
     fn state_at(&self, t: f64) -> (f64, f64);
     /// Integration steps taken so far (0 for an event-driven method).
     fn steps(&self) -> u64 {
@@ -85,9 +88,12 @@ pub const EVENT_LIMIT: u64 = 200_000_000;
 /// The one driver: run `method` over the segments of `drive` from `(x₀, ẋ₀)`, reporting every
 /// change of mode to `obs` (and grid samples, when `obs` asks for them).
 pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64, xdot0: f64, step_budget: u64, obs: &mut O) -> Result<(), SolveError> {
+    let grid = obs.sample_step();
+    if grid.is_some() {
+        method.keep_pieces();
+    }
     let mut v = drive.velocities[0];
     emit(obs, method.start(x0, xdot0, v));
-    let grid = obs.sample_step();
     let (mut stops, mut sampled) = (0u64, 0.0);
     let ends = drive.switches.iter().copied().chain(std::iter::once(drive.t_end));
     for (k, t1) in ends.enumerate() {
@@ -187,10 +193,9 @@ impl Solver {
         Solver { kind: kind.resolved(), numerics, damped }
     }
 
-    /// Solve one realization of the oscillator `params`.
-    pub fn solve<O: Observer>(&self, params: &Params, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError> {
-        let p = params.per_unit_mass();
-        let (num, budget) = (&self.numerics, self.numerics.step_budget);
+    /// Solve one realization of the oscillator `p` (per unit mass, [`crate::physics::Params::per_unit_mass`]).
+    pub fn solve<O: Observer>(&self, p: &Physics, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError> {
+        let (p, num, budget) = (*p, &self.numerics, self.numerics.step_budget);
         match self.kind {
             SolverKind::Exact | SolverKind::Auto if self.damped || p.gamma != 0.0 => {
                 drive(&mut exact::Exact::<Damped>::new(&p), d, x0, xdot0, budget, obs)

@@ -58,7 +58,7 @@ pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot
     path.segments(scene.belt.speeds(), &mut sw, &mut vel);
     let drive = Drive { velocities: &vel, switches: &sw, t_end: sc.run.duration };
     let mut obs = WithPositions::default();
-    Solver::new(SolverKind::Exact, sc.numerics, scene.damped()).solve(&scene.params, &drive, x0, xdot0, &mut obs).expect("solves");
+    Solver::new(SolverKind::Exact, sc.numerics, scene.damped()).solve(&scene.params.per_unit_mass(), &drive, x0, xdot0, &mut obs).expect("solves");
     obs.record.finish(sc.run.duration);
     obs
 }
