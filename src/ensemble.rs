@@ -37,6 +37,8 @@ pub struct Outcome {
     pub record: Record,
     /// The drawn values of the scene's random keys ([`Scene::columns`] order).
     pub drawn: Vec<f64>,
+    /// The oscillator of this realization (the fixed scene with the drawn values).
+    pub params: Params,
     switches: Vec<f64>,
     velocities: Vec<f64>,
 }
@@ -105,10 +107,14 @@ impl Ensemble {
         out.x0 = uniform(self.position, unit_f64(&mut rng));
         out.xdot0 = uniform(self.velocity, unit_f64(&mut rng));
         let (mut physics, mut belt) = (self.physics, self.scene.belt);
+        out.params = self.scene.params;
         if !self.scene.random.is_empty() {
-            let mut params: Params = self.scene.params;
-            self.scene.draw(self.seed, index, &mut params, &mut belt, &mut out.drawn);
-            physics = params.per_unit_mass();
+            self.scene.draw(self.seed, index, &mut out.params, &mut belt, &mut out.drawn);
+            physics = out.params.per_unit_mass();
+            if ![physics.omega2, physics.gamma, physics.kinetic, physics.breakaway].iter().all(|x| x.is_finite()) {
+                let drawn = self.scene.columns().iter().zip(&out.drawn).map(|(k, x)| format!("{k} = {x:e}")).collect::<Vec<_>>().join(", ");
+                return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
+            }
         }
         belt.sample_into(&mut rng, &mut out.belt);
         out.belt.segments(belt.speeds(), &mut out.switches, &mut out.velocities);

@@ -150,20 +150,26 @@ impl Dist {
         }
     }
 
-    /// One draw, inside the valid range `(lo, ∞)` (open) or `[lo, ∞)`.
+    /// One draw, inside the valid range `(lo, ∞)` (open) or `[lo, ∞)`: a draw outside it (the
+    /// normal's truncation, or a lognormal or gamma draw that underflows to 0 at a huge cv) is
+    /// drawn again.
     pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R, (lo, open): (f64, bool)) -> f64 {
+        let ok = |x: f64| x.is_finite() && if open { x > lo } else { x >= lo };
+        for _ in 0..10_000 {
+            let x = self.raw(rng);
+            if ok(x) {
+                return x;
+            }
+        }
+        self.mean() // unreachable in practice: the mean lies in the range (checked)
+    }
+
+    fn raw<R: Rng + ?Sized>(&self, rng: &mut R) -> f64 {
         match *self {
             Dist::Uniform { low, high } => low + (high - low) * unit_f64(rng),
             Dist::Normal { mean, sd } => {
-                let ok = |x: f64| if open { x > lo } else { x >= lo };
-                for _ in 0..10_000 {
-                    let z: f64 = StandardNormal.sample(rng);
-                    let x = mean + sd * z;
-                    if ok(x) {
-                        return x;
-                    }
-                }
-                mean // unreachable in practice: the mean lies in the range (checked)
+                let z: f64 = StandardNormal.sample(rng);
+                mean + sd * z
             }
             Dist::Lognormal { mean, cv } => {
                 let s2 = cv.mul_add(cv, 1.0).ln();

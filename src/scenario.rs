@@ -485,11 +485,21 @@ impl Scenario {
         self.check_derived()
     }
 
-    /// Checks on combinations of keys (at the extremes of every random key's support).
+    /// Checks on combinations of keys, at the extremes of every random key's support where
+    /// they are finite (a draw of an unbounded law that still overflows a ratio is refused per
+    /// realization, naming it).
     fn check_derived(&self) -> Result<(), ScenarioError> {
         self.scene()?;
-        let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), support);
-        let hi = |k: Key| self.param(k).map_or(0.0, |p| support(p).1);
+        let bounded = |p: &Param| {
+            let (lo, hi) = support(p);
+            let mean = match p {
+                Param::Random(d) => d.mean(),
+                _ => lo,
+            };
+            (if lo > 0.0 && lo.is_finite() { lo } else { mean }, if hi.is_finite() { hi } else { mean })
+        };
+        let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), bounded);
+        let hi = |k: Key| self.param(k).map_or(0.0, |p| bounded(p).1);
         let ratios = [hi(Key::Stiffness) / m_lo, hi(Key::Damping) / m_lo, hi(Key::NormalForce) * hi(Key::Static).max(hi(Key::Kinetic)) / m_lo];
         if ratios.iter().any(|r| !r.is_finite()) || !(m_hi > 0.0) {
             return Err(ScenarioError::Invalid {

@@ -83,6 +83,7 @@ impl Params {
     };
 
     /// The per-unit-mass constants the solvers work with.
+    #[inline]
     pub fn per_unit_mass(&self) -> Physics {
         let omega2 = self.stiffness / self.mass;
         Physics {
@@ -92,6 +93,12 @@ impl Params {
             kinetic: self.kinetic * self.normal_force / self.mass,
             breakaway: self.static_ * self.normal_force / self.mass,
         }
+    }
+}
+
+impl Default for Params {
+    fn default() -> Params {
+        Params::PAPER
     }
 }
 

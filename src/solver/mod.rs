@@ -79,6 +79,8 @@ pub enum SolveError {
     EventBudget { limit: u64, t: f64 },
     #[error("more than numerics.step_budget = {limit} steps before t = {t} s (loosen the tolerances, raise the step, or raise the budget)")]
     StepBudget { limit: u64, t: f64 },
+    #[error("the drawn parameters ({drawn}) give non-finite k/m, c/m or mu n/m")]
+    Drawn { drawn: String },
 }
 
 /// At most this many stops per realization (a guard against runaway input, never reached by

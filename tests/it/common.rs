@@ -56,9 +56,15 @@ pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot
     let path = BeltPath { initial_sign: sign0, switch_times: switches.to_vec() };
     let (mut sw, mut vel) = (Vec::new(), Vec::new());
     path.segments(scene.belt.speeds(), &mut sw, &mut vel);
-    let drive = Drive { velocities: &vel, switches: &sw, t_end: sc.run.duration };
+    solve_segments(sc, &scene.params, &vel, &sw, x0, xdot0)
+}
+
+/// Solve given belt segments with the exact solver for the oscillator `p`.
+pub fn solve_segments(sc: &Scenario, p: &Params, velocities: &[f64], switches: &[f64], x0: f64, xdot0: f64) -> WithPositions {
+    let drive = Drive { velocities, switches, t_end: sc.run.duration };
     let mut obs = WithPositions::default();
-    Solver::new(SolverKind::Exact, sc.numerics, scene.damped()).solve(&scene.params.per_unit_mass(), &drive, x0, xdot0, &mut obs).expect("solves");
+    let damped = sc.scene().expect("a valid scene").damped();
+    Solver::new(SolverKind::Exact, sc.numerics, damped).solve(&p.per_unit_mass(), &drive, x0, xdot0, &mut obs).expect("solves");
     obs.record.finish(sc.run.duration);
     obs
 }
@@ -116,9 +122,9 @@ pub fn check_invariants(sc: &Scenario, o: &Outcome, strict: bool) -> Result<(), 
     }
     // |k x + c v| <= mu_s n throughout every stick: at its start and (x moves with the belt) at
     // its end.
-    let p = params(sc);
+    let p = o.params;
     let (k, c, fmax) = (p.stiffness, p.damping, p.static_ * p.normal_force);
-    let traced = solve_scripted(sc, o.belt.initial_sign, &o.belt.switch_times, o.x0, o.xdot0);
+    let traced = solve_segments(sc, &p, o.velocities(), o.switches(), o.x0, o.xdot0);
     if traced.record != *r {
         return Err("re-solving the same drive gave a different record".into());
     }

@@ -14,4 +14,5 @@ mod invariants;
 mod pipelines;
 mod reference;
 mod safety;
+mod scenes;
 mod solvers;

@@ -1,17 +1,22 @@
 //! An independent check: the same belt switches and initial conditions integrated numerically.
 //!
-//! The reference integrates m ẍ = σ f_max − k x with classical RK4 at a fixed step h = 1e-4 s
-//! (global error O((ωh)^4) ≈ 1e-15 here), locates each event by bisection on RK4 sub-steps from
-//! the step start (to ~1e-15 s), and applies the friction law directly: at ẋ = v it sticks if
-//! |k x| ≤ f_max, else the friction reverses; a stick ends when |k x| reaches f_max in the belt
-//! direction or at a belt flip. It shares no code with the library's solver.
+//! The reference integrates m ẍ = σ f_k − k x − c ẋ with classical RK4 at a fixed step
+//! h = 1e-4 s (global error O((ωh)^4) ≈ 1e-15 here), locates each event by bisection on RK4
+//! sub-steps from the step start (to ~1e-15 s), and applies the friction law directly: at ẋ = v
+//! it sticks if |k x + c v| ≤ f_s, else the friction becomes sgn(k x + c v); a stick ends when
+//! k x + c v reaches f_s in the belt direction or at a belt flip. A dip of the velocity across
+//! belt speed between two step ends is caught by testing the velocity's extremum inside the step
+//! (where ẍ changes sign). It shares no code with the library's solver.
 
 use crate::common::{outcomes, scenario};
 
 struct Params {
     m: f64,
     k: f64,
-    fmax: f64,
+    c: f64,
+    /// kinetic and static friction forces, N
+    fk: f64,
+    fs: f64,
     v0: f64,
     ta: f64,
 }
@@ -19,11 +24,11 @@ struct Params {
 const H: f64 = 1e-4;
 
 fn rk4(p: &Params, sigma: f64, (x, v): (f64, f64), h: f64) -> (f64, f64) {
-    let acc = |x: f64| (sigma * p.fmax - p.k * x) / p.m;
-    let (k1x, k1v) = (v, acc(x));
-    let (k2x, k2v) = (v + 0.5 * h * k1v, acc(x + 0.5 * h * k1x));
-    let (k3x, k3v) = (v + 0.5 * h * k2v, acc(x + 0.5 * h * k2x));
-    let (k4x, k4v) = (v + h * k3v, acc(x + h * k3x));
+    let acc = |x: f64, v: f64| (sigma * p.fk - p.k * x - p.c * v) / p.m;
+    let (k1x, k1v) = (v, acc(x, v));
+    let (k2x, k2v) = (v + 0.5 * h * k1v, acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v));
+    let (k3x, k3v) = (v + 0.5 * h * k2v, acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v));
+    let (k4x, k4v) = (v + h * k3v, acc(x + h * k3x, v + h * k3v));
     (x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x), v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v))
 }
 
@@ -41,9 +46,10 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
         let v = s * p.v0;
         while t < t_end {
             if stuck {
-                let t_break = t + (s * p.fmax / p.k - x) / v;
+                let x_break = (s * p.fs - p.c * v) / p.k;
+                let t_break = t + (x_break - x) / v;
                 if t_break < t_end {
-                    x = s * p.fmax / p.k;
+                    x = x_break;
                     t = t_break;
                     stuck = false;
                     sigma = s;
@@ -57,9 +63,26 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
             }
             let h = H.min(t_end - t);
             let (nx, nv) = rk4(p, sigma, (x, xd), h);
-            // crossing of belt speed: σ (v - ẋ) goes from > 0 to <= 0
-            if sigma * (v - nv) <= 0.0 && sigma * (v - xd) > 1e-12 {
-                let (mut lo, mut hi) = (0.0, h);
+            // crossing of belt speed: σ (v - ẋ) goes from > 0 to <= 0 at the step end, or at the
+            // velocity's extremum inside the step (ẍ changes sign: golden-section for it)
+            let g = |dt: f64| sigma * (v - rk4(p, sigma, (x, xd), dt).1);
+            let accel = |dt: f64| {
+                let (ax, av) = rk4(p, sigma, (x, xd), dt);
+                sigma * p.fk - p.k * ax - p.c * av
+            };
+            let mut end = h;
+            if g(h) > 0.0 && sigma * accel(0.0) > 0.0 && sigma * accel(h) < 0.0 {
+                let (mut a, mut b) = (0.0, h);
+                for _ in 0..100 {
+                    let (c1, c2) = (b - 0.618 * (b - a), a + 0.618 * (b - a));
+                    if g(c1) < g(c2) { b = c2 } else { a = c1 }
+                }
+                if g(0.5 * (a + b)) <= 0.0 {
+                    end = 0.5 * (a + b);
+                }
+            }
+            if g(end) <= 0.0 && sigma * (v - xd) > 1e-12 {
+                let (mut lo, mut hi) = (0.0, end);
                 for _ in 0..80 {
                     let mid = 0.5 * (lo + hi);
                     let (_, mv) = rk4(p, sigma, (x, xd), mid);
@@ -69,11 +92,11 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
                 t += hi;
                 x = ex;
                 xd = v;
-                if (p.k * x).abs() <= p.fmax {
+                if (p.k * x + p.c * v).abs() <= p.fs {
                     stuck = true;
                     sticks.push(t);
                 } else {
-                    sigma = (p.k * x).signum();
+                    sigma = (p.k * x + p.c * v).signum();
                     // step off the crossing
                     let (nx, nv) = rk4(p, sigma, (x, xd), 1e-9);
                     x = nx;
@@ -99,15 +122,14 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
     (sticks, slips)
 }
 
-#[test]
-fn exact_solver_agrees_with_an_accurate_numerical_integration() {
-    let sc = scenario(&[]);
-    let p = Params { m: 1.0, k: 4.0, fmax: 0.51 * 9.8, v0: 1.0, ta: 10.0 };
+/// The exact solver against the reference on realizations 0..n of the paper scenario with `sets`.
+fn compare(sets: &[&str], p: &Params, n: u64) {
+    let sc = scenario(sets);
     let mut compared = 0;
     let mut worst: f64 = 0.0;
-    for (i, o) in outcomes(&sc, 36).iter().enumerate() {
+    for (i, o) in outcomes(&sc, n).iter().enumerate() {
         let (s0, sw) = (o.velocities()[0].signum(), o.switches());
-        let (sticks, slips) = integrate(&p, s0, sw, o.x0, o.xdot0);
+        let (sticks, slips) = integrate(p, s0, sw, o.x0, o.xdot0);
         let r = &o.record;
         assert_eq!(sticks.len(), r.stick_start.len(), "realization {i}: S_T");
         assert_eq!(slips.len(), r.slip_start.len(), "realization {i}: S_L");
@@ -116,6 +138,22 @@ fn exact_solver_agrees_with_an_accurate_numerical_integration() {
             compared += 1;
         }
     }
-    assert!(compared > 500, "{compared} event times compared");
-    assert!(worst <= 1e-8, "largest event-time difference {worst:e} s");
+    assert!(compared > 5 * n as usize, "{sets:?}: {compared} event times compared");
+    assert!(worst <= 1e-8, "{sets:?}: largest event-time difference {worst:e} s");
+}
+
+const PAPER: Params = Params { m: 1.0, k: 4.0, c: 0.0, fk: 0.51 * 9.8, fs: 0.51 * 9.8, v0: 1.0, ta: 10.0 };
+
+#[test]
+fn exact_solver_agrees_with_an_accurate_numerical_integration() {
+    compare(&[], &PAPER, 36);
+}
+
+#[test]
+fn with_damping_and_static_friction_too() {
+    // under-damped with μ_s > μ_k, critically damped (ζ = 1, where step-end sign tests miss
+    // shallow dips), over-damped with μ_s > μ_k
+    compare(&["model.damping=0.5", "model.static_friction_coefficient=0.6"], &Params { c: 0.5, fs: 0.6 * 9.8, ..PAPER }, 24);
+    compare(&["model.damping=4"], &Params { c: 4.0, ..PAPER }, 24);
+    compare(&["model.damping=4.5", "model.static_friction_coefficient=0.7"], &Params { c: 4.5, fs: 0.7 * 9.8, ..PAPER }, 24);
 }
