@@ -16,6 +16,7 @@ use stickslip::analysis;
 use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::scenario::Scenario;
 use stickslip::simulate::{self, Options, Shard};
+use stickslip::solver::SolverKind;
 
 fn peak_rss_mib() -> f64 {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
@@ -27,7 +28,8 @@ fn peak_rss_mib() -> f64 {
 }
 
 fn simulate_child(n: u64, dir: &Path) {
-    let sc = Scenario::paper().with("run.realizations", &n.to_string()).unwrap();
+    let mut sc = Scenario::paper();
+    sc.run.realizations = n;
     let opts = Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: None, progress: false };
     let s = simulate::run(&sc, &opts).unwrap();
     let bytes = std::fs::metadata(&s.path).unwrap().len();
@@ -92,11 +94,10 @@ fn main() {
 
     // The exact solver against rk45, same realizations, same run.
     {
-        let per_realization = |sets: &[(&str, &str)], n: u64, reps: u64| {
+        let per_realization = |set: &dyn Fn(&mut Scenario), n: u64, reps: u64| {
             let mut sc = Scenario::paper();
-            for (k, v) in sets {
-                sc = sc.with(k, v).unwrap();
-            }
+            set(&mut sc);
+            sc.check().unwrap();
             let ens = Ensemble::new(&sc).unwrap();
             let mut out = Outcome::default();
             let start = Instant::now();
@@ -107,18 +108,19 @@ fn main() {
             }
             start.elapsed().as_secs_f64() / (n * reps) as f64
         };
-        let exact = per_realization(&[], 200, 500);
+        let exact = per_realization(&|_| {}, 200, 500);
         println!("exact solver: {:.2} us per realization (200 paper realizations x 500)", exact * 1e6);
-        for (label, sets, reps) in [
-            ("rk45, paper ode45 settings (rtol = atol = 1e-9, max_step = 1e-4)", &[("run.solver", "rk45")][..], 1),
-            ("rk45, rtol = 1e-6 (atol = 1e-9, max_step = 1e-4 as the paper)", &[("run.solver", "rk45"), ("numerics.rtol", "1e-6")][..], 1),
+        let settings: [(&str, &dyn Fn(&mut Scenario), u64); 3] = [
+            ("rk45, paper ode45 settings (rtol = atol = 1e-9, max_step = 1e-4)", &|sc| sc.run.solver = SolverKind::Rk45, 1),
+            ("rk45, rtol = 1e-6 (atol = 1e-9, max_step = 1e-4 as the paper)", &|sc| (sc.run.solver, sc.numerics.rtol) = (SolverKind::Rk45, 1e-6), 1),
             (
                 "rk45, rtol = atol = 1e-6, no max_step",
-                &[("run.solver", "rk45"), ("numerics.rtol", "1e-6"), ("numerics.atol", "1e-6"), ("numerics.max_step", "10")][..],
+                &|sc| (sc.run.solver, sc.numerics.rtol, sc.numerics.atol, sc.numerics.max_step) = (SolverKind::Rk45, 1e-6, 1e-6, 10.0),
                 50,
             ),
-        ] {
-            let t = per_realization(sets, 200, reps);
+        ];
+        for (label, set, reps) in settings {
+            let t = per_realization(set, 200, reps);
             println!("{label}: {:.2} us per realization, exact is {:.0}x faster", t * 1e6, t / exact);
         }
     }
@@ -127,7 +129,8 @@ fn main() {
     {
         let dir = tempfile::tempdir().unwrap();
         let (data, top) = (dir.path().join("paper/dataset"), dir.path().join("paper"));
-        let sc = Scenario::paper().with("output.trajectories", "3").unwrap().with("output.switch_times", "true").unwrap();
+        let mut sc = Scenario::paper();
+        (sc.output.trajectories, sc.output.switch_times) = (3, true);
         simulate::run(&sc, &Options { out: data.clone(), shard: Shard::WHOLE, threads: None, progress: false }).unwrap();
         let a = analysis::analyze(&data, &analysis::Options::default()).unwrap();
         analysis::output::write(&a, &top.join("analysis")).unwrap();

@@ -316,15 +316,6 @@ impl Scenario {
         Ok(cells)
     }
 
-    /// Override one key by its dotted name (the value as TOML, or a bare string).
-    pub fn with(self, key: &str, value: &str) -> Result<Scenario, ScenarioError> {
-        let mut table = Table::try_from(&self).expect("a scenario serializes to a table");
-        set(&mut table, key, parse_value(value))?;
-        let sc = typed(table)?;
-        sc.check()?;
-        Ok(sc)
-    }
-
     /// The resolved scenario as TOML text (the provenance datasets record).
     pub fn to_toml(&self) -> String {
         toml::to_string(self).expect("a scenario serializes")

@@ -243,3 +243,28 @@ fn the_asymmetric_belt_spends_the_expected_time_forward() {
     let p = params(&sc);
     assert_eq!(p.damping, 0.0);
 }
+
+#[test]
+fn trajectories_are_sampled_for_every_method() {
+    // the driver samples each method's own pieces: closed forms, dense output, Moreau's grid
+    let sample = |extra: &[&str]| {
+        let sets: Vec<&str> = ["model.damping=0.5", "model.static_friction_coefficient=0.6"].iter().chain(extra).copied().collect();
+        let ens = Ensemble::new(&scenario(&sets)).unwrap();
+        ens.trajectory(3, 1e-2, &mut Outcome::default()).unwrap().samples
+    };
+    let exact = sample(&[]);
+    assert_eq!(exact.len(), 1000);
+    for (extra, tol) in [
+        (&["run.solver=rk45", "numerics.rtol=1e-10", "numerics.atol=1e-10", "numerics.max_step=1e-2"][..], 1e-6),
+        (&["run.solver=rk4", "numerics.step=1e-3"], 1e-6),
+        (&["run.solver=moreau", "numerics.step=1e-4"], 2e-2),
+        (&["run.solver=smooth", "numerics.epsilon=1e-4", "numerics.stick_velocity=1e-4", "numerics.max_step=1e-2", "numerics.rtol=1e-8", "numerics.atol=1e-8"], 2e-2),
+    ] {
+        let other = sample(extra);
+        assert_eq!(other.len(), exact.len(), "{extra:?}");
+        for (a, b) in exact.iter().zip(&other) {
+            assert_eq!((a[0], a[3]), (b[0], b[3]), "{extra:?}: grid instants and belt velocity");
+            assert!((a[1] - b[1]).abs() < tol, "{extra:?} at t = {}: x {} vs {}", a[0], b[1], a[1]);
+        }
+    }
+}
