@@ -20,7 +20,8 @@
 //!   b₀ = −ω² ẋ₀ − γ a₀   (the velocity solves the homogeneous equation: it oscillates about 0)
 //! ```
 //!
-//! Evaluation, each without cancellation in its range:
+//! Evaluation, each without cancellation in its range (ψ and χ, all the velocity and the search
+//! for belt speed need, by the last two forms at every τ; Ψ by the first at small τ):
 //! - `max(a, ω) τ ≤ ½`: the Taylor series of ψ (recurrence from the equation) and Ψ;
 //! - `q ≥ 0`, or `|q| τ² ≤ 1/16` (near critical): `e^{−aτ}` times sin/cos, or times the series
 //!   of S and C in `q τ²` (through ζ = 1: ζ = 1 ± 1e-9 differs from ζ = 1 by O(1e-9) relative,
@@ -96,8 +97,8 @@ impl SlipForm for Damped {
         let b0 = -self.omega2 * xdot0 - self.gamma * a0;
         let (first, period) = self.turning_points(a0, b0);
         let velocity = |tau: f64| {
-            let b = self.basis(tau);
-            xdot0 * b.chi + a0 * b.psi
+            let (psi, chi) = self.velocity_basis(tau);
+            xdot0 * chi + a0 * psi
         };
         let mut lo = 0.0;
         let mut k = 0.0;
@@ -131,6 +132,19 @@ impl Damped {
         if self.scale * tau <= 0.5 {
             return self.taylor(tau);
         }
+        let (psi, chi) = self.velocity_basis(tau);
+        if self.q >= 0.0 || self.q * tau * tau >= -0.0625 {
+            return Basis { psi, chi, int: (1.0 - chi) / self.omega2 };
+        }
+        let g = |r: f64| if r == 0.0 { tau } else { -(-r * tau).exp_m1() / r };
+        Basis { psi, chi, int: (g(self.r1) - g(self.r2)) / (2.0 * self.h) }
+    }
+
+    /// `(ψ, χ)` alone — all the velocity needs, accurate at every τ without the Taylor series
+    /// (only Ψ, the position's integral, cancels at small τ): `e^{−aτ}` times sin/cos or the
+    /// series of S and C, or the over-damped two-exponential form.
+    #[inline]
+    fn velocity_basis(&self, tau: f64) -> (f64, f64) {
         let y = self.q * tau * tau;
         if self.q >= 0.0 || y >= -0.0625 {
             let (s, c) = if y.abs() <= 0.0625 { sc_series(y, tau) } else {
@@ -138,18 +152,12 @@ impl Damped {
                 (sin / self.h, cos)
             };
             let e = (-self.a * tau).exp();
-            let chi = e * (c + self.a * s);
-            return Basis { psi: e * s, chi, int: (1.0 - chi) / self.omega2 };
+            return (e * s, e * (c + self.a * s));
         }
         let two_h = 2.0 * self.h;
         let e1 = (-self.r1 * tau).exp();
         let d = -(-two_h * tau).exp_m1(); // 1 − e^{−2hτ}
-        let g = |r: f64| if r == 0.0 { tau } else { -(-r * tau).exp_m1() / r };
-        Basis {
-            psi: e1 * d / two_h,
-            chi: (self.r2 * e1 - self.r1 * e1 * (1.0 - d)) / two_h,
-            int: (g(self.r1) - g(self.r2)) / two_h,
-        }
+        (e1 * d / two_h, (self.r2 * e1 - self.r1 * e1 * (1.0 - d)) / two_h)
     }
 
     /// ψ and Ψ by their Taylor series: with `d_n = c_n τⁿ`, `d₁ = τ` and
@@ -202,8 +210,8 @@ impl Damped {
         let (mut lo, mut hi) = (lo, hi);
         let mut t = 0.5 * (lo + hi);
         for _ in 0..200 {
-            let b = self.basis(t);
-            let u = xdot0 * b.chi + a0 * b.psi - v;
+            let (psi, chi) = self.velocity_basis(t);
+            let u = xdot0 * chi + a0 * psi - v;
             if u == 0.0 {
                 return t;
             }
@@ -212,7 +220,7 @@ impl Damped {
             } else {
                 hi = t;
             }
-            let newton = t - u / (a0 * b.chi + b0 * b.psi);
+            let newton = t - u / (a0 * chi + b0 * psi);
             let next = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
             if (next - t).abs() <= 1e-15 * t || hi - lo <= 1e-15 * hi {
                 return next;
