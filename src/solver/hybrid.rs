@@ -23,7 +23,7 @@
 //! the crossing time itself, located only as well as the step's error allows.
 
 use super::rk::{rk4, Dopri, State, Step};
-use super::{Event, Method, Stop};
+use super::{step_end, Event, Method, Stop};
 use crate::physics::{Arrival, Physics};
 use crate::scenario::Numerics;
 
@@ -147,14 +147,11 @@ impl Method for Hybrid {
                 let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
                 if let Some(theta) = (!grazing).then(|| step.first_zero(g, dips)).flatten() {
                     let t = step.t0 + theta * step.h;
-                    return match self.classify(t, step.at(theta)[0], v) {
-                        Some(e) => Stop::Event(e),
-                        None => Stop::Advanced,
-                    };
+                    return self.classify(t, step.at(theta)[0], v).into();
                 }
-                let end = step.h >= t1 - step.t0;
-                (self.t, self.y) = (if end { t1 } else { step.t0 + step.h }, step.y1);
-                if end { Stop::SegmentEnd } else { Stop::Advanced }
+                let stop;
+                (self.t, self.y, stop) = step_end(&step, t1);
+                stop
             }
         }
     }

@@ -50,6 +50,23 @@ pub enum Stop {
     SegmentEnd,
 }
 
+impl From<Option<Event>> for Stop {
+    /// A change of mode, or a step without one.
+    fn from(e: Option<Event>) -> Stop {
+        e.map_or(Stop::Advanced, Stop::Event)
+    }
+}
+
+/// Where an integration step that found no event leaves a method: the step's end, or the
+/// segment's end `t1` when the step reaches it (exactly, whatever the rounding of `t0 + h`).
+pub(crate) fn step_end(step: &rk::Step, t1: f64) -> (f64, rk::State, Stop) {
+    if step.h >= t1 - step.t0 {
+        (t1, step.y1, Stop::SegmentEnd)
+    } else {
+        (step.t0 + step.h, step.y1, Stop::Advanced)
+    }
+}
+
 /// One realization's integration by one method (see the module docs).
 pub trait Method {
     /// Begin at t = 0 in `(x₀, ẋ₀)` under belt velocity `v`: the initial mode.

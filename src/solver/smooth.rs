@@ -16,7 +16,7 @@
 //! and breakaway depend on ε and δ.
 
 use super::rk::{Dopri, State, Step};
-use super::{Event, Method, Stop};
+use super::{step_end, Event, Method, Stop};
 use crate::physics::Physics;
 use crate::scenario::Numerics;
 
@@ -96,14 +96,11 @@ impl Method for Smooth {
         };
         if let Some(theta) = step.first_zero(g, false) {
             (self.t, self.y) = (step.t0 + theta * step.h, step.at(theta));
-            return match self.mode_event(!stuck) {
-                Some(e) => Stop::Event(e),
-                None => Stop::Advanced,
-            };
+            return self.mode_event(!stuck).into();
         }
-        let end = step.h >= t1 - step.t0;
-        (self.t, self.y) = (if end { t1 } else { step.t0 + step.h }, step.y1);
-        if end { Stop::SegmentEnd } else { Stop::Advanced }
+        let stop;
+        (self.t, self.y, stop) = step_end(&step, t1);
+        stop
     }
 
     fn switch(&mut self, _t: f64, _v_old: f64, v_new: f64) -> Option<Event> {

@@ -15,6 +15,16 @@ fn events(sets: &[&str], n: u64) -> Vec<(Vec<f64>, Vec<f64>)> {
     outcomes(&scenario(sets), n).into_iter().map(|o| (o.record.stick_start, o.record.slip_start)).collect()
 }
 
+/// Two runs' events agree: the same counts, times within `tol` seconds.
+fn assert_same_events(a: &[(Vec<f64>, Vec<f64>)], b: &[(Vec<f64>, Vec<f64>)], tol: f64, what: &str) {
+    for (i, (a, b)) in a.iter().zip(b).enumerate() {
+        assert_eq!((a.0.len(), a.1.len()), (b.0.len(), b.1.len()), "{what}: realization {i}");
+        for (x, y) in a.0.iter().chain(&a.1).zip(b.0.iter().chain(&b.1)) {
+            assert!((x - y).abs() < tol, "{what}: realization {i}: {x} vs {y}");
+        }
+    }
+}
+
 #[test]
 fn stick_duration_and_breakaway_with_damping_and_static_friction() {
     // A constant belt at v0, starting stuck at x0: D_1 = (mu_s n − (k x0 + c v0))/(k v0); with
@@ -59,13 +69,7 @@ fn critical_damping_and_its_neighbours_give_the_same_events() {
     // ζ = 1 exactly (c = 4) against ζ = 1 ± 1e-9: the same counts, times within 1e-7 s
     let crit = events(&["model.damping=4"], 300);
     for c in ["3.999999996", "4.000000004"] {
-        let near = events(&[&format!("model.damping={c}")], 300);
-        for (i, (a, b)) in crit.iter().zip(&near).enumerate() {
-            assert_eq!((a.0.len(), a.1.len()), (b.0.len(), b.1.len()), "realization {i}, c = {c}");
-            for (x, y) in a.0.iter().chain(&a.1).zip(b.0.iter().chain(&b.1)) {
-                assert!((x - y).abs() < 1e-7, "realization {i}, c = {c}: {x} vs {y}");
-            }
-        }
+        assert_same_events(&crit, &events(&[&format!("model.damping={c}")], 300), 1e-7, c);
     }
 }
 
@@ -75,13 +79,7 @@ fn vanishing_damping_tends_to_the_undamped_solver_and_zero_is_the_paper() {
     let paper = events(&[], 300);
     assert_eq!(paper, events(&["model.damping=0", "model.static_friction_coefficient=0.51"], 300));
     // c = 1e-12 runs the damped forms; its events differ from c = 0 by O(c)
-    let tiny = events(&["model.damping=1e-12"], 300);
-    for (i, (a, b)) in paper.iter().zip(&tiny).enumerate() {
-        assert_eq!((a.0.len(), a.1.len()), (b.0.len(), b.1.len()), "realization {i}");
-        for (x, y) in a.0.iter().chain(&a.1).zip(b.0.iter().chain(&b.1)) {
-            assert!((x - y).abs() < 1e-8, "realization {i}: {x} vs {y}");
-        }
-    }
+    assert_same_events(&paper, &events(&["model.damping=1e-12"], 300), 1e-8, "c = 1e-12");
 }
 
 #[test]
@@ -207,12 +205,7 @@ fn every_numerical_solver_runs_damped_and_static_friction_scenes() {
     let exact = events(&scene, 40);
     let with = |extra: &[&str]| events(&scene.iter().chain(extra).copied().collect::<Vec<_>>(), 40);
     let rk45 = with(&["run.solver=rk45", "numerics.rtol=1e-11", "numerics.atol=1e-11", "numerics.max_step=1e-2"]);
-    for (i, (a, b)) in exact.iter().zip(&rk45).enumerate() {
-        assert_eq!((a.0.len(), a.1.len()), (b.0.len(), b.1.len()), "realization {i}");
-        for (x, y) in a.0.iter().chain(&a.1).zip(b.0.iter().chain(&b.1)) {
-            assert!((x - y).abs() < 1e-7, "realization {i}: {x} vs {y}");
-        }
-    }
+    assert_same_events(&exact, &rk45, 1e-7, "rk45");
     let sticks = |e: &[(Vec<f64>, Vec<f64>)]| e.iter().map(|r| r.0.len()).sum::<usize>() as f64;
     for extra in [&["run.solver=rk4", "numerics.step=1e-3"][..], &["run.solver=moreau", "numerics.step=1e-4"], &["run.solver=smooth", "numerics.epsilon=1e-4", "numerics.stick_velocity=1e-4", "numerics.rtol=1e-8", "numerics.atol=1e-8", "numerics.max_step=1"]] {
         let n = sticks(&with(extra));
