@@ -8,10 +8,7 @@
 //! the scenario, so the rows — and the bytes written — are the same for any number of threads or
 //! shards.
 
-use std::ops::Range;
-
 use crate::belt::BeltPath;
-use crate::dataset::Rows;
 use crate::events::{Observer, Record};
 use crate::params::Scene;
 use crate::physics::{Params, Physics};
@@ -127,15 +124,9 @@ impl Ensemble {
         Ok(())
     }
 
-    /// Simulate a contiguous range of realizations into dataset rows.
-    pub fn rows(&self, range: Range<u64>) -> Result<Rows, RunError> {
-        let mut rows = Rows::new(self.store_switch_times, self.scene.columns().len());
-        let mut out = Outcome::default();
-        for index in range {
-            self.realization(index, &mut out)?;
-            rows.push(index, &out);
-        }
-        Ok(rows)
+    /// Whether rows keep the belt switch instants (`output.switch_times`).
+    pub fn store_switch_times(&self) -> bool {
+        self.store_switch_times
     }
 
     /// Realizations per chunk: about 2^18 list values per chunk (≈ 1,000 paper realizations:

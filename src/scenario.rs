@@ -20,6 +20,7 @@ use toml::{Table, Value};
 use crate::belt::{Belt, InitialSign, Process, Symmetric, Telegraph};
 use crate::params::{Dist, Key, Scene};
 use crate::physics::{FrictionLaw, Params};
+pub use crate::solver::Numerics;
 use crate::solver::SolverKind;
 
 /// The paper scenario, embedded: the default of every key.
@@ -154,19 +155,6 @@ pub struct Run {
     pub realizations: u64,
     pub seed: u64,
     pub solver: SolverKind,
-}
-
-/// `[numerics]`: settings of the numerical solvers.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Numerics {
-    pub rtol: f64,
-    pub atol: f64,
-    pub max_step: f64,
-    pub step: f64,
-    pub epsilon: f64,
-    pub stick_velocity: f64,
-    pub step_budget: u64,
 }
 
 /// `[output]`.

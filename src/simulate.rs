@@ -179,7 +179,7 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
             while chunks.peek().is_some() {
                 let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
                 let rows: Vec<Result<Rows, RunError>> =
-                    pool.install(|| window.par_iter().map(|r| ensemble.rows(r.clone())).collect());
+                    pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone())).collect());
                 for r in rows {
                     let r = r?;
                     progress.inc(r.len() as u64);
@@ -210,6 +210,17 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
         total_sticks,
     };
     Ok(Pending { part, trajectories, summary })
+}
+
+/// Simulate a contiguous range of realizations into dataset rows.
+fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>) -> Result<Rows, RunError> {
+    let mut rows = Rows::new(ensemble.store_switch_times(), ensemble.scene().columns().len());
+    let mut out = Outcome::default();
+    for index in range {
+        ensemble.realization(index, &mut out)?;
+        rows.push(index, &out);
+    }
+    Ok(rows)
 }
 
 /// Sample the first `output.trajectories` realizations into `dir/trajectories.csv`, streamed to

@@ -25,7 +25,7 @@
 use super::rk::{rk4, Dopri, State, Step};
 use super::{step_end, Event, Method, Stop};
 use crate::physics::{Arrival, Physics};
-use crate::scenario::Numerics;
+use super::Numerics;
 
 /// Which Runge–Kutta scheme.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -18,7 +18,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::events::Observer;
 use crate::physics::{Damped, Physics, Undamped};
-use crate::scenario::Numerics;
 
 /// The deterministic input of one realization: the belt velocity of each segment (`switches.len()
 /// + 1` of them, [`crate::belt::BeltPath::segments`]), the switch instants in (0, t_end) (sorted,
@@ -165,6 +164,19 @@ fn sample<M: Method, O: Observer>(method: &M, obs: &mut O, from: f64, step: f64,
         obs.sample(t, x, xdot, v);
         j += 1;
     }
+}
+
+/// The numerical methods' settings (the scenario's `[numerics]`, see `pipelines/paper.toml`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Numerics {
+    pub rtol: f64,
+    pub atol: f64,
+    pub max_step: f64,
+    pub step: f64,
+    pub epsilon: f64,
+    pub stick_velocity: f64,
+    pub step_budget: u64,
 }
 
 /// The solver `run.solver` names.

@@ -17,9 +17,8 @@
 //! located between grid points, so event times carry an O(h) error — the price of never locating
 //! an event.
 
-use super::{Event, Method, Stop};
+use super::{Event, Method, Numerics, Stop};
 use crate::physics::Physics;
-use crate::scenario::Numerics;
 
 const THETA: f64 = 0.5;
 

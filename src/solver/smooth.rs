@@ -18,7 +18,7 @@
 use super::rk::{Dopri, State, Step};
 use super::{step_end, Event, Method, Stop};
 use crate::physics::Physics;
-use crate::scenario::Numerics;
+use super::Numerics;
 
 /// One realization's regularized integration.
 #[derive(Debug, Clone)]
