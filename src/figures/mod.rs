@@ -365,14 +365,17 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
         }
     }
     let t_end = mass.last()?.0;
-    // The belt as an exact step function through its flips (few, truly vertical segments).
+    // The belt as an exact step function through its flips (few, truly vertical segments),
+    // alternating between its two velocities as sampled (+v_f and −v_r on an asymmetric belt;
+    // −v0 when no sample shows the other state).
     let v0 = belt.first()?.1;
+    let v1 = belt.iter().map(|b| b.1).find(|v| v.signum() != v0.signum()).unwrap_or(-v0);
+    let state = |i: usize| if i % 2 == 0 { v0 } else { v1 };
     let mut step = vec![(0.0, v0)];
     for (i, &t) in flips.iter().enumerate() {
-        let v = if i % 2 == 0 { v0 } else { -v0 };
-        step.extend([(t, v), (t, -v)]);
+        step.extend([(t, state(i)), (t, state(i + 1))]);
     }
-    step.push((t_end, if flips.len() % 2 == 0 { v0 } else { -v0 }));
+    step.push((t_end, state(flips.len())));
     // belt velocity just after t (stick starts) or just before t (stick ends, which a flip may cause)
     let after = |t: f64| step.iter().rev().find(|p| p.0 <= t).map_or(v0, |p| p.1);
     let before = |t: f64| step.iter().rev().find(|p| p.0 < t).map_or(v0, |p| p.1);

@@ -219,3 +219,22 @@ fn sweep_maps_have_error_bars_log_axes_and_heat_maps_for_two_keys() {
     assert!(p.heat[0][..4].iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", p.heat[0]);
     assert!(!p.heat_label.is_empty());
 }
+
+#[test]
+fn the_trajectory_figure_draws_the_belt_at_its_own_two_speeds() {
+    // an asymmetric belt: +1 m/s, then −0.5 m/s after the switch at 0.3 s, +1 again at 0.6 s
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let mut inp = Inputs::load(tmp.path()).unwrap();
+    let mut csv = String::from("realization,kind,t,x,xdot,belt_velocity\n");
+    for i in 0..10 {
+        let t = i as f64 * 0.1;
+        let v = if (0.3..0.6).contains(&t) { -0.5 } else { 1.0 };
+        csv.push_str(&format!("0,sample,{t},0,{v},{v}\n"));
+    }
+    csv.push_str("0,switch,0.3,,,\n0,switch,0.6,,,\n");
+    inp.trajectories = Some(csv);
+    let f = figures::trajectory_figure(&inp).unwrap();
+    let belt = &f.panels[0].lines[1].points;
+    assert_eq!(belt, &[(0.0, 1.0), (0.3, 1.0), (0.3, -0.5), (0.6, -0.5), (0.6, 1.0), (0.9, 1.0)]);
+}
