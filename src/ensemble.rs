@@ -68,7 +68,7 @@ pub struct Ensemble {
 impl Ensemble {
     pub fn new(scenario: &Scenario) -> Result<Ensemble, ScenarioError> {
         let scene = scenario.scene()?;
-        let solver = Solver::new(scenario.run.solver, scenario.numerics, scene.damped());
+        let solver = Solver::new(scenario.solver(), scenario.numerics, scene.damped());
         Ok(Ensemble {
             position: scenario.initial_conditions.position,
             velocity: scenario.initial_conditions.velocity,

@@ -34,10 +34,12 @@ pub enum Key {
     SwitchRate,
     ReverseSpeed,
     ReverseSwitchRate,
+    StribeckVelocity,
+    StribeckExponent,
 }
 
 impl Key {
-    pub const ALL: [Key; 10] = [
+    pub const ALL: [Key; 12] = [
         Key::Mass,
         Key::Stiffness,
         Key::Damping,
@@ -48,6 +50,8 @@ impl Key {
         Key::SwitchRate,
         Key::ReverseSpeed,
         Key::ReverseSwitchRate,
+        Key::StribeckVelocity,
+        Key::StribeckExponent,
     ];
 
     /// The key as written, e.g. `model.friction_coefficient`.
@@ -63,6 +67,8 @@ impl Key {
             Key::SwitchRate => "belt.switch_rate",
             Key::ReverseSpeed => "belt.reverse_speed",
             Key::ReverseSwitchRate => "belt.reverse_switch_rate",
+            Key::StribeckVelocity => "model.stribeck_velocity",
+            Key::StribeckExponent => "model.stribeck_exponent",
         }
     }
 
@@ -75,7 +81,7 @@ impl Key {
     /// The valid range's lower end and whether it is excluded (every key is unbounded above).
     pub fn lower_bound(self) -> (f64, bool) {
         match self {
-            Key::Mass | Key::Speed | Key::ReverseSpeed => (0.0, true),
+            Key::Mass | Key::Speed | Key::ReverseSpeed | Key::StribeckVelocity | Key::StribeckExponent => (0.0, true),
             _ => (0.0, false),
         }
     }
@@ -87,7 +93,8 @@ impl Key {
             Key::Stiffness => " (N/m)",
             Key::Damping => " (N·s/m)",
             Key::NormalForce => " (N)",
-            Key::Kinetic | Key::Static => "",
+            Key::Kinetic | Key::Static | Key::StribeckExponent => "",
+            Key::StribeckVelocity => " (m/s)",
             Key::Speed | Key::ReverseSpeed => " (m/s)",
             Key::SwitchRate | Key::ReverseSwitchRate => " (1/s)",
         }
@@ -233,6 +240,8 @@ impl Scene {
                     }
                 }
                 (Key::Static, _) => params.static_ = x,
+                (Key::StribeckVelocity, _) => params.stribeck.velocity = x,
+                (Key::StribeckExponent, _) => params.stribeck.exponent = x,
                 (Key::Speed, Process::Symmetric(p)) => p.speed = x,
                 (Key::Speed, Process::Telegraph(p)) => p.forward_speed = x,
                 (Key::SwitchRate, Process::Symmetric(p)) => p.switch_rate = x,

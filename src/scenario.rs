@@ -19,7 +19,7 @@ use toml::{Table, Value};
 
 use crate::belt::{Belt, InitialSign, Process, Symmetric, Telegraph};
 use crate::params::{Dist, Key, Scene};
-use crate::physics::{FrictionLaw, Params};
+use crate::physics::{FrictionLaw, Params, Stribeck};
 pub use crate::solver::Numerics;
 use crate::solver::SolverKind;
 
@@ -92,6 +92,12 @@ pub struct ModelSpec {
     /// absent: coulomb
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction_law: Option<FrictionLaw>,
+    /// v_s, m/s, > 0 (required by the Stribeck law)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_velocity: Option<Param>,
+    /// δ, > 0 (absent: 2)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_exponent: Option<Param>,
 }
 
 /// `belt.initial_sign`: 1, −1 or "random".
@@ -309,9 +315,20 @@ impl Scenario {
         toml::to_string(self).expect("a scenario serializes")
     }
 
-    /// The solver that actually runs (`auto` resolved).
+    /// Whether the scene's slips have closed forms: Coulomb friction, or a Stribeck law whose
+    /// μ_s is μ_k (no `static_friction_coefficient`), which is Coulomb.
+    pub fn has_closed_forms(&self) -> bool {
+        self.model.friction_law != Some(FrictionLaw::Stribeck) || self.model.static_friction_coefficient.is_none()
+    }
+
+    /// The solver that actually runs: `auto` is `exact` where the scene has closed forms, else
+    /// `rk45` at the `[numerics]` tolerances.
     pub fn solver(&self) -> SolverKind {
-        self.run.solver.resolved()
+        match self.run.solver {
+            SolverKind::Auto if self.has_closed_forms() => SolverKind::Exact,
+            SolverKind::Auto => SolverKind::Rk45,
+            other => other,
+        }
     }
 
     /// The scene every realization is drawn from: fixed parameters, random keys, the belt.
@@ -335,6 +352,10 @@ impl Scenario {
             kinetic,
             static_: m.static_friction_coefficient.as_ref().map_or(kinetic, value),
             law: m.friction_law.unwrap_or(FrictionLaw::Coulomb),
+            stribeck: Stribeck {
+                velocity: m.stribeck_velocity.as_ref().map_or(Params::PAPER.stribeck.velocity, value),
+                exponent: m.stribeck_exponent.as_ref().map_or(2.0, value),
+            },
         };
         let b = &self.belt;
         let (speed, rate) = (value(&b.speed), value(&b.switch_rate));
@@ -392,6 +413,8 @@ impl Scenario {
             Key::SwitchRate => Some(&b.switch_rate),
             Key::ReverseSpeed => b.reverse_speed.as_ref(),
             Key::ReverseSwitchRate => b.reverse_switch_rate.as_ref(),
+            Key::StribeckVelocity => m.stribeck_velocity.as_ref(),
+            Key::StribeckExponent => m.stribeck_exponent.as_ref(),
         }
     }
 
@@ -409,6 +432,8 @@ impl Scenario {
             Key::SwitchRate => ParamSlot::Required(&mut b.switch_rate),
             Key::ReverseSpeed => ParamSlot::Optional(&mut b.reverse_speed),
             Key::ReverseSwitchRate => ParamSlot::Optional(&mut b.reverse_switch_rate),
+            Key::StribeckVelocity => ParamSlot::Optional(&mut m.stribeck_velocity),
+            Key::StribeckExponent => ParamSlot::Optional(&mut m.stribeck_exponent),
         }
     }
 
@@ -427,6 +452,22 @@ impl Scenario {
                 "model.static_friction_coefficient",
                 &shown_param(self.model.static_friction_coefficient.as_ref().unwrap()),
                 &format!("must be >= model.friction_coefficient for every draw (the smallest possible is {}, the largest friction_coefficient {})", short(lo_s), short(hi_k)),
+            ));
+        }
+        let law = self.model.friction_law.unwrap_or(FrictionLaw::Coulomb);
+        if law == FrictionLaw::Stribeck && self.model.stribeck_velocity.is_none() {
+            return Err(invalid("model.stribeck_velocity", "(absent)", "the Stribeck law needs v_s > 0 (m/s)"));
+        }
+        if law != FrictionLaw::Stribeck {
+            if let Some(key) = [(Key::StribeckVelocity), (Key::StribeckExponent)].into_iter().find(|&k| self.param(k).is_some()) {
+                return Err(invalid(key.dotted(), "(set)", "only the Stribeck law uses it: set model.friction_law = \"stribeck\" too"));
+            }
+        }
+        if self.run.solver == SolverKind::Exact && !self.has_closed_forms() {
+            return Err(invalid(
+                "model.friction_law",
+                "\"stribeck\"",
+                "has no closed-form slip, so run.solver = \"exact\" cannot run it: use \"auto\" (rk45) or a numerical solver",
             ));
         }
         let r = &self.run;

@@ -315,7 +315,7 @@ mod tests {
         for &c in &[0.05, 0.5, 4.0, 12.0] {
             let (f, p) = form(4.0, c);
             for &(x0, xd0, sig, v) in &[(0.2, -1.0, 1.0, 1.0), (-0.9, 3.0, -1.0, 1.0), (0.4, 0.9, 1.0, -1.0), (-2.0, 0.0, 1.0, 0.3)] {
-                let a0 = p.slip_accel(x0, xd0, sig);
+                let a0 = p.slip_accel(x0, xd0, v, sig);
                 let Some((tau, x)) = f.crossing(x0, xd0, a0, v, 50.0) else { continue };
                 let (xr, xdr) = direct(4.0, c, x0, xd0, a0, tau);
                 assert!((xdr - v).abs() < 1e-12, "c {c}: u = {} at tau {tau}", xdr - v);
@@ -338,7 +338,7 @@ mod tests {
         let (x0, sig) = (1.0, 1.0);
         // find ẋ₀ whose first maximum is exactly v + 1e-9 by bisection on the closed form
         let peak = |xd0: f64| {
-            let a0 = p.slip_accel(x0, xd0, sig);
+            let a0 = p.slip_accel(x0, xd0, 1.0, sig);
             let b0 = -p.omega2 * xd0 - p.gamma * a0;
             let t1 = f.turning_points(a0, b0).0.unwrap();
             f.state(x0, xd0, a0, t1).1
@@ -349,11 +349,11 @@ mod tests {
             let mid = 0.5 * (lo + hi);
             if peak(mid) > 1.0 + 1e-9 { hi = mid } else { lo = mid }
         }
-        let a0 = p.slip_accel(x0, hi, sig);
+        let a0 = p.slip_accel(x0, hi, 1.0, sig);
         let (tau, _) = f.crossing(x0, hi, a0, 1.0, 10.0).expect("the dip is found");
         assert!((f.state(x0, hi, a0, tau).1 - 1.0).abs() < 1e-12);
         // and just below the peak there is none
-        let a0 = p.slip_accel(x0, lo - 1e-6, sig);
+        let a0 = p.slip_accel(x0, lo - 1e-6, 1.0, sig);
         assert!(f.crossing(x0, lo - 1e-6, a0, 1.0, 10.0).is_none());
     }
 

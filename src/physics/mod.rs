@@ -7,9 +7,17 @@
 //!
 //! ```text
 //!     m ẍ + c ẋ + k x = f
-//!     slip:  f = μ_k n · σ,   σ = sgn(u)                      (Coulomb, kinetic coefficient)
+//!     slip:  f = f(|u|) · σ,   σ = sgn(u)
+//!            Coulomb:  f = μ_k n
+//!            Stribeck: f = n [μ_k + (μ_s − μ_k) exp(−(|u|/v_s)^δ)]    (velocity weakening)
 //!     stick: ẋ = v,  f = F := k x + c v,  |F| ≤ μ_s n           (static coefficient μ_s ≥ μ_k)
 //! ```
+//!
+//! The Stribeck law (R. Stribeck 1902; the exponential form of B. Armstrong-Hélouvry, P. Dupont,
+//! C. Canudas de Wit, "A survey of models, analysis tools and compensation methods for the
+//! control of machines with friction", Automatica 30, 1994) starts at f(0⁺) = μ_s n, so right
+//! after a breakaway the relative acceleration is zero and the mass leaves belt speed tangentially;
+//! it has no closed-form slip and is integrated numerically. With μ_s = μ_k it is Coulomb.
 //!
 //! Everything is written per unit mass, in `ω² = k/m` [1/s²], `γ = c/m` [1/s], the kinetic and
 //! static friction accelerations `a_k = μ_k n/m`, `a_s = μ_s n/m` [m/s²], so that m → 0 or
@@ -45,11 +53,20 @@ pub use undamped::Undamped;
 pub const TOUCH_TOLERANCE: f64 = 1e-12;
 
 /// The friction law as data: a new law is a new variant here and one solver file.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FrictionLaw {
     /// Dry friction: μ_s n holds a stick, μ_k n opposes a slip (μ_s ≥ μ_k; equal in the paper).
     Coulomb,
+    /// Velocity weakening from μ_s n at |u| = 0⁺ to μ_k n, over the Stribeck velocity v_s.
+    Stribeck,
+}
+
+/// The Stribeck law's shape: v_s [m/s] (> 0) and δ (> 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stribeck {
+    pub velocity: f64,
+    pub exponent: f64,
 }
 
 /// Physical parameters of one realization's oscillator (SI units), as in `[model]`.
@@ -68,6 +85,8 @@ pub struct Params {
     /// μ_s (≥ μ_k)
     pub static_: f64,
     pub law: FrictionLaw,
+    /// v_s and δ (used by the Stribeck law)
+    pub stribeck: Stribeck,
 }
 
 impl Params {
@@ -80,6 +99,7 @@ impl Params {
         kinetic: 0.51,
         static_: 0.51,
         law: FrictionLaw::Coulomb,
+        stribeck: Stribeck { velocity: 0.1, exponent: 2.0 },
     };
 
     /// The per-unit-mass constants the solvers work with.
@@ -92,6 +112,7 @@ impl Params {
             gamma: self.damping / self.mass,
             kinetic: self.kinetic * self.normal_force / self.mass,
             breakaway: self.static_ * self.normal_force / self.mass,
+            stribeck: (self.law == FrictionLaw::Stribeck).then_some(self.stribeck),
         }
     }
 }
@@ -112,6 +133,8 @@ pub struct Physics {
     pub kinetic: f64,
     /// a_s = μ_s n/m, m/s²
     pub breakaway: f64,
+    /// the Stribeck law's shape (None: Coulomb)
+    pub stribeck: Option<Stribeck>,
 }
 
 /// What a slip that reaches belt velocity v at position x does next (the module docs' rule).
@@ -127,10 +150,30 @@ pub enum Arrival {
 }
 
 impl Physics {
-    /// The equation of motion in slip: `ẍ = σ a_k − ω² x − γ ẋ` [m/s²].
+    /// The slip friction per unit mass at relative speed |u| [m/s²]: `a_k` (Coulomb), or
+    /// `a_k + (a_s − a_k) exp(−(|u|/v_s)^δ)` (Stribeck).
     #[inline]
-    pub fn slip_accel(&self, x: f64, xdot: f64, sigma: f64) -> f64 {
-        sigma * self.kinetic - self.omega2 * x - self.gamma * xdot
+    pub fn slip_friction(&self, u: f64) -> f64 {
+        match self.stribeck {
+            None => self.kinetic,
+            Some(s) => self.kinetic + (self.breakaway - self.kinetic) * (-(u.abs() / s.velocity).powf(s.exponent)).exp(),
+        }
+    }
+
+    /// The equation of motion in slip under belt velocity v with friction direction σ:
+    /// `ẍ = σ f(|v − ẋ|)/m − ω² x − γ ẋ` [m/s²].
+    #[inline]
+    pub fn slip_accel(&self, x: f64, xdot: f64, v: f64, sigma: f64) -> f64 {
+        sigma * self.slip_friction(v - xdot) - self.omega2 * x - self.gamma * xdot
+    }
+
+    /// Whether the slip after a breakaway only touches belt speed until the next switch (the
+    /// grazing orbit: μ_s = μ_k, when every law is Coulomb's constant; with damping it never even
+    /// touches again). A Stribeck slip with μ_s > μ_k also leaves tangentially, but velocity
+    /// weakening can bring it back.
+    #[inline]
+    pub fn grazes_after_breakaway(&self) -> bool {
+        self.kinetic == self.breakaway
     }
 
     /// The holding force per unit mass in a stick at x under belt velocity v: `ω² x + γ v`.
@@ -155,10 +198,14 @@ impl Physics {
     }
 
     /// The acceleration of the slip that starts at a breakaway (or a touch) under belt velocity
-    /// v: `s (a_k − a_s)` — exactly 0 when μ_s = μ_k (the grazing orbit).
+    /// v: `s (f(0⁺) − a_s)` — exactly 0 when μ_s = μ_k (the grazing orbit), `s (a_k − a_s)` for
+    /// Coulomb, 0 for Stribeck (f(0⁺) = a_s).
     #[inline]
     pub fn breakaway_accel(&self, v: f64) -> f64 {
-        v.signum() * (self.kinetic - self.breakaway) + 0.0
+        match self.stribeck {
+            None => v.signum() * (self.kinetic - self.breakaway) + 0.0,
+            Some(_) => 0.0,
+        }
     }
 
     /// The arrival rule at belt velocity v and position x.
@@ -206,6 +253,21 @@ mod tests {
     use super::*;
 
     #[test]
+    fn stribeck_law_falls_from_static_to_kinetic() {
+        let stribeck = Stribeck { velocity: 0.1, exponent: 2.0 };
+        let p = Params { static_: 0.6, law: FrictionLaw::Stribeck, stribeck, ..Params::PAPER }.per_unit_mass();
+        let (a_s, a_k) = (0.6 * 9.8, 0.51 * 9.8);
+        assert!((p.slip_friction(0.0) - a_s).abs() < 1e-12);
+        assert!((p.slip_friction(-0.1) - (a_k + (a_s - a_k) / std::f64::consts::E)).abs() < 1e-12);
+        assert!((p.slip_friction(1.0) - a_k).abs() < 1e-12 * a_k + (a_s - a_k) * 1e-40);
+        assert_eq!(p.breakaway_accel(1.0), 0.0);
+        assert!(!p.grazes_after_breakaway());
+        // mu_s = mu_k: the law is Coulomb's constant
+        let c = Params { law: FrictionLaw::Stribeck, stribeck, ..Params::PAPER }.per_unit_mass();
+        assert_eq!(c.slip_friction(0.05), 0.51 * 9.8);
+    }
+
+    #[test]
     fn rules_reduce_to_the_paper_without_damping_and_static_excess() {
         let p = Params::PAPER.per_unit_mass();
         let a_f = 0.51 * 9.8;
@@ -232,7 +294,7 @@ mod tests {
         assert!(((x0 + v * tb) - xb).abs() < 1e-12);
         // after breakaway the mass falls behind: relative acceleration s (a_s − a_k) ≠ 0
         assert!((p.breakaway_accel(v) - (-(0.51 - 0.6) * 9.8)).abs() < 1e-12);
-        assert!((p.slip_accel(xb, v, -1.0) - p.breakaway_accel(v)).abs() < 1e-12);
+        assert!((p.slip_accel(xb, v, v, -1.0) - p.breakaway_accel(v)).abs() < 1e-12);
         // between a_k and a_s an arrival sticks
         let x = (-(0.55 * 9.8) - 0.5 * v) / 4.0; // p = 0.55 n
         assert!(matches!(p.arrival(x, v), Arrival::Stick { .. }));

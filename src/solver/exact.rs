@@ -49,7 +49,7 @@ impl<K: SlipForm> Exact<K> {
     fn at_belt_speed(&mut self, t: f64, x: f64, v: f64) -> Stop {
         match self.p.arrival(x, v) {
             Arrival::Reverse { sigma } => {
-                self.phase = Phase::Slip { t0: t, x0: x, xdot0: v, a0: self.p.slip_accel(x, v, sigma) };
+                self.phase = Phase::Slip { t0: t, x0: x, xdot0: v, a0: self.p.slip_accel(x, v, v, sigma) };
                 Stop::Advanced
             }
             Arrival::Touch => {
@@ -80,7 +80,7 @@ impl<K: SlipForm> Exact<K> {
             };
         }
         let sigma = -u0.signum();
-        self.phase = Phase::Slip { t0: t, x0: x, xdot0: xdot, a0: self.p.slip_accel(x, xdot, sigma) };
+        self.phase = Phase::Slip { t0: t, x0: x, xdot0: xdot, a0: self.p.slip_accel(x, xdot, v, sigma) };
         None
     }
 

@@ -21,6 +21,14 @@
 //! `grazing` and no crossing is looked for on it until the next switch, so round-off at a touch is
 //! never taken for a stick. What this method cannot see exactly — and the trade-off measures — is
 //! the crossing time itself, located only as well as the step's error allows.
+//!
+//! **The Stribeck peak.** With velocity weakening the friction has a peak of width v_s around
+//! u = 0 (for δ = 2, `exp(−(u/v_s)²)`); an adaptive controller's error estimate can step over it,
+//! and then the law silently acts as plain Coulomb with μ_k. While the peak term is not negligible
+//! (`(|u|/v_s)^δ < 30`), every step is kept short enough that u moves by at most v_s/2 on the
+//! local quadratic `|u̇| h + |ü| h²/2 ≤ v_s/2`, i.e. `h ≤ v_s / (|u̇| + √(u̇² + |ü| v_s))` with
+//! `u̇ = −ẍ`, `ü ≈ ω² ẋ + γ ẍ` (cancellation-free root). `numerics.peak_guard = false` turns it
+//! off, only to see what an unguarded controller does.
 
 use super::rk::{rk4, Dopri, State, Step};
 use super::{step_end, Event, Method, Stop};
@@ -51,6 +59,7 @@ pub struct Hybrid {
     p: Physics,
     scheme: Scheme,
     step: f64,
+    peak_guard: bool,
     dopri: Dopri,
     steps: u64,
     mode: Mode,
@@ -72,6 +81,7 @@ impl Hybrid {
             p: *p,
             scheme,
             step: num.step,
+            peak_guard: num.peak_guard,
             dopri: Dopri::new(num.rtol, num.atol, num.max_step),
             steps: 0,
             mode: Mode::Stick { t0: 0.0, x0: 0.0 },
@@ -98,7 +108,7 @@ impl Hybrid {
 
     /// Slip away from the breakaway point under belt velocity `v`.
     fn leave_breakaway(&mut self, v: f64) {
-        let grazing = self.p.breakaway_accel(v) == 0.0;
+        let grazing = self.p.grazes_after_breakaway();
         (self.mode, self.y) = (Mode::Slip { sigma: v.signum(), grazing }, [self.p.holding_limit(v, 1.0), v]);
     }
 
@@ -110,6 +120,19 @@ impl Hybrid {
         (self.t, self.y, self.mode) = (t, y, Mode::Slip { sigma: (v - y[1]).signum(), grazing: false });
         None
     }
+}
+
+/// The longest step that keeps the Stribeck peak resolved at state `y` under belt velocity `v`
+/// (module docs; ∞ for Coulomb, or away from the peak).
+fn peak_limit(p: &Physics, y: State, v: f64, acc: f64) -> f64 {
+    let Some(s) = p.stribeck else { return f64::INFINITY };
+    let u = v - y[1];
+    if !((u.abs() / s.velocity).powf(s.exponent) < 30.0) {
+        return f64::INFINITY;
+    }
+    let (du, ddu) = (acc.abs(), (p.omega2 * y[1] + p.gamma * acc).abs());
+    let h = s.velocity / (du + (du * du + ddu * s.velocity).sqrt());
+    if h > 0.0 { h } else { f64::INFINITY }
 }
 
 impl Method for Hybrid {
@@ -132,12 +155,13 @@ impl Method for Hybrid {
             }
             Mode::Slip { sigma, grazing } => {
                 let p = self.p;
-                let acc = |y: State| p.slip_accel(y[0], y[1], sigma);
+                let acc = |y: State| p.slip_accel(y[0], y[1], v, sigma);
+                let limit = (t1 - self.t).min(if self.peak_guard { peak_limit(&p, self.y, v, acc(self.y)) } else { f64::INFINITY });
                 let step: Step = match self.scheme {
-                    Scheme::Rk45 => self.dopri.step(&acc, self.t, self.y, t1 - self.t, &mut self.steps),
+                    Scheme::Rk45 => self.dopri.step(&acc, self.t, self.y, limit, &mut self.steps),
                     Scheme::Rk4 => {
                         self.steps += 1;
-                        rk4(&acc, self.t, self.y, self.step.min(t1 - self.t))
+                        rk4(&acc, self.t, self.y, self.step.min(limit))
                     }
                 };
                 self.piece = Piece::Step(step);

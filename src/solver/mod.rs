@@ -177,6 +177,14 @@ pub struct Numerics {
     pub epsilon: f64,
     pub stick_velocity: f64,
     pub step_budget: u64,
+    /// rk45/rk4 keep the Stribeck peak resolved (see [`hybrid`]); false only to see what an
+    /// unguarded controller does
+    #[serde(default = "yes")]
+    pub peak_guard: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// The solver `run.solver` names.
@@ -196,14 +204,6 @@ impl SolverKind {
     /// Every name, for messages.
     pub const NAMES: [&'static str; 6] = ["auto", "exact", "rk45", "rk4", "moreau", "smooth"];
 
-    /// The method actually run (`auto` resolved for the scene).
-    pub fn resolved(self) -> SolverKind {
-        match self {
-            SolverKind::Auto => SolverKind::Exact,
-            other => other,
-        }
-    }
-
     pub fn name(self) -> &'static str {
         Self::NAMES[self as usize]
     }
@@ -219,9 +219,10 @@ pub struct Solver {
 }
 
 impl Solver {
-    /// `damped`: use the damped closed forms (a scene whose damping may be nonzero).
+    /// `kind`: the method actually run (`auto` already resolved for the scene, see
+    /// `Scenario::solver`); `damped`: use the damped closed forms (the damping may be nonzero).
     pub fn new(kind: SolverKind, numerics: Numerics, damped: bool) -> Solver {
-        Solver { kind: kind.resolved(), numerics, damped }
+        Solver { kind, numerics, damped }
     }
 
     /// Solve one realization of the oscillator `p` (per unit mass, [`crate::physics::Params::per_unit_mass`]).

@@ -12,7 +12,9 @@
 //! ```
 //!
 //! The inclusion is solved exactly: if the force needed to keep ẋ' = v, `f* = (A v − b)/h`,
-//! satisfies |f*| ≤ a_s the step sticks; otherwise it slips with f = a_k sgn(f*). A stick is a
+//! satisfies |f*| ≤ a_s the step sticks; otherwise it slips with f = f(|v − ẋ|) sgn(f*), the slip
+//! friction of [`Physics::slip_friction`] at the step's starting relative velocity (a_k for
+//! Coulomb; semi-implicit for the Stribeck law). A stick is a
 //! maximal run of sticking steps and is reported at the start of its first step; nothing is
 //! located between grid points, so event times carry an O(h) error — the price of never locating
 //! an event.
@@ -60,7 +62,7 @@ impl Method for Moreau {
         let b = self.xd - h * p.omega2 * (self.x + h * THETA * (1.0 - THETA) * self.xd) - h * p.gamma * (1.0 - THETA) * self.xd;
         let f_star = (big_a * v - b) / h;
         let stick_now = f_star.abs() <= p.breakaway;
-        let xd_new = if stick_now { v } else { (b + h * p.kinetic * f_star.signum()) / big_a };
+        let xd_new = if stick_now { v } else { (b + h * p.slip_friction(v - self.xd) * f_star.signum()) / big_a };
         let event = match (self.stuck, stick_now) {
             (false, true) => Some(Event::Stick { t, x: self.x }),
             (true, false) => Some(Event::Slip { t, x: self.x, xdot: self.xd }),

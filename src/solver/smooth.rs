@@ -5,11 +5,13 @@
 //! tolerances. The regularized law, per unit mass, with w = u/ε:
 //!
 //! ```text
-//!   f_ε(u) = a_k tanh(w) + (a_s − a_k) · w e^{(1 − w²)/2}
+//!   Coulomb:  f_ε(u) = a_k tanh(w) + (a_s − a_k) · w e^{(1 − w²)/2}
+//!   Stribeck: f_ε(u) = f(|u|) tanh(w)
 //! ```
 //!
-//! (the second term, present only when μ_s > μ_k, is a bump of height a_s − a_k at |u| = ε, so
-//! that the largest friction the law can exert is about the static limit). Classification rule:
+//! (for Coulomb the second term, present only when μ_s > μ_k, is a bump of height a_s − a_k at
+//! |u| = ε, so that the largest friction the law can exert is about the static limit; the Stribeck
+//! law reaches it by itself). Classification rule:
 //! the mass is *stuck* while `|v − ẋ| < δ` (`stick_velocity`), slipping otherwise; the crossings
 //! of `|v − ẋ| = δ` are located on the dense output. With a smooth law the mass never moves
 //! exactly with the belt: it creeps at a relative speed of about ε·|F|/a_k, so stick durations
@@ -64,6 +66,9 @@ impl Smooth {
 /// The regularized friction per unit mass at relative velocity u (module docs).
 fn friction(p: &Physics, epsilon: f64, u: f64) -> f64 {
     let w = u / epsilon;
+    if p.stribeck.is_some() {
+        return p.slip_friction(u) * w.tanh();
+    }
     let excess = p.breakaway - p.kinetic;
     let bump = if excess > 0.0 { excess * w * (0.5 * (1.0 - w * w)).exp() } else { 0.0 };
     p.kinetic * w.tanh() + bump

@@ -181,7 +181,11 @@ fn the_door_refuses_impossible_scenes_naming_the_key() {
         (&["belt.reverse_speed=0.5"], "belt.reverse_speed", "reverse_switch_rate"),
         (&["belt.reverse_speed=0"], "belt.reverse_speed", "> 0"),
         (&["run.solver=\"ode45\""], "run.solver", "rk45"),
-        (&["model.friction_law=\"stribeck\""], "model.friction_law", "coulomb"),
+        (&["model.friction_law=\"dahl\""], "model.friction_law", "stribeck"),
+        (&["model.friction_law=\"stribeck\""], "model.stribeck_velocity", "v_s"),
+        (&["model.stribeck_velocity=0.1"], "model.stribeck_velocity", "friction_law"),
+        (&["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "run.solver=\"exact\""], "model.friction_law", "exact"),
+        (&["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0", "model.static_friction_coefficient=0.6"], "model.stribeck_velocity", "> 0"),
         (&["model.dampin=1"], "model.dampin", "damping"),
     ];
     for (sets, key, words) in cases {
