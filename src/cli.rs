@@ -180,6 +180,10 @@ pub struct TradeoffArgs {
     /// Realizations per setting (all settings run the same ones, on one thread).
     #[arg(long, value_name = "N", default_value_t = 100)]
     pub realizations: u64,
+    /// Recommend the cheapest setting whose bias on every Table 1 statistic is below this
+    /// fraction of its Monte Carlo standard error at the scenario's run.realizations.
+    #[arg(long, value_name = "F", default_value_t = crate::tradeoff::BIAS_FRACTION)]
+    pub bias_fraction: f64,
 }
 
 #[derive(Debug, clap::Args)]
@@ -296,16 +300,27 @@ fn tradeoff_command(args: TradeoffArgs, quiet: bool) -> anyhow::Result<()> {
     if args.realizations == 0 {
         return Err(usage("--realizations must be at least 1"));
     }
+    if !(args.bias_fraction > 0.0 && args.bias_fraction.is_finite()) {
+        return Err(usage(format!("--bias-fraction {}: must be a positive number", args.bias_fraction)));
+    }
     check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
-    let rows = crate::tradeoff::run(&scenario, args.realizations, &args.out).context("tradeoff")?;
+    let rows = crate::tradeoff::run(&scenario, args.realizations, args.bias_fraction, &args.out).context("tradeoff")?;
     if !quiet {
-        println!("| solver | setting | CPU s/realization | RMS error [s] | max error [s] | missed | spurious | bias E[S_T] | bias E[H] |\n|---|---|---|---|---|---|---|---|---|");
+        println!("| solver | setting | CPU s/realization | RMS error [s] | max error [s] | missed | spurious | bias E[S_T] | bias E[H] | max bias/SE |\n|---|---|---|---|---|---|---|---|---|---|");
         for r in &rows {
             println!(
-                "| {} | {} | {:.2e} | {:.1e} | {:.1e} | {} | {} | {:+.3} | {:+.4} |",
-                r.solver, r.setting, r.seconds_per_realization, r.error_rms, r.error_max, r.missed_sticks, r.spurious_sticks, r.bias_st, r.bias_h
+                "| {} | {} | {:.2e} | {:.1e} | {:.1e} | {} | {} | {:+.3} | {:+.4} | {:.3} |",
+                r.solver, r.setting, r.seconds_per_realization, r.error_rms, r.error_max, r.missed_sticks, r.spurious_sticks, r.bias_st, r.bias_h, r.max_bias_over_se
             );
+        }
+        let n = scenario.run.realizations;
+        match rows.iter().find(|r| r.recommended) {
+            Some(r) => println!(
+                "\nrecommended at run.realizations = {n}: {} {} ({:.2e} CPU s per realization; every Table 1 bias below {} of its standard error, worst {:.3})",
+                r.solver, r.setting, r.seconds_per_realization, args.bias_fraction, r.max_bias_over_se
+            ),
+            None => println!("\nno setting keeps every Table 1 bias below {} of its standard error at run.realizations = {n}", args.bias_fraction),
         }
     }
     Ok(())

@@ -1,14 +1,25 @@
 //! The `tradeoff` stage: the same realizations through every solver over a ladder of settings,
-//! measured against `exact`.
+//! measured against a reference, and the cheapest setting that is accurate enough.
 //!
-//! Every setting runs realizations 0..N of the scenario (same belt switches, same initial
-//! conditions: the random draws do not depend on the solver) on one thread, timed. Stick and
-//! slip starts are matched to the exact solver's in time order (two pointers, window
-//! [`MATCH_WINDOW`]): unmatched exact sticks are *missed*, unmatched numerical ones *spurious*;
-//! matched ones give the event-time error. Biases are differences of sample means against exact on
-//! the same realizations. Output: `DIR/tradeoff.parquet`, one row per (solver, setting), and the
-//! work-precision plot `DIR/work_precision.{png,svg}` (log10 RMS event-time error against log10 CPU
-//! time per realization).
+//! Every setting runs realizations 0..n of the scenario (same belt switches, same initial
+//! conditions: the random draws do not depend on the solver) on one thread, timed. The reference
+//! is `exact` where the scene has closed forms; otherwise rk45 at rtol = atol = 1e-13, accepted
+//! only if rk45 at 1e-11 gives the same events on every realization within [`REFERENCE_AGREEMENT`]
+//! (shown converged, or the stage fails). Stick and slip starts are matched to the reference's in
+//! time order (two pointers, window [`MATCH_WINDOW`]): unmatched reference sticks are *missed*,
+//! unmatched other ones *spurious*; matched ones give the event-time error.
+//!
+//! **The question users ask** — which is the cheapest setting whose bias is below a fraction of
+//! the Monte Carlo standard error at my N? For each setting and each Table 1 statistic s
+//! (E T_k, E D_k, E L_k, E H_k for k ≤ 6, E S_T, E S_L): bias_s = mean_setting − mean_reference
+//! over the same realizations, and SE_s = sd_reference / √(N · p_s) the standard error of the
+//! mean at the scenario's `run.realizations` N (p_s: the fraction of realizations that have the
+//! k-th interval). The setting's score is max_s |bias_s| / SE_s; the recommendation is the
+//! cheapest setting (CPU per realization) scoring below `--bias-fraction` (default 0.1).
+//!
+//! Output: `DIR/tradeoff.parquet`, one row per (solver, setting) with `max_bias_over_se` and
+//! `recommended`, and the work-precision plot `DIR/work_precision.{png,svg}` (log10 RMS
+//! event-time error against log10 CPU time per realization, the recommendation marked).
 
 use std::path::Path;
 use std::time::Instant;
@@ -23,6 +34,12 @@ use crate::solver::SolverKind;
 
 /// Largest time difference [s] at which a numerical event is matched to an exact one.
 pub const MATCH_WINDOW: f64 = 0.05;
+
+/// The two tight rk45 runs must agree to this on every event [s] for the reference to count.
+pub const REFERENCE_AGREEMENT: f64 = 1e-9;
+
+/// The default `--bias-fraction`.
+pub const BIAS_FRACTION: f64 = 0.1;
 
 /// One rung of the ladder: a solver, its setting's label and parameter, and the numerics it sets.
 pub struct Setting {
@@ -92,6 +109,8 @@ pub enum TradeoffError {
     Write { path: std::path::PathBuf, message: String },
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
+    #[error("the reference is not converged: rk45 at rtol = atol = 1e-11 and 1e-13 differ on realization {realization} ({detail}); the scene may be too stiff for an explicit method (a very small model.stribeck_velocity?)")]
+    Reference { realization: u64, detail: String },
 }
 
 /// One measured setting.
@@ -110,6 +129,9 @@ pub struct Row {
     pub bias_d: f64,
     pub bias_h: f64,
     pub bias_st: f64,
+    /// max over the Table 1 statistics of |bias| / (Monte Carlo SE at run.realizations)
+    pub max_bias_over_se: f64,
+    pub recommended: bool,
 }
 
 /// The records of realizations 0..n and the CPU seconds per realization of solving them alone
@@ -139,21 +161,106 @@ fn mean_tk(rs: &[Record], k: usize) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
-/// Measure every setting of the ladder on realizations 0..n of `base`.
-pub fn measure(base: &Scenario, n: u64) -> Result<Vec<Row>, TradeoffError> {
-    let mut rows = Vec::new();
-    let mut reference: Option<Vec<Record>> = None;
-    for Setting { solver, label: setting, parameter, apply } in ladder(base.run.duration) {
+/// The Table 1 statistics the recommendation scores: (name, value of one realization if it has it).
+fn statistics() -> Vec<(String, Box<dyn Fn(&Record) -> Option<f64>>)> {
+    let mut out: Vec<(String, Box<dyn Fn(&Record) -> Option<f64>>)> = vec![
+        ("S_T".into(), Box::new(|r: &Record| Some(r.n_stick() as f64))),
+        ("S_L".into(), Box::new(|r: &Record| Some(r.n_slip() as f64))),
+    ];
+    for k in 0..6 {
+        out.push((format!("T_{}", k + 1), Box::new(move |r: &Record| r.stick_start.get(k).copied())));
+        out.push((format!("D_{}", k + 1), Box::new(move |r: &Record| r.stick_duration.get(k).copied())));
+        out.push((format!("L_{}", k + 1), Box::new(move |r: &Record| r.slip_start.get(k).copied())));
+        out.push((format!("H_{}", k + 1), Box::new(move |r: &Record| r.slip_duration.get(k).copied())));
+    }
+    out
+}
+
+/// max over the statistics of |mean(records) − mean(reference)| / SE at `n_run` realizations.
+fn bias_over_se(records: &[Record], reference: &[Record], n_run: u64) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (_, f) in statistics() {
+        let r: Vec<f64> = reference.iter().filter_map(&f).collect();
+        let o: Vec<f64> = records.iter().filter_map(&f).collect();
+        if r.len() < 2 || o.is_empty() {
+            continue;
+        }
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let (mr, mo) = (mean(&r), mean(&o));
+        let var = r.iter().map(|x| (x - mr) * (x - mr)).sum::<f64>() / (r.len() - 1) as f64;
+        let n_stat = n_run as f64 * r.len() as f64 / reference.len() as f64;
+        let se = (var / n_stat).sqrt();
+        let bias = (mo - mr).abs();
+        worst = worst.max(if se > 0.0 { bias / se } else if bias > 0.0 { f64::INFINITY } else { 0.0 });
+    }
+    worst
+}
+
+/// The reference records: exact, or rk45 at 1e-12 shown converged against 1e-10.
+fn reference(base: &Scenario, n: u64) -> Result<(Setting, Vec<Record>, f64), TradeoffError> {
+    if base.has_closed_forms() {
+        let exact = ladder(base.run.duration).into_iter().next().expect("exact is the first rung");
         let mut sc = base.clone();
-        sc.run.solver = solver;
-        apply(&mut sc.numerics);
-        sc.check()?;
-        let (records, secs) = run_all(&sc, n).map_err(|e| match e {
-            TradeoffError::Run { solver, source, .. } => TradeoffError::Run { solver, setting: setting.clone(), source },
-            other => other,
-        })?;
+        sc.run.solver = exact.solver;
+        let (records, secs) = run_all(&sc, n)?;
+        return Ok((exact, records, secs));
+    }
+    let tight = |tol: f64| {
+        let max_step = 1e-2_f64.min(base.run.duration);
+        Setting {
+            solver: SolverKind::Rk45,
+            label: format!("reference: rtol=atol={tol:e}, max_step={max_step:e}"),
+            parameter: tol,
+            apply: Box::new(move |n: &mut Numerics| (n.rtol, n.atol, n.max_step, n.peak_guard) = (tol, tol, max_step, true)),
+        }
+    };
+    let run = |s: &Setting| -> Result<(Vec<Record>, f64), TradeoffError> {
+        let mut sc = base.clone();
+        sc.run.solver = s.solver;
+        (s.apply)(&mut sc.numerics);
+        sc.numerics.step_budget = sc.numerics.step_budget.max(1_000_000_000);
+        run_all(&sc, n)
+    };
+    let (check, fine) = (tight(1e-11), tight(1e-13));
+    let (a, _) = run(&check)?;
+    let (b, secs) = run(&fine)?;
+    for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+        let detail = if (x.n_stick(), x.n_slip()) != (y.n_stick(), y.n_slip()) {
+            Some(format!("S_T {} vs {}, S_L {} vs {}", x.n_stick(), y.n_stick(), x.n_slip(), y.n_slip()))
+        } else {
+            let worst = x.stick_start.iter().zip(&y.stick_start).chain(x.slip_start.iter().zip(&y.slip_start)).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+            (worst > REFERENCE_AGREEMENT).then(|| format!("event times differ by {worst:e} s"))
+        };
+        if let Some(detail) = detail {
+            return Err(TradeoffError::Reference { realization: i as u64, detail });
+        }
+    }
+    Ok((fine, b, secs))
+}
+
+/// Measure every setting of the ladder on realizations 0..n of `base`, against the reference;
+/// mark the cheapest setting whose [`bias_over_se`] is below `bias_fraction`.
+pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, TradeoffError> {
+    let (reference_setting, reference, reference_secs) = reference(base, n)?;
+    let mut rows = Vec::new();
+    let mut settings: Vec<(Setting, Option<(Vec<Record>, f64)>)> = vec![(reference_setting, Some((reference.clone(), reference_secs)))];
+    settings.extend(ladder(base.run.duration).into_iter().filter(|s| s.solver != SolverKind::Exact).map(|s| (s, None)));
+    for (Setting { solver, label: setting, parameter, apply }, done) in settings {
+        let (records, secs) = match done {
+            Some(d) => d,
+            None => {
+                let mut sc = base.clone();
+                sc.run.solver = solver;
+                apply(&mut sc.numerics);
+                sc.check()?;
+                run_all(&sc, n).map_err(|e| match e {
+                    TradeoffError::Run { solver, source, .. } => TradeoffError::Run { solver, setting: setting.clone(), source },
+                    other => other,
+                })?
+            }
+        };
         let solver = solver.name();
-        let exact = reference.get_or_insert_with(|| records.clone());
+        let exact = &reference;
         let (mut errors, mut missed, mut spurious) = (Vec::new(), 0, 0);
         for (e, r) in exact.iter().zip(&records) {
             let (err, m, s) = match_events(&e.stick_start, &r.stick_start);
@@ -177,7 +284,18 @@ pub fn measure(base: &Scenario, n: u64) -> Result<Vec<Row>, TradeoffError> {
             bias_d: pooled(&records, |r| &r.stick_duration) - pooled(exact, |r| &r.stick_duration),
             bias_h: pooled(&records, |r| &r.slip_duration) - pooled(exact, |r| &r.slip_duration),
             bias_st: count(&records) - count(exact),
+            max_bias_over_se: bias_over_se(&records, exact, base.run.realizations),
+            recommended: false,
         });
+    }
+    let cheapest = rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.max_bias_over_se < bias_fraction)
+        .min_by(|a, b| a.1.seconds_per_realization.total_cmp(&b.1.seconds_per_realization))
+        .map(|(i, _)| i);
+    if let Some(i) = cheapest {
+        rows[i].recommended = true;
     }
     Ok(rows)
 }
@@ -200,7 +318,9 @@ pub fn table(rows: &[Row], n: u64) -> Table {
         .push("bias_mean_T_k_max", f(&|r| r.bias_t))
         .push("bias_mean_D", f(&|r| r.bias_d))
         .push("bias_mean_H", f(&|r| r.bias_h))
-        .push("bias_mean_S_T", f(&|r| r.bias_st));
+        .push("bias_mean_S_T", f(&|r| r.bias_st))
+        .push("max_bias_over_se", f(&|r| r.max_bias_over_se))
+        .push("recommended", i(&|r| r.recommended as u64));
     t
 }
 
@@ -224,6 +344,12 @@ pub fn figure(rows: &[Row]) -> Figure {
     points.extend(rows.iter().filter(|r| r.setting.starts_with("paper")).map(|r| Series {
         label: "rk45 at the paper's ode45 settings".into(),
         color: 6,
+        points: vec![(r.seconds_per_realization.log10(), r.error_rms.max(1e-16).log10())],
+        ..Default::default()
+    }));
+    points.extend(rows.iter().filter(|r| r.recommended).map(|r| Series {
+        label: format!("recommended: {} {}", r.solver, r.setting),
+        color: 3,
         points: vec![(r.seconds_per_realization.log10(), r.error_rms.max(1e-16).log10())],
         ..Default::default()
     }));
@@ -252,9 +378,9 @@ pub fn figure(rows: &[Row]) -> Figure {
 }
 
 /// Run the stage into `out` (replaced when complete).
-pub fn run(base: &Scenario, n: u64, out: &Path) -> Result<Vec<Row>, TradeoffError> {
+pub fn run(base: &Scenario, n: u64, bias_fraction: f64, out: &Path) -> Result<Vec<Row>, TradeoffError> {
     let staged = StagedDir::new(out, Kind::Tradeoff, "--out", &[])?;
-    let rows = measure(base, n)?;
+    let rows = measure(base, n, bias_fraction)?;
     let werr = |path: &Path, e: &dyn std::fmt::Display| TradeoffError::Write { path: path.to_owned(), message: e.to_string() };
     table(&rows, n).write_parquet(&staged.path().join("tradeoff.parquet")).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
     render::save(&figure(&rows), staged.path()).map_err(|e| werr(&out.join("work_precision.png"), &e))?;

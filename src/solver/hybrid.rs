@@ -24,10 +24,13 @@
 //!
 //! **The Stribeck peak.** With velocity weakening the friction has a peak of width v_s around
 //! u = 0 (for δ = 2, `exp(−(u/v_s)²)`); an adaptive controller's error estimate can step over it,
-//! and then the law silently acts as plain Coulomb with μ_k. While the peak term is not negligible
-//! (`(|u|/v_s)^δ < 30`), every step is kept short enough that u moves by at most v_s/2 on the
-//! local quadratic `|u̇| h + |ü| h²/2 ≤ v_s/2`, i.e. `h ≤ v_s / (|u̇| + √(u̇² + |ü| v_s))` with
-//! `u̇ = −ẍ`, `ü ≈ ω² ẋ + γ ẍ` (cancellation-free root). `numerics.peak_guard = false` turns it
+//! and then the law silently acts as plain Coulomb with μ_k (a near-graze whose dip into the peak
+//! falls between two stages is the typical case). So every step is kept short enough that, on the
+//! local quadratic `|u̇| h + |ü| h²/2 ≤ Δ` with `u̇ = −ẍ`, `ü ≈ ω² ẋ + γ ẍ`, u cannot move by more
+//! than `Δ = (|u| − w)₊ + v_s/2`, where `w = v_s 30^{1/δ}` bounds the window in which the peak term
+//! exceeds e^−30: far from the peak steps are free, approaching it they shrink geometrically, and
+//! inside it u moves by at most v_s/2 per step (`h = 2Δ / (|u̇| + √(u̇² + 2|ü|Δ))`, the
+//! cancellation-free root). `numerics.peak_guard = false` turns it
 //! off, only to see what an unguarded controller does.
 
 use super::rk::{rk4, Dopri, State, Step};
@@ -123,15 +126,17 @@ impl Hybrid {
 }
 
 /// The longest step that keeps the Stribeck peak resolved at state `y` under belt velocity `v`
-/// (module docs; ∞ for Coulomb, or away from the peak).
+/// (module docs; ∞ for Coulomb).
 fn peak_limit(p: &Physics, y: State, v: f64, acc: f64) -> f64 {
     let Some(s) = p.stribeck else { return f64::INFINITY };
     let u = v - y[1];
-    if !((u.abs() / s.velocity).powf(s.exponent) < 30.0) {
-        return f64::INFINITY;
-    }
+    // the window where the peak term exp(−(|u|/v_s)^δ) exceeds e^−30, and the change of u one
+    // step may make: what is left to the window, plus v_s/2
+    let window = s.velocity * 30f64.powf(1.0 / s.exponent);
+    let allowed = (u.abs() - window).max(0.0) + 0.5 * s.velocity;
     let (du, ddu) = (acc.abs(), (p.omega2 * y[1] + p.gamma * acc).abs());
-    let h = s.velocity / (du + (du * du + ddu * s.velocity).sqrt());
+    // the positive root of |ü| h²/2 + |u̇| h = allowed, without cancellation
+    let h = 2.0 * allowed / (du + (du * du + 2.0 * ddu * allowed).sqrt());
     if h > 0.0 { h } else { f64::INFINITY }
 }
 
@@ -205,5 +210,46 @@ impl Method for Hybrid {
 
     fn steps(&self) -> u64 {
         self.steps
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::{FrictionLaw, Params, Stribeck};
+
+    /// One forced Dormand–Prince step of length `h` of a Stribeck slip (σ = +1, belt v = 1) from
+    /// (x0, ẋ0), and g = v − ẋ on it.
+    fn step(xd0: f64, h: f64) -> (Step, impl Fn(State) -> f64) {
+        let stribeck = Stribeck { velocity: 0.1, exponent: 2.0 };
+        let p = Params { static_: 0.6, law: FrictionLaw::Stribeck, stribeck, ..Params::PAPER }.per_unit_mass();
+        let acc = move |y: State| p.slip_accel(y[0], y[1], 1.0, 1.0);
+        let mut dp = Dopri::new(1.0, 1.0, h);
+        dp.h = h;
+        let x0 = 0.51 * 9.8 / 4.0 - 0.25;
+        (dp.step(&acc, 0.0, [x0, xd0], h, &mut 0), |y: State| 1.0 - y[1])
+    }
+
+    #[test]
+    fn a_stribeck_dip_between_step_ends_is_found() {
+        // One long step (0.6 s) around the velocity maximum: find ẋ0 where the dense output just
+        // dips below belt speed. Both step ends are below belt speed, so the naive end-sign test
+        // sees nothing; the three-sign search finds the crossing.
+        let h = 0.6;
+        let dips = |xd0: f64| {
+            let (s, g) = step(xd0, h);
+            s.first_zero(&g, g(s.y1) > 0.0 && s.f0[1] > 0.0 && s.f1[1] < 0.0).is_some()
+        };
+        let (mut lo, mut hi) = (0.3, 0.99);
+        assert!(!dips(lo) && dips(hi));
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if dips(mid) { hi = mid } else { lo = mid }
+        }
+        let (s, g) = step(hi, h);
+        assert!(g(s.y0) > 0.0 && g(s.y1) > 0.0, "both ends below belt speed");
+        assert_eq!(s.first_zero(&g, false), None, "the naive end-sign test misses it");
+        let theta = s.first_zero(&g, true).expect("the three-sign search finds it");
+        assert!(theta > 0.0 && theta < 1.0 && g(s.at(theta)).abs() < 1e-9, "θ = {theta}, g = {}", g(s.at(theta)));
     }
 }

@@ -8,7 +8,7 @@ use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::events::{Observer, Record};
 use stickslip::physics::Params;
 use stickslip::scenario::Scenario;
-use stickslip::solver::{Drive, Solver, SolverKind};
+use stickslip::solver::{Drive, Solver};
 
 /// The paper scenario with `KEY=VALUE` overrides.
 pub fn scenario(sets: &[&str]) -> Scenario {
@@ -59,12 +59,12 @@ pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot
     solve_segments(sc, &scene.params, &vel, &sw, x0, xdot0)
 }
 
-/// Solve given belt segments with the exact solver for the oscillator `p`.
+/// Solve given belt segments with the scenario's solver for the oscillator `p`.
 pub fn solve_segments(sc: &Scenario, p: &Params, velocities: &[f64], switches: &[f64], x0: f64, xdot0: f64) -> WithPositions {
     let drive = Drive { velocities, switches, t_end: sc.run.duration };
     let mut obs = WithPositions::default();
     let damped = sc.scene().expect("a valid scene").damped();
-    Solver::new(SolverKind::Exact, sc.numerics, damped).solve(&p.per_unit_mass(), &drive, x0, xdot0, &mut obs).expect("solves");
+    Solver::new(sc.solver(), sc.numerics, damped).solve(&p.per_unit_mass(), &drive, x0, xdot0, &mut obs).expect("solves");
     obs.record.finish(sc.run.duration);
     obs
 }

@@ -16,3 +16,4 @@ mod reference;
 mod safety;
 mod scenes;
 mod solvers;
+mod stribeck;

@@ -189,11 +189,11 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
 #[test]
 fn tradeoff_writes_one_row_per_setting() {
     let tmp = tempfile::tempdir().unwrap();
-    let rows = tradeoff::run(&scenario(&["run.duration=2"]), 3, &tmp.path().join("t")).unwrap();
+    let rows = tradeoff::run(&scenario(&["run.duration=2"]), 3, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
     let t = stickslip::analysis::frame::Table::read_parquet(&tmp.path().join("t/tradeoff.parquet")).unwrap();
     assert_eq!(t.height(), tradeoff::ladder(2.0).len());
     assert_eq!(rows.len(), t.height());
-    for col in ["cpu_seconds_per_realization", "event_time_error_max", "event_time_error_rms", "bias_mean_S_T", "bias_mean_D", "bias_mean_H", "bias_mean_T_k_max"] {
+    for col in ["cpu_seconds_per_realization", "event_time_error_max", "event_time_error_rms", "bias_mean_S_T", "bias_mean_D", "bias_mean_H", "bias_mean_T_k_max", "max_bias_over_se"] {
         assert!(t.floats(col).unwrap().iter().all(Option::is_some), "{col}");
     }
     for col in ["missed_sticks", "spurious_sticks", "matched_events"] {
@@ -201,5 +201,8 @@ fn tradeoff_writes_one_row_per_setting() {
     }
     let exact = &rows[0];
     assert_eq!((exact.solver, exact.error_max, exact.missed_sticks, exact.spurious_sticks), ("exact", 0.0, 0, 0));
+    // on the paper scene the answer must be exact: the cheapest, and unbiased
+    assert_eq!(rows.iter().filter(|r| r.recommended).map(|r| r.solver).collect::<Vec<_>>(), ["exact"]);
+    assert_eq!(t.ints("recommended").unwrap().iter().map(|x| x.unwrap()).sum::<i64>(), 1);
     assert!(tmp.path().join("t/work_precision.png").is_file() && tmp.path().join("t/work_precision.svg").is_file());
 }
