@@ -69,6 +69,31 @@ pub struct Stribeck {
     pub exponent: f64,
 }
 
+/// Beyond `(|u|/v_s)^δ > PEAK_CUTOFF` the peak term `exp(−(|u|/v_s)^δ) < 4e-18` is dropped: the
+/// friction is μ_k n to the last bit (for any μ_s/μ_k below about 50).
+pub const PEAK_CUTOFF: f64 = 40.0;
+
+impl Stribeck {
+    /// `exp(−(|u|/v_s)^δ)`, the peak term (δ = 2 and δ = 1 without `powf`; 0 past the cutoff).
+    #[inline]
+    pub fn peak(&self, u: f64) -> f64 {
+        let r = u.abs() / self.velocity;
+        let z = if self.exponent == 2.0 {
+            r * r
+        } else if self.exponent == 1.0 {
+            r
+        } else {
+            r.powf(self.exponent)
+        };
+        if z > PEAK_CUTOFF { 0.0 } else { (-z).exp() }
+    }
+
+    /// The half-width of the window in which the peak term exceeds e^−12 (6e-6): `v_s 12^{1/δ}`.
+    pub fn window(&self) -> f64 {
+        self.velocity * 12f64.powf(1.0 / self.exponent)
+    }
+}
+
 /// Physical parameters of one realization's oscillator (SI units), as in `[model]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Params {
@@ -156,7 +181,7 @@ impl Physics {
     pub fn slip_friction(&self, u: f64) -> f64 {
         match self.stribeck {
             None => self.kinetic,
-            Some(s) => self.kinetic + (self.breakaway - self.kinetic) * (-(u.abs() / s.velocity).powf(s.exponent)).exp(),
+            Some(s) => self.kinetic + (self.breakaway - self.kinetic) * s.peak(u),
         }
     }
 

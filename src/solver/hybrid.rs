@@ -27,10 +27,10 @@
 //! and then the law silently acts as plain Coulomb with μ_k (a near-graze whose dip into the peak
 //! falls between two stages is the typical case). So every step is kept short enough that, on the
 //! local quadratic `|u̇| h + |ü| h²/2 ≤ Δ` with `u̇ = −ẍ`, `ü ≈ ω² ẋ + γ ẍ`, u cannot move by more
-//! than `Δ = (|u| − w)₊ + v_s/2`, where `w = v_s 30^{1/δ}` bounds the window in which the peak term
-//! exceeds e^−30: far from the peak steps are free, approaching it they shrink geometrically, and
-//! inside it u moves by at most v_s/2 per step (`h = 2Δ / (|u̇| + √(u̇² + 2|ü|Δ))`, the
-//! cancellation-free root). `numerics.peak_guard = false` turns it
+//! than `Δ = (|u| − w)₊ + v_s`, where `w = v_s 12^{1/δ}` bounds the window in which the peak term
+//! exceeds e^−12: far from the peak steps are free, approaching it they shrink, and inside it u
+//! moves by at most v_s per step — each step's six stages then sample the peak every ~v_s/5
+//! (`h = 2Δ / (|u̇| + √(u̇² + 2|ü|Δ))`, the cancellation-free root). `numerics.peak_guard = false` turns it
 //! off, only to see what an unguarded controller does.
 
 use super::rk::{rk4, Dopri, State, Step};
@@ -63,11 +63,16 @@ pub struct Hybrid {
     scheme: Scheme,
     step: f64,
     peak_guard: bool,
+    /// the Stribeck peak's window half-width (0 for Coulomb)
+    peak_window: f64,
     dopri: Dopri,
     steps: u64,
     mode: Mode,
     t: f64,
     y: State,
+    /// f(y) for the current slip's right-hand side, kept from the last step's final stage (FSAL);
+    /// None whenever the state, the mode or the belt velocity changed otherwise
+    f: Option<State>,
     /// the last piece: a stick `(t0, x0, v)` or a step's dense output
     piece: Piece,
 }
@@ -85,11 +90,13 @@ impl Hybrid {
             scheme,
             step: num.step,
             peak_guard: num.peak_guard,
+            peak_window: p.stribeck.map_or(0.0, |s| s.window()),
             dopri: Dopri::new(num.rtol, num.atol, num.max_step),
             steps: 0,
             mode: Mode::Stick { t0: 0.0, x0: 0.0 },
             t: 0.0,
             y: [0.0, 0.0],
+            f: None,
             piece: Piece::Stick { t0: 0.0, x0: 0.0, v: 0.0 },
         }
     }
@@ -97,7 +104,7 @@ impl Hybrid {
     /// The mass reaches belt velocity `v` at time `t` at position `x`: stick, touch or pass
     /// through; the stick event, if any.
     fn classify(&mut self, t: f64, x: f64, v: f64) -> Option<Event> {
-        self.t = t;
+        (self.t, self.f) = (t, None);
         match self.p.arrival(x, v) {
             Arrival::Stick { x } => {
                 (self.mode, self.y) = (Mode::Stick { t0: t, x0: x }, [x, v]);
@@ -111,12 +118,14 @@ impl Hybrid {
 
     /// Slip away from the breakaway point under belt velocity `v`.
     fn leave_breakaway(&mut self, v: f64) {
+        self.f = None;
         let grazing = self.p.grazes_after_breakaway();
         (self.mode, self.y) = (Mode::Slip { sigma: v.signum(), grazing }, [self.p.holding_limit(v, 1.0), v]);
     }
 
     /// Go on from state `y` at time `t` under belt velocity `v` (at t = 0 or after a switch).
     fn resume(&mut self, t: f64, y: State, v: f64) -> Option<Event> {
+        self.f = None;
         if y[1] == v {
             return self.classify(t, y[0], v);
         }
@@ -127,13 +136,12 @@ impl Hybrid {
 
 /// The longest step that keeps the Stribeck peak resolved at state `y` under belt velocity `v`
 /// (module docs; ∞ for Coulomb).
-fn peak_limit(p: &Physics, y: State, v: f64, acc: f64) -> f64 {
+fn peak_limit(p: &Physics, window: f64, y: State, v: f64, acc: f64) -> f64 {
     let Some(s) = p.stribeck else { return f64::INFINITY };
     let u = v - y[1];
-    // the window where the peak term exp(−(|u|/v_s)^δ) exceeds e^−30, and the change of u one
-    // step may make: what is left to the window, plus v_s/2
-    let window = s.velocity * 30f64.powf(1.0 / s.exponent);
-    let allowed = (u.abs() - window).max(0.0) + 0.5 * s.velocity;
+    // the change of u one step may make: what is left to the window (where the peak term
+    // exceeds e^−12, [`crate::physics::Stribeck::window`]), plus v_s
+    let allowed = (u.abs() - window).max(0.0) + s.velocity;
     let (du, ddu) = (acc.abs(), (p.omega2 * y[1] + p.gamma * acc).abs());
     // the positive root of |ü| h²/2 + |u̇| h = allowed, without cancellation
     let h = 2.0 * allowed / (du + (du * du + 2.0 * ddu * allowed).sqrt());
@@ -161,9 +169,10 @@ impl Method for Hybrid {
             Mode::Slip { sigma, grazing } => {
                 let p = self.p;
                 let acc = |y: State| p.slip_accel(y[0], y[1], v, sigma);
-                let limit = (t1 - self.t).min(if self.peak_guard { peak_limit(&p, self.y, v, acc(self.y)) } else { f64::INFINITY });
+                let f0 = self.f.take().unwrap_or_else(|| [self.y[1], acc(self.y)]);
+                let limit = (t1 - self.t).min(if self.peak_guard { peak_limit(&p, self.peak_window, self.y, v, f0[1]) } else { f64::INFINITY });
                 let step: Step = match self.scheme {
-                    Scheme::Rk45 => self.dopri.step(&acc, self.t, self.y, limit, &mut self.steps),
+                    Scheme::Rk45 => self.dopri.step_from(&acc, self.t, self.y, f0, limit, &mut self.steps),
                     Scheme::Rk4 => {
                         self.steps += 1;
                         rk4(&acc, self.t, self.y, self.step.min(limit))
@@ -180,12 +189,14 @@ impl Method for Hybrid {
                 }
                 let stop;
                 (self.t, self.y, stop) = step_end(&step, t1);
+                self.f = Some(step.f1);
                 stop
             }
         }
     }
 
     fn switch(&mut self, t: f64, v_old: f64, v_new: f64) -> Option<Event> {
+        self.f = None;
         if let Mode::Stick { .. } = self.mode {
             let x = self.y[0];
             self.resume(t, [x, v_old], v_new);

@@ -67,7 +67,8 @@ impl Step {
 
     /// The first θ ∈ (0, 1] where `g` along the dense output falls to ≤ 0 after being positive.
     ///
-    /// `g(y₀) > 0`, or `g(y₀) = 0` with g rising (a step that starts at an event). Found: a sign
+    /// `g` is affine in the state (a gap to belt speed). `g(y₀) > 0`, or `g(y₀) = 0` with g
+    /// rising (a step that starts at an event). Found: a sign
     /// change at the end of the step (after the interior maximum when g starts at zero: it rose
     /// and fell back), or, when `dips` (the caller knows g′ goes from negative to positive inside
     /// the step, so g has one interior minimum), a dip below zero between two positive ends.
@@ -95,35 +96,92 @@ impl Step {
         None
     }
 
-    /// The first θ ∈ (lo, hi] where `g` changes from positive to ≤ 0, given `g(at(lo)) > 0 ≥ g(at(hi))`.
+    /// The θ ∈ (lo, hi] where `g` changes from positive to ≤ 0, given `g(at(lo)) > 0 ≥ g(at(hi))`:
+    /// the Illinois variant of regula falsi (superlinear; the bracket shrinks from both sides) to
+    /// 1e-15 of the step, returning the ≤ 0 side.
     fn root(&self, g: &impl Fn(State) -> f64, lo: f64, hi: f64) -> f64 {
-        let (mut lo, mut hi) = (lo, hi);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if g(self.at(mid)) > 0.0 {
-                lo = mid;
+        let (mut a, mut b) = (lo, hi);
+        let (mut fa, mut fb) = (g(self.at(a)), g(self.at(b)));
+        let mut side = 0;
+        for _ in 0..200 {
+            if b - a <= 1e-15 || fb == 0.0 {
+                break;
+            }
+            let mut m = (a * fb - b * fa) / (fb - fa);
+            if !(m > a && m < b) {
+                m = 0.5 * (a + b);
+            }
+            let fm = g(self.at(m));
+            if fm > 0.0 {
+                (a, fa) = (m, fm);
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
             } else {
-                hi = mid;
+                (b, fb) = (m, fm);
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
             }
         }
-        hi
+        b
     }
 
-    /// The minimum of a unimodal `g` along the dense output, by golden-section search to 1e-9.
+    /// The time derivative of the dense output at θ, times h: `dy/dθ`. With `R = c + (1−θ) d`,
+    /// `Q = b + θ R`, `P = Δ + (1−θ) Q`: `y = y₀ + θ P` and `dy/dθ = P + θ (−Q + (1−θ)(R − θ d))`.
+    fn rate(&self, theta: f64) -> State {
+        let (t, u, h) = (theta, 1.0 - theta, self.h);
+        std::array::from_fn(|i| {
+            let delta = self.y1[i] - self.y0[i];
+            let b = h * self.f0[i] - delta;
+            let c = delta - h * self.f1[i] - b;
+            let r = c + u * self.d[i];
+            let q = b + t * r;
+            let p = delta + u * q;
+            p + t * (-q + u * (r - t * self.d[i]))
+        })
+    }
+
+    /// The minimum of `g` along the dense output, `g` affine in the state with `g′` going from
+    /// negative to positive inside the step: the zero of `g′(θ) = g(y + dy/dθ) − g(y)` (exact for
+    /// an affine g) by the Illinois variant of regula falsi to 1e-10 of the step. Without that
+    /// sign change, the end with the smaller g′ side (0 if g rises from the start, 1 if it falls
+    /// to the end).
     fn argmin(&self, g: &impl Fn(State) -> f64) -> f64 {
-        const INV_PHI: f64 = 0.618_033_988_749_894_8;
-        let (mut a, mut b) = (0.0, 1.0);
-        let (mut c, mut d) = (b - INV_PHI * (b - a), a + INV_PHI * (b - a));
-        let (mut gc, mut gd) = (g(self.at(c)), g(self.at(d)));
-        while b - a > 1e-9 {
-            if gc < gd {
-                (b, d, gd) = (d, c, gc);
-                c = b - INV_PHI * (b - a);
-                gc = g(self.at(c));
+        let slope = |th: f64| {
+            let (y, r) = (self.at(th), self.rate(th));
+            g([y[0] + r[0], y[1] + r[1]]) - g(y)
+        };
+        let (mut a, mut b, mut fa, mut fb) = (0.0, 1.0, slope(0.0), slope(1.0));
+        if !(fa < 0.0) {
+            return 0.0;
+        }
+        if !(fb > 0.0) {
+            return 1.0;
+        }
+        let mut side = 0;
+        for _ in 0..100 {
+            let m = (a * fb - b * fa) / (fb - fa);
+            let fm = slope(m);
+            if fm < 0.0 {
+                (a, fa) = (m, fm);
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            } else if fm > 0.0 {
+                (b, fb) = (m, fm);
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
             } else {
-                (a, c, gc) = (c, d, gd);
-                d = a + INV_PHI * (b - a);
-                gd = g(self.at(d));
+                return m;
+            }
+            if b - a <= 1e-10 {
+                break;
             }
         }
         0.5 * (a + b)
@@ -165,7 +223,12 @@ impl Dopri {
 
     /// One accepted step from `(t0, y0)` no longer than `limit`; `trials` counts attempted steps.
     pub fn step(&mut self, a: &impl Fn(State) -> f64, t0: f64, y0: State, limit: f64, trials: &mut u64) -> Step {
-        let k1 = deriv(a, y0);
+        self.step_from(a, t0, y0, deriv(a, y0), limit, trials)
+    }
+
+    /// [`Dopri::step`] given the derivative `k1 = f(y0)` — the previous step's last stage when
+    /// the right-hand side has not changed (FSAL: first same as last).
+    pub fn step_from(&mut self, a: &impl Fn(State) -> f64, t0: f64, y0: State, k1: State, limit: f64, trials: &mut u64) -> Step {
         loop {
             *trials += 1;
             let h = self.h.min(self.max_step).min(limit);
