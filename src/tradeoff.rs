@@ -349,7 +349,7 @@ pub fn figure(rows: &[Row]) -> Figure {
     }));
     points.extend(rows.iter().filter(|r| r.recommended).map(|r| Series {
         label: format!("recommended: {} {}", r.solver, r.setting),
-        color: 3,
+        color: 4,
         points: vec![(r.seconds_per_realization.log10(), r.error_rms.max(1e-16).log10())],
         ..Default::default()
     }));
