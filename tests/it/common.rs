@@ -9,6 +9,7 @@ use stickslip::events::{Observer, Record};
 use stickslip::physics::Params;
 use stickslip::scenario::Scenario;
 use stickslip::solver::{Drive, Solver};
+use stickslip::tradeoff::match_events;
 
 /// The paper scenario with `KEY=VALUE` overrides.
 pub fn scenario(sets: &[&str]) -> Scenario {
@@ -140,6 +141,25 @@ pub fn check_invariants(sc: &Scenario, o: &Outcome, strict: bool) -> Result<(), 
         }
     }
     Ok(())
+}
+
+/// |event-time errors| of stick and slip starts of `other` against `reference` (matched in time
+/// order, sorted), and (missed, spurious) sticks.
+pub fn event_errors(reference: &[Record], other: &[Record]) -> (Vec<f64>, u64, u64) {
+    let (mut all, mut missed, mut spurious) = (Vec::new(), 0, 0);
+    for (e, o) in reference.iter().zip(other) {
+        let (err, m, s) = match_events(&e.stick_start, &o.stick_start);
+        all.extend(err.iter().map(|x| x.abs()));
+        all.extend(match_events(&e.slip_start, &o.slip_start).0.iter().map(|x| x.abs()));
+        (missed, spurious) = (missed + m, spurious + s);
+    }
+    all.sort_by(f64::total_cmp);
+    (all, missed, spurious)
+}
+
+/// Root mean square.
+pub fn rms(v: &[f64]) -> f64 {
+    (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt()
 }
 
 /// Run the CLI binary.

@@ -2,9 +2,9 @@
 
 use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::events::Record;
-use stickslip::tradeoff::{self, match_events};
+use stickslip::tradeoff;
 
-use crate::common::{scenario, stickslip};
+use crate::common::{event_errors, rms, scenario, stickslip};
 
 fn records(sets: &[&str], n: u64) -> Vec<Record> {
     let ens = Ensemble::new(&scenario(sets)).unwrap();
@@ -19,21 +19,7 @@ fn records(sets: &[&str], n: u64) -> Vec<Record> {
 
 /// |event-time errors| of stick and slip starts against exact, and (missed, spurious) sticks.
 fn errors(sets: &[&str], n: u64) -> (Vec<f64>, u64, u64) {
-    let exact = records(&[], n);
-    let other = records(sets, n);
-    let (mut all, mut missed, mut spurious) = (Vec::new(), 0, 0);
-    for (e, o) in exact.iter().zip(&other) {
-        let (err, m, s) = match_events(&e.stick_start, &o.stick_start);
-        all.extend(err.iter().map(|x| x.abs()));
-        all.extend(match_events(&e.slip_start, &o.slip_start).0.iter().map(|x| x.abs()));
-        (missed, spurious) = (missed + m, spurious + s);
-    }
-    all.sort_by(f64::total_cmp);
-    (all, missed, spurious)
-}
-
-fn rms(v: &[f64]) -> f64 {
-    (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt()
+    event_errors(&records(&[], n), &records(sets, n))
 }
 
 fn median(v: &[f64]) -> f64 {

@@ -5,9 +5,8 @@
 use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::events::Record;
 use stickslip::solver::SolverKind;
-use stickslip::tradeoff::match_events;
 
-use crate::common::{check_invariants, outcomes, scenario, stickslip};
+use crate::common::{check_invariants, event_errors as errors, outcomes, rms, scenario, stickslip};
 
 /// The scene: mu_s = 0.6, mu_k = 0.51, v_s = 0.1, δ = 2.
 const SCENE: [&str; 4] = ["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "model.stribeck_exponent=2"];
@@ -23,23 +22,6 @@ fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
 /// The converged reference (rk45 at 1e-13 with a step limit) of a scene.
 fn reference(sets: &[&str], n: u64) -> Vec<Record> {
     records(&with(sets, &["run.solver=\"rk45\"", "numerics.rtol=1e-13", "numerics.atol=1e-13", "numerics.max_step=1e-2"]), n)
-}
-
-/// |event-time errors| against `reference`, and (missed, spurious) sticks.
-fn errors(reference: &[Record], other: &[Record]) -> (Vec<f64>, u64, u64) {
-    let (mut all, mut missed, mut spurious) = (Vec::new(), 0, 0);
-    for (e, o) in reference.iter().zip(other) {
-        let (err, m, s) = match_events(&e.stick_start, &o.stick_start);
-        all.extend(err.iter().map(|x| x.abs()));
-        all.extend(match_events(&e.slip_start, &o.slip_start).0.iter().map(|x| x.abs()));
-        (missed, spurious) = (missed + m, spurious + s);
-    }
-    all.sort_by(f64::total_cmp);
-    (all, missed, spurious)
-}
-
-fn rms(v: &[f64]) -> f64 {
-    (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt()
 }
 
 #[test]
