@@ -161,3 +161,20 @@ fn the_extremes_converge_or_stop_with_the_culprit_named() {
         assert!(o.record.stick_start.iter().chain(&o.record.slip_start).all(|t| t.is_finite()), "moreau, realization {i}");
     }
 }
+
+#[test]
+fn the_law_composes_with_damping_random_keys_and_every_solver() {
+    let cases: &[&[&str]] = &[
+        &["model.damping=0.5", "model.stribeck_velocity={dist = \"lognormal\", mean = 0.1, cv = 0.5}", "model.stribeck_exponent={dist = \"uniform\", low = 1, high = 3}"],
+        &["model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.5}", "belt.reverse_speed=0.5", "belt.reverse_switch_rate=2"],
+        &["run.solver=\"moreau\"", "numerics.step=1e-3"],
+        &["run.solver=\"smooth\"", "numerics.epsilon=1e-3", "numerics.stick_velocity=1e-3", "numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10"],
+    ];
+    for extra in cases {
+        let sets = with(&with(&SCENE, extra), &["numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10"]);
+        let sc = scenario(&sets);
+        for (i, o) in outcomes(&sc, 20).iter().enumerate() {
+            check_invariants(&sc, o, false).unwrap_or_else(|e| panic!("{extra:?}, realization {i}: {e}"));
+        }
+    }
+}
