@@ -21,6 +21,8 @@ use super::series::{Series, Variable};
 /// where a realization has no k-th event) and the columns that tell truncation.
 #[derive(Debug, Default)]
 pub struct Batch {
+    /// the realization index of row 0 (rows are consecutive realizations)
+    pub first: u64,
     pub values: Vec<Vec<Option<f64>>>,
     pub n_stick: Vec<i64>,
     pub n_slip: Vec<i64>,
@@ -128,6 +130,7 @@ type Lists<'a> = std::collections::HashMap<&'static str, Vec<&'a [f64]>>;
 /// The batch of `series` from a validated slice and the list rows [`validate`] returned.
 fn to_batch<'a>(df: &'a DataFrame, series: &[Series], mut rows_of: Lists<'a>) -> PolarsResult<Batch> {
     let mut batch = Batch {
+        first: 0,
         values: vec![Vec::new(); series.len()],
         n_stick: ints(df, "n_stick")?,
         n_slip: ints(df, "n_slip")?,
@@ -187,7 +190,8 @@ pub fn stream_file(part: &FilePart, series: &[Series], switch_times: bool, sink:
             polars_bail!(ComputeError: "rows {offset}.. could not be read in full");
         }
         let lists = validate(&df, part.first + offset, with_switches)?;
-        let batch = to_batch(&df, series, lists)?;
+        let mut batch = to_batch(&df, series, lists)?;
+        batch.first = part.first + offset;
         unchanged()?;
         Ok(batch)
     };

@@ -16,6 +16,7 @@ pub mod density;
 pub mod frame;
 pub mod growth;
 pub mod independence;
+pub mod jackknife;
 pub mod input;
 pub mod output;
 pub mod paper;
@@ -113,6 +114,21 @@ pub struct SeriesStats {
     pub mode: Option<f64>,
     /// 1-D histogram (for counts: unit bins centred on the integers).
     pub histogram: Histogram,
+    /// the moments and the mode without each realization-index group ([`jackknife`])
+    pub loo_moments: Vec<Moments>,
+    pub loo_mode: Vec<Option<f64>>,
+}
+
+impl SeriesStats {
+    /// The 95 % jackknife interval of a statistic of the moments.
+    pub fn interval(&self, stat: impl Fn(&Moments) -> Option<f64>) -> Option<jackknife::Interval> {
+        jackknife::interval(stat(&self.moments), &self.loo_moments.iter().map(&stat).collect::<Vec<_>>())
+    }
+
+    /// The 95 % jackknife interval of the mode.
+    pub fn mode_interval(&self) -> Option<jackknife::Interval> {
+        jackknife::interval(self.mode, &self.loo_mode)
+    }
 }
 
 /// A joint histogram on the two series' 1-D bins.
@@ -186,14 +202,15 @@ fn value(series: &[Series], i: usize, b: &Batch, r: usize) -> Option<f64> {
     b.values[i][r].filter(|_| !truncated(&series[i], b, r))
 }
 
-/// Call `value(i, x)` for every present, non-truncated value of series `i` in the batch (and
-/// `cut(i)` for each truncated one), series by series, rows in dataset order.
-fn for_each_value(series: &[Series], b: &Batch, mut value: impl FnMut(usize, f64), mut cut: impl FnMut(usize)) {
+/// Call `value(i, g, x)` for every present, non-truncated value of series `i` in the batch, g
+/// the row's jackknife group (and `cut(i)` for each truncated one), series by series, rows in
+/// dataset order.
+fn for_each_value(series: &[Series], b: &Batch, mut value: impl FnMut(usize, usize, f64), mut cut: impl FnMut(usize)) {
     for (i, s) in series.iter().enumerate() {
         for (r, v) in b.values[i].iter().enumerate() {
             match *v {
                 Some(_) if truncated(s, b, r) => cut(i),
-                Some(x) => value(i, x),
+                Some(x) => value(i, jackknife::group(b.first + r as u64), x),
                 None => {}
             }
         }
@@ -229,6 +246,10 @@ struct Accumulated {
     sketches: Vec<Option<Sketch>>,
     /// (x series, y series, joint sketch) per requested pair
     joints: Vec<(usize, usize, Sketch2)>,
+    /// per jackknife group: moments, and sketches or count distributions
+    group_moments: Vec<Vec<Moments>>,
+    group_sketches: Vec<Option<Vec<Sketch>>>,
+    group_pmf: Vec<Vec<BTreeMap<i64, u64>>>,
 }
 
 /// Analyse the dataset below `dir` (one scenario; see [`sweep`] for parameter sweeps).
@@ -257,17 +278,27 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
         pmf: vec![BTreeMap::new(); n],
         sketches: series.iter().map(|s| (!s.var.is_count()).then(|| Sketch::new(scale))).collect(),
         joints: opts.pairs.iter().map(|p| (index_of(&p.0), index_of(&p.1), Sketch2::new(scale))).collect(),
+        group_moments: vec![vec![Moments::default(); jackknife::GROUPS]; n],
+        group_sketches: series.iter().map(|s| (!s.var.is_count()).then(|| vec![Sketch::new(scale); jackknife::GROUPS])).collect(),
+        group_pmf: vec![vec![BTreeMap::new(); jackknife::GROUPS]; n],
     };
     let acc = pass(&data, &series, opts.progress, start, |st, series, b| {
-        let Accumulated { moments, n_cut, pmf, sketches, joints } = st;
+        let Accumulated { moments, n_cut, pmf, sketches, joints, group_moments, group_sketches, group_pmf } = st;
         for_each_value(
             series,
             b,
-            |i, x| {
+            |i, g, x| {
                 moments[i].add(x);
-                match &mut sketches[i] {
-                    Some(sketch) => sketch.add(x),
-                    None => *pmf[i].entry(x as i64).or_default() += 1,
+                group_moments[i][g].add(x);
+                match (&mut sketches[i], &mut group_sketches[i]) {
+                    (Some(sketch), Some(groups)) => {
+                        sketch.add(x);
+                        groups[g].add(x);
+                    }
+                    _ => {
+                        *pmf[i].entry(x as i64).or_default() += 1;
+                        *group_pmf[i][g].entry(x as i64).or_default() += 1;
+                    }
                 }
             },
             |i| n_cut[i] += 1,
@@ -312,11 +343,32 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
         .enumerate()
         .map(|(i, s)| {
             let m = acc.moments[i];
+            let pmf_mode = |pmf: &BTreeMap<i64, u64>| pmf.iter().max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0))).map(|(v, _)| *v as f64);
             let mode = match &acc.sketches[i] {
                 Some(sketch) => density::kde_mode(&sketch.fine(), &m),
-                None => acc.pmf[i].iter().max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0))).map(|(v, _)| *v as f64),
+                None => pmf_mode(&acc.pmf[i]),
             };
-            SeriesStats { series: *s, moments: m, truncated: acc.n_cut[i], mode, histogram: hist[i].clone() }
+            let loo_moments = jackknife::leave_one_out(&acc.group_moments[i], &Moments::default(), Moments::merge);
+            let loo_mode = match &acc.group_sketches[i] {
+                Some(groups) => jackknife::leave_one_out(groups, &Sketch::new(scale), Sketch::merge)
+                    .iter()
+                    .zip(&loo_moments)
+                    .map(|(sk, lm)| density::kde_mode(&sk.fine(), lm))
+                    .collect(),
+                None => acc.group_pmf[i]
+                    .iter()
+                    .map(|gp| {
+                        // the whole distribution minus the group's (exact for counts)
+                        let mut rest = acc.pmf[i].clone();
+                        for (v, c) in gp {
+                            *rest.entry(*v).or_default() -= c;
+                        }
+                        rest.retain(|_, c| *c > 0);
+                        pmf_mode(&rest)
+                    })
+                    .collect(),
+            };
+            SeriesStats { series: *s, moments: m, truncated: acc.n_cut[i], mode, histogram: hist[i].clone(), loo_moments, loo_mode }
         })
         .collect();
 

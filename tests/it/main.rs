@@ -5,6 +5,7 @@ mod common;
 mod analysis;
 mod cli;
 mod closed_forms;
+mod coverage;
 mod dataset;
 mod determinism;
 mod extremes;
