@@ -257,49 +257,35 @@ fn summary(a: &Analysis) -> serde_json::Value {
 /// Our Table 1 beside the paper's, as Markdown.
 pub fn table1_markdown(a: &Analysis) -> String {
     let mut out = String::from(
-        "| variable | n | mean ± se | paper | variance ± se | paper | mode | paper | skewness | paper | kurtosis | paper |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "Ours [95 % interval] (paper); ✓ the paper's value inside our interval (widened by its rounding), ✗ outside.\n\n\
+         | variable | n | mean | variance | mode | skewness | kurtosis |\n|---|---|---|---|---|---|---|\n",
     );
-    let fmt = |v: Option<f64>| f(v).map_or("–".to_string(), |x| format!("{x:.3}"));
+    let mean = |m: &super::Moments| (m.n > 0).then_some(m.mean);
+    let cells = |s: &super::SeriesStats, p: Option<[f64; 5]>| -> [paper::Cell; 5] {
+        let pv = |i: usize| p.map(|p| p[i]).filter(|x| x.is_finite());
+        let m = &s.moments;
+        [
+            paper::Cell { ours: f(mean(m)), se: f(m.mean_se()), interval: s.interval(mean), paper: pv(0) },
+            paper::Cell { ours: f(m.variance()), se: f(m.variance_se()), interval: s.interval(super::Moments::variance), paper: pv(1) },
+            paper::Cell { ours: f(s.mode), se: None, interval: s.mode_interval(), paper: pv(2) },
+            paper::Cell { ours: f(m.skewness()), se: None, interval: s.interval(super::Moments::skewness), paper: pv(3) },
+            paper::Cell { ours: f(m.kurtosis()), se: None, interval: s.interval(super::Moments::kurtosis), paper: pv(4) },
+        ]
+    };
+    let mut row = |s: &super::SeriesStats, p: Option<[f64; 5]>| {
+        let c = cells(s, p);
+        out += &format!("| {} | {} | {} | {} | {} | {} | {} |\n", s.series, s.moments.n, c[0].shown(3), c[1].shown(3), c[2].shown(3), c[3].shown(2), c[4].shown(2));
+    };
     for var in [Variable::T, Variable::L, Variable::D, Variable::H] {
         for k in 1..=a.options.max_index.min(6) {
-            let Some(s) = a.get(super::series::Series::at(var, k)) else { continue };
-            let m = &s.moments;
-            let p = paper::table1(var, Some(k));
-            let pv = |i: usize| p.map_or("–".to_string(), |p| format!("{}", p[i]));
-            out += &format!(
-                "| {} | {} | {} ± {} | {} | {} ± {} | {} | {} | {} | {} | {} | {} | {} |\n",
-                s.series,
-                m.n,
-                fmt((m.n > 0).then_some(m.mean)),
-                fmt(m.mean_se()),
-                pv(0),
-                fmt(m.variance()),
-                fmt(m.variance_se()),
-                pv(1),
-                fmt(s.mode),
-                pv(2),
-                fmt(m.skewness()),
-                pv(3),
-                fmt(m.kurtosis()),
-                pv(4),
-            );
+            if let Some(s) = a.get(super::series::Series::at(var, k)) {
+                row(s, paper::table1(var, Some(k)));
+            }
         }
     }
     for (var, pm, pvar) in paper::COUNTS {
         if let Some(s) = a.get(super::series::Series::count(*var)) {
-            let m = &s.moments;
-            out += &format!(
-                "| {} | {} | {} ± {} | {pm} | {} ± {} | {pvar} | {} | – | {} | – | {} | – |\n",
-                s.series,
-                m.n,
-                fmt(Some(m.mean)),
-                fmt(m.mean_se()),
-                fmt(m.variance()),
-                fmt(m.variance_se()),
-                fmt(s.mode),
-                fmt(m.skewness()),
-                fmt(m.kurtosis())
-            );
+            row(s, Some([*pm, *pvar, f64::NAN, f64::NAN, f64::NAN]));
         }
     }
     out

@@ -37,3 +37,59 @@ pub const COUNTS: &[(Variable, f64, f64)] = &[(Variable::St, 16.71, 7.94), (Vari
 pub fn table1(var: Variable, index: Option<u32>) -> Option<[f64; 5]> {
     TABLE1.iter().find(|(v, k, _)| *v == var && Some(*k) == index).map(|r| r.2)
 }
+
+/// One cell of the comparison: ours with its 95 % interval (or ± se) against the paper's
+/// printed value; ✓ when the paper's value lies inside our interval widened by half a unit of its
+/// last printed decimal (three standard errors for an analysis without intervals).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cell {
+    pub ours: Option<f64>,
+    pub se: Option<f64>,
+    /// our 95 % interval
+    pub interval: Option<(f64, f64)>,
+    pub paper: Option<f64>,
+}
+
+impl Cell {
+    /// Half a unit of the last printed decimal of the paper's value.
+    fn rounding(p: f64) -> f64 {
+        let text = format!("{p}");
+        let decimals = text.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+        0.5 * 10f64.powi(-decimals)
+    }
+
+    /// `Some(true)` if consistent (see the type's docs), `None` without the numbers to judge.
+    pub fn consistent(&self) -> Option<bool> {
+        let p = self.paper?;
+        let r = Self::rounding(p);
+        match self.interval {
+            Some((lo, hi)) => Some(lo - r <= p && p <= hi + r),
+            None => Some((self.ours? - p).abs() <= 3.0 * self.se? + r),
+        }
+    }
+
+    pub fn text(&self, digits: usize) -> String {
+        let f = |x: f64| format!("{x:.digits$}");
+        match (self.ours, self.interval, self.se) {
+            (Some(o), Some((lo, hi)), _) => format!("{} [{} – {}]", f(o), f(lo), f(hi)),
+            (Some(o), None, Some(se)) => format!("{} ± {}", f(o), f(se)),
+            (Some(o), None, None) => f(o),
+            _ => "–".into(),
+        }
+    }
+
+    /// `ours [lo – hi] (paper) mark`, as both renderings show a cell.
+    pub fn shown(&self, digits: usize) -> String {
+        let paper = self.paper.map_or(String::new(), |p| format!(" ({p})"));
+        format!("{}{paper} {}", self.text(digits), self.mark())
+    }
+
+    pub fn mark(&self) -> String {
+        match (self.consistent(), self.ours, self.paper) {
+            (Some(true), _, _) => "✓".into(),
+            (Some(false), Some(o), Some(p)) => format!("✗ {:+.1} %", 100.0 * (o / p - 1.0)),
+            _ => String::new(),
+        }
+    }
+}
+
