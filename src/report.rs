@@ -150,6 +150,11 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         ("truncated intervals".into(), summary["policies"]["truncated_intervals"].as_str().unwrap_or("").into()),
         ("mode".into(), summary["policies"]["mode"].as_str().unwrap_or("").into()),
     ];
+    // a value with its 95 % interval `[lo, hi]`, when the analysis has one
+    let with_interval = |v: &Value, iv: &Value| match iv.as_array().map(|a| (num(&a[0]), num(&a[1]))) {
+        Some((lo, hi)) => format!("{} [{lo} – {hi}]", num(v)),
+        None => num(v),
+    };
     let growth = summary["growth"]
         .as_array()
         .into_iter()
@@ -157,7 +162,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         .map(|g| {
             [
                 format!("{} of {}_k", g["statistic"].as_str().unwrap_or(""), g["variable"].as_str().unwrap_or("")),
-                num(&g["slope"]),
+                with_interval(&g["slope"], &g["slope_95"]),
                 num(&g["slope_se"]),
                 num(&g["intercept"]),
                 num(&g["r2"]),
@@ -166,8 +171,8 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         .collect();
     let r = &summary["renewal_check"];
     let renewal = vec![
-        ["E[S_T]".to_string(), num(&r["predicted_mean_S_T"]), num(&r["measured_mean_S_T"])],
-        ["Var[S_T]".to_string(), num(&r["predicted_variance_S_T"]), num(&r["measured_variance_S_T"])],
+        ["E[S_T]".to_string(), with_interval(&r["predicted_mean_S_T"], &r["predicted_mean_S_T_95"]), num(&r["measured_mean_S_T"])],
+        ["Var[S_T]".to_string(), with_interval(&r["predicted_variance_S_T"], &r["predicted_variance_S_T_95"]), num(&r["measured_variance_S_T"])],
     ];
     let tests = summary["independence"]
         .as_array()
@@ -235,12 +240,12 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
         };
         let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}{}{}</tr>", escape(&r.label), r.n, cell(0, 3), cell(1, 3), cell(2, 3), cell(3, 2), cell(4, 2));
     }
-    h += "</table>\n<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
+    h += "</table>\n<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope [95 %]</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
     for g in &c.growth {
         let [a, b, c2, d, e] = g.clone().map(|x| escape(&x));
         let _ = writeln!(h, "<tr><td class=\"l\">{a}</td><td>{b}</td><td>{c2}</td><td>{d}</td><td>{e}</td></tr>");
     }
-    h += "</table>\n<table>\n<tr><th></th><th>renewal prediction</th><th>measured</th></tr>\n";
+    h += "</table>\n<table>\n<tr><th></th><th>renewal prediction [95 %]</th><th>measured</th></tr>\n";
     for r in &c.renewal {
         let [a, b, c2] = r.clone().map(|x| escape(&x));
         let _ = writeln!(h, "<tr><td class=\"l\">{a}</td><td>{b}</td><td>{c2}</td></tr>");

@@ -55,6 +55,9 @@ pub struct Renewal {
     pub measured_mean: f64,
     pub predicted_variance: f64,
     pub measured_variance: f64,
+    /// 95 % jackknife intervals of the two predictions (see `super::jackknife`)
+    pub predicted_mean_interval: Option<(f64, f64)>,
+    pub predicted_variance_interval: Option<(f64, f64)>,
 }
 
 pub fn renewal(duration: f64, mean_line: &Line, var_line: &Line, measured_mean: f64, measured_variance: f64) -> Option<Renewal> {
@@ -64,6 +67,8 @@ pub fn renewal(duration: f64, mean_line: &Line, var_line: &Line, measured_mean: 
         measured_mean,
         predicted_variance: duration * var_line.slope / (c * c * c),
         measured_variance,
+        predicted_mean_interval: None,
+        predicted_variance_interval: None,
     })
 }
 

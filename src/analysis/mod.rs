@@ -147,6 +147,8 @@ pub struct GrowthFit {
     pub var: Variable,
     pub statistic: &'static str,
     pub line: Line,
+    /// 95 % jackknife interval of the slope
+    pub slope_interval: Option<jackknife::Interval>,
 }
 
 /// Everything `analyze` computes.
@@ -391,30 +393,41 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
         })
         .collect();
 
+    // The growth lines and the renewal check, from the whole sample's moments (`None`) or from
+    // those without jackknife group g (`Some(g)`).
+    let moments_of = |s: &SeriesStats, g: Option<usize>| g.map_or(s.moments, |g| s.loo_moments[g]);
+    let fit = |var: Variable, statistic: &str, g: Option<usize>| -> Option<Line> {
+        let f: fn(&Moments) -> Option<f64> = if statistic == "mean" { |m| (m.n > 0).then_some(m.mean) } else { Moments::variance };
+        let pts: Vec<(f64, f64)> = stats
+            .iter()
+            .filter(|s| s.series.var == var && s.series.index.is_some_and(|k| k <= opts.max_index))
+            .filter_map(|s| Some((s.series.index? as f64, f(&moments_of(s, g))?)))
+            .collect();
+        growth::ols(&pts)
+    };
+    let groups = 0..jackknife::GROUPS;
     let mut growth = Vec::new();
     for var in [Variable::T, Variable::L] {
-        let pts = |f: fn(&Moments) -> Option<f64>| -> Vec<(f64, f64)> {
-            stats
-                .iter()
-                .filter(|s| s.series.var == var && s.series.index.is_some_and(|k| k <= opts.max_index))
-                .filter_map(|s| Some((s.series.index? as f64, f(&s.moments)?)))
-                .collect()
-        };
-        if let Some(line) = growth::ols(&pts(|m| (m.n > 0).then_some(m.mean))) {
-            growth.push(GrowthFit { var, statistic: "mean", line });
-        }
-        if let Some(line) = growth::ols(&pts(Moments::variance)) {
-            growth.push(GrowthFit { var, statistic: "variance", line });
+        for statistic in ["mean", "variance"] {
+            if let Some(line) = fit(var, statistic, None) {
+                let loo: Vec<Option<f64>> = groups.clone().map(|g| fit(var, statistic, Some(g)).map(|l| l.slope)).collect();
+                growth.push(GrowthFit { var, statistic, slope_interval: jackknife::interval(Some(line.slope), &loo), line });
+            }
         }
     }
-    let fit = |stat: &str| growth.iter().find(|g| g.var == Variable::T && g.statistic == stat).map(|g| &g.line);
-    let st = stats.iter().find(|s| s.series == Series::count(Variable::St)).map(|s| s.moments);
-    let renewal = match (fit("mean"), fit("variance"), st) {
-        (Some(m), Some(v), Some(st)) => {
-            growth::renewal(data.scenario.run.duration, m, v, st.mean, st.variance().unwrap_or(0.0))
-        }
-        _ => None,
+    let st = stats.iter().find(|s| s.series == Series::count(Variable::St));
+    let renewal_at = |g: Option<usize>| -> Option<Renewal> {
+        let st = moments_of(st?, g);
+        growth::renewal(data.scenario.run.duration, &fit(Variable::T, "mean", g)?, &fit(Variable::T, "variance", g)?, st.mean, st.variance().unwrap_or(0.0))
     };
+    let renewal = renewal_at(None).map(|r| {
+        let loo: Vec<Option<Renewal>> = groups.clone().map(|g| renewal_at(Some(g))).collect();
+        Renewal {
+            predicted_mean_interval: jackknife::interval(Some(r.predicted_mean), &loo.iter().map(|x| x.as_ref().map(|x| x.predicted_mean)).collect::<Vec<_>>()),
+            predicted_variance_interval: jackknife::interval(Some(r.predicted_variance), &loo.iter().map(|x| x.as_ref().map(|x| x.predicted_variance)).collect::<Vec<_>>()),
+            ..r
+        }
+    });
     let options = Options { permutations, ..opts.clone() };
     Ok(Analysis { dataset: data, options, stats, joints, growth, renewal })
 }

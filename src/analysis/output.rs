@@ -11,7 +11,8 @@
 //!   product_density (the product of the two marginals on the same grid);
 //! - `independence.parquet`: x, y, n, rows, cols, chi2, df, chi2_p_value, g, g_p_value,
 //!   mutual_information, mi_null_mean, mi_p_value, permutations, verdict;
-//! - `growth.parquet`: variable, statistic, slope, intercept, r2, slope_se, points;
+//! - `growth.parquet`: variable, statistic, slope, intercept, r2, slope_se, points, slope_lo,
+//!   slope_hi (95 % jackknife);
 //! - `summary.json`: provenance, policies, counts, regressions, renewal check, tests;
 //! - `table1.md`: our Table 1 beside the paper's;
 //! - `trajectories.csv`: copied from the dataset when it has one (the paper's Fig. 4).
@@ -182,7 +183,9 @@ fn growth_table(a: &Analysis) -> Table {
         .push("intercept", Col::Float(g.iter().map(|x| f(Some(x.line.intercept))).collect()))
         .push("r2", Col::Float(g.iter().map(|x| f(Some(x.line.r2))).collect()))
         .push("slope_se", Col::Float(g.iter().map(|x| f(x.line.slope_se)).collect()))
-        .push("points", Col::Int(g.iter().map(|x| Some(x.line.points as i64)).collect()));
+        .push("points", Col::Int(g.iter().map(|x| Some(x.line.points as i64)).collect()))
+        .push("slope_lo", Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.0))).collect()))
+        .push("slope_hi", Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.1))).collect()));
     t
 }
 
@@ -211,7 +214,8 @@ fn summary(a: &Analysis) -> serde_json::Value {
         .growth
         .iter()
         .map(|g| json!({"variable": g.var.name(), "statistic": g.statistic, "slope": num(Some(g.line.slope)),
-                        "intercept": num(Some(g.line.intercept)), "r2": num(Some(g.line.r2)), "slope_se": num(g.line.slope_se)}))
+                        "intercept": num(Some(g.line.intercept)), "r2": num(Some(g.line.r2)), "slope_se": num(g.line.slope_se),
+                        "slope_95": g.slope_interval.map(|i| [num(Some(i.0)), num(Some(i.1))])}))
         .collect();
     let tests: Vec<_> = a
         .joints
@@ -227,6 +231,8 @@ fn summary(a: &Analysis) -> serde_json::Value {
     let renewal = a.renewal.as_ref().map(|r| {
         json!({"predicted_mean_S_T": num(Some(r.predicted_mean)), "measured_mean_S_T": num(Some(r.measured_mean)),
                "predicted_variance_S_T": num(Some(r.predicted_variance)), "measured_variance_S_T": num(Some(r.measured_variance)),
+               "predicted_mean_S_T_95": r.predicted_mean_interval.map(|i| [num(Some(i.0)), num(Some(i.1))]),
+               "predicted_variance_S_T_95": r.predicted_variance_interval.map(|i| [num(Some(i.0)), num(Some(i.1))]),
                "formula": "E[S_T] ~ t_a / slope(E T_k); Var[S_T] ~ t_a slope(Var T_k) / slope(E T_k)^3"})
     });
     json!({

@@ -26,6 +26,8 @@ pub struct CellSummary {
     pub mean_st: f64,
     pub mean_st_se: Option<f64>,
     pub stick_fraction: f64,
+    /// 95 % jackknife interval of the stick fraction
+    pub stick_fraction_interval: Option<(f64, f64)>,
     pub mean_d: Option<f64>,
     pub mean_h: Option<f64>,
     pub var_t_slope: Option<f64>,
@@ -73,14 +75,17 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
         .map(|(k, v)| (k.to_string(), v.parse().unwrap_or(f64::NAN)))
         .collect();
     let st = a.get(Series::count(Variable::St)).map(|s| s.moments).unwrap_or_default();
-    let stick = a.get(Series::count(Variable::StickTime)).map(|s| s.moments).unwrap_or_default();
+    let stick_stats = a.get(Series::count(Variable::StickTime));
+    let stick = stick_stats.map(|s| s.moments).unwrap_or_default();
+    let t_a = a.dataset.scenario.run.duration;
     let line = |stat: &str| a.growth.iter().find(|g| g.var == Variable::T && g.statistic == stat).map(|g| g.line.clone());
     CellSummary {
         keys,
         realizations: a.dataset.rows,
         mean_st: st.mean,
         mean_st_se: st.mean_se(),
-        stick_fraction: stick.mean / a.dataset.scenario.run.duration,
+        stick_fraction: stick.mean / t_a,
+        stick_fraction_interval: stick_stats.and_then(|s| s.interval(|m| (m.n > 0).then_some(m.mean))).map(|(lo, hi)| (lo / t_a, hi / t_a)),
         mean_d: pooled(a, Variable::D),
         mean_h: pooled(a, Variable::H),
         var_t_slope: line("variance").map(|l| l.slope),
@@ -100,6 +105,8 @@ pub fn table(cells: &[CellSummary]) -> Table {
         .push("mean_S_T", f(&|c| Some(c.mean_st)))
         .push("mean_S_T_se", f(&|c| c.mean_st_se))
         .push("stick_fraction", f(&|c| Some(c.stick_fraction)))
+        .push("stick_fraction_lo", f(&|c| c.stick_fraction_interval.map(|i| i.0)))
+        .push("stick_fraction_hi", f(&|c| c.stick_fraction_interval.map(|i| i.1)))
         .push("mean_D", f(&|c| c.mean_d))
         .push("mean_H", f(&|c| c.mean_h))
         .push("var_T_slope", f(&|c| c.var_t_slope))
