@@ -109,7 +109,7 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
     }
     if let Some(s) = e.downcast_ref::<SimulateError>() {
         return match s {
-            SimulateError::Threads(_) | SimulateError::Scenario(_) => true,
+            SimulateError::Threads(_) | SimulateError::Scenario(_) | SimulateError::TargetShard => true,
             SimulateError::Dataset(d) => dataset(d),
             SimulateError::Out(o) => out(o),
             SimulateError::Run(_) | SimulateError::Pool(_) => false,
@@ -251,6 +251,12 @@ pub struct SimulateArgs {
     /// all N shards written into one DIR form the same dataset as an unsharded run.
     #[arg(long, value_name = "I/N", default_value = "0/1")]
     pub shard: Shard,
+    /// Stop when the standard error of the mean of VAR is at most SE (repeatable; all must be
+    /// met). VAR: S_T, S_L, T_k, D_k, L_k, H_k (k >= 1) or stick_fraction. Checked after every
+    /// chunk of realizations in index order, so the dataset is the first N rows of a fixed-N run;
+    /// --realizations (run.realizations) is the cap. Not with --shard.
+    #[arg(long = "target-se", value_name = "VAR=SE")]
+    pub target_se: Vec<crate::precision::Target>,
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,
@@ -467,7 +473,7 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
             new_dirs.push(out.clone());
         }
         let opts = simulate::Options { out, shard: args.shard, threads: args.threads, progress };
-        match simulate::compute(&cell.scenario, &opts) {
+        match simulate::compute_until(&cell.scenario, &opts, &args.target_se) {
             Ok(p) => pending.push(p),
             Err(e) => {
                 drop(pending);
@@ -489,6 +495,15 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
                 summary.realizations as f64 / summary.seconds,
                 summary.total_sticks as f64 / n,
             );
+        }
+        // reaching the cap before a target is reported even with --quiet
+        match &summary.targets {
+            Some((true, se)) if !quiet => eprintln!("targets met after {} realizations: {se}", summary.realizations),
+            Some((false, se)) => eprintln!(
+                "warning: the cap of {} realizations (--realizations / run.realizations) was reached before every target: {se}",
+                summary.realizations
+            ),
+            _ => {}
         }
     }
     dir.commit();

@@ -285,6 +285,11 @@ impl PartWriter {
         result.map_err(|e| self.write_err(e))
     }
 
+    /// Add a key-value pair to the file's metadata (written when it is finished).
+    pub fn append_metadata(&mut self, key: &str, value: &str) {
+        self.writer.as_mut().expect("open until finished").append_key_value_metadata(KeyValue::new(key.to_string(), value.to_string()));
+    }
+
     /// Finish the file, still under its temporary name: [`Finished::commit`] moves it.
     pub fn finish(mut self) -> Result<Finished, DatasetError> {
         let writer = self.writer.take().expect("open until finished");

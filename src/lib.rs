@@ -21,6 +21,7 @@ pub mod interrupt;
 pub mod outdir;
 pub mod params;
 pub mod physics;
+pub mod precision;
 pub mod report;
 pub mod rng;
 pub mod scenario;

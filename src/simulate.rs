@@ -18,6 +18,7 @@ use crate::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VE
 use crate::outdir::{DatasetDir, Lock, OutDirError, TempFile};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::rng::GENERATOR;
+use crate::precision::{Target, Tracker};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::trajectory;
 
@@ -68,6 +69,8 @@ pub struct Summary {
     pub realizations: u64,
     pub seconds: f64,
     pub total_sticks: u64,
+    /// with `--target-se`: whether every target was met (else the cap was reached), and the SEs
+    pub targets: Option<(bool, String)>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -84,6 +87,8 @@ pub enum SimulateError {
     Threads(usize),
     #[error("cannot start worker threads: {0}")]
     Pool(String),
+    #[error("--target-se cannot be combined with --shard: run the shards without it, or one unsharded run with it")]
+    TargetShard,
 }
 
 /// Most worker threads accepted (`--threads`).
@@ -148,7 +153,16 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError
 
 /// Simulate into a finished, uncommitted part file; `opts.out` is a prepared dataset directory.
 pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateError> {
+    compute_until(scenario, opts, &[])
+}
+
+/// [`compute`], stopping at the first chunk boundary where every `targets` standard error is met
+/// ([`crate::precision`]; `run.realizations` is the cap). Sharded runs take no targets.
+pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) -> Result<Pending, SimulateError> {
     let start = Instant::now();
+    if !targets.is_empty() && opts.shard != Shard::WHOLE {
+        return Err(SimulateError::TargetShard);
+    }
     let threads = worker_threads(opts.threads)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -157,13 +171,21 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
     let range = opts.shard.range(scenario.run.realizations);
     let ensemble = Ensemble::new(scenario)?;
     let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
-    let writer = PartWriter::create(&opts.out, opts.shard.index, opts.shard.count, layout, provenance(scenario, opts.shard))?;
+    // with targets, the realizations written are known only at the end: their metadata is
+    // appended when the part is finished
+    let mut metadata = provenance(scenario, opts.shard);
+    if !targets.is_empty() {
+        metadata.retain(|(k, _)| k != "stickslip.realizations" && k != "stickslip.realization_range");
+    }
+    let writer = PartWriter::create(&opts.out, opts.shard.index, opts.shard.count, layout, metadata)?;
     let progress = progress_bar(range.end - range.start, opts.progress);
 
     // chunks of realizations, generated lazily (a run may have ~10^12 of them)
     let chunk = ensemble.chunk_len();
     let mut chunks = (range.start..range.end).step_by(chunk as usize).map(|lo| lo..(lo + chunk).min(range.end)).peekable();
     let mut total_sticks = 0u64;
+    let mut tracker = Tracker::new(targets);
+    let mut reached = range.end;
     let (computed, written) = std::thread::scope(|scope| {
         // The writer runs beside the workers; the queue holds about four windows, so the workers
         // never wait for the encoder while it catches up.
@@ -178,14 +200,22 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
         let computed = (|| -> Result<(), RunError> {
             while chunks.peek().is_some() {
                 let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
-                let rows: Vec<Result<Rows, RunError>> =
-                    pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone())).collect());
-                for r in rows {
-                    let r = r?;
+                let rows: Vec<Result<(Rows, Tracker), RunError>> =
+                    pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), targets, scenario.run.duration)).collect());
+                for (r, range) in rows.into_iter().zip(&window) {
+                    let (r, t) = r?;
                     progress.inc(r.len() as u64);
                     total_sticks += r.total_sticks();
                     if tx.send(r).is_err() {
                         return Ok(()); // the writer failed; its error is reported below
+                    }
+                    if !targets.is_empty() {
+                        tracker.merge(&t);
+                        progress.set_message(tracker.describe());
+                        if tracker.met() {
+                            reached = range.end;
+                            return Ok(());
+                        }
                     }
                 }
             }
@@ -196,7 +226,22 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
     });
     progress.finish_and_clear();
     computed?;
-    let part = written?.finish()?;
+    let mut written = written?;
+    if !targets.is_empty() {
+        let rule = targets.iter().map(|t| format!("{t}={}", t.se)).collect::<Vec<_>>().join(", ");
+        let reached_se = targets.iter().zip(tracker.errors()).map(|(t, se)| format!("{t}={}", se.map_or("none".into(), |x| format!("{x:e}")))).collect::<Vec<_>>().join(", ");
+        for (k, v) in [
+            ("stickslip.realizations", reached.to_string()),
+            ("stickslip.realization_range", format!("0..{reached}")),
+            ("stickslip.target_se", rule),
+            ("stickslip.target_se_reached", reached_se),
+            ("stickslip.target_se_met", tracker.met().to_string()),
+            ("stickslip.target_se_cap", scenario.run.realizations.to_string()),
+        ] {
+            written.append_metadata(k, &v);
+        }
+    }
+    let part = written.finish()?;
     // Trajectories (Fig. 4) of realizations 0..N, written by the shard that holds realization 0.
     let trajectories = if scenario.output.trajectories > 0 && range.start == 0 {
         Some(write_trajectories(&ensemble, scenario, &opts.out)?)
@@ -205,22 +250,27 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
     };
     let summary = Summary {
         path: part.path().to_owned(),
-        realizations: range.end - range.start,
+        realizations: reached - range.start,
         seconds: start.elapsed().as_secs_f64(),
         total_sticks,
+        targets: (!targets.is_empty()).then(|| (tracker.met(), tracker.describe())),
     };
     Ok(Pending { part, trajectories, summary })
 }
 
-/// Simulate a contiguous range of realizations into dataset rows.
-fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>) -> Result<Rows, RunError> {
+/// Simulate a contiguous range of realizations into dataset rows, and the targets' quantities.
+fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target], duration: f64) -> Result<(Rows, Tracker), RunError> {
     let mut rows = Rows::new(ensemble.store_switch_times(), ensemble.scene().columns().len());
+    let mut tracker = Tracker::new(targets);
     let mut out = Outcome::default();
     for index in range {
         ensemble.realization(index, &mut out)?;
         rows.push(index, &out);
+        if !targets.is_empty() {
+            tracker.add(&out, duration);
+        }
     }
-    Ok(rows)
+    Ok((rows, tracker))
 }
 
 /// Sample the first `output.trajectories` realizations into `dir/trajectories.csv`, streamed to
@@ -249,7 +299,7 @@ fn progress_bar(len: u64, enabled: bool) -> ProgressBar {
     }
     let bar = ProgressBar::new(len);
     bar.set_style(
-        ProgressStyle::with_template("simulate {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}")
+        ProgressStyle::with_template("simulate {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}  {msg}")
             .expect("valid template"),
     );
     bar

@@ -13,6 +13,7 @@ mod figures;
 mod fingerprint;
 mod invariants;
 mod pipelines;
+mod precision;
 mod reference;
 mod safety;
 mod scenes;

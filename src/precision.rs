@@ -1,0 +1,209 @@
+//! Stop at a target precision: `simulate --target-se VAR=SE` (repeatable).
+//!
+//! VAR is the mean of one per-realization quantity — `S_T`, `S_L`, `T_k`, `D_k`, `L_k`, `H_k`
+//! (k ≥ 1) or `stick_fraction` — and SE the standard error of that mean the run should reach,
+//! `se = √(s²/n)` over the realizations that have the quantity (D_k and H_k without the interval
+//! cut at t_a, as `analyze` counts them). Realizations are simulated in index order; after every
+//! chunk of [`crate::ensemble::Ensemble::chunk_len`] realizations (a boundary that depends on the
+//! scenario only) the standard errors are updated and the run stops at the first boundary where
+//! every target is met. The dataset is therefore exactly the first N rows of a fixed-N run with
+//! the same seed, for any thread count; `run.realizations` is the cap, and reaching it before the
+//! targets is reported (stderr and the dataset's metadata), not hidden.
+
+use std::str::FromStr;
+
+use crate::ensemble::Outcome;
+
+/// A per-realization quantity whose mean a target bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    SticksCount,
+    SlipsCount,
+    StickStart(usize),
+    StickDuration(usize),
+    SlipStart(usize),
+    SlipDuration(usize),
+    StickFraction,
+}
+
+/// One `--target-se VAR=SE`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Target {
+    pub quantity: Quantity,
+    pub se: f64,
+    /// the text of VAR, for messages and metadata
+    pub name: &'static str,
+    pub index: usize,
+}
+
+impl std::fmt::Display for Target {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.index > 0 {
+            write!(f, "{}_{}", self.name, self.index)
+        } else {
+            write!(f, "{}", self.name)
+        }
+    }
+}
+
+impl FromStr for Target {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Target, String> {
+        let bad = |why: &str| format!("--target-se {s:?}: {why}; expected VAR=SE with VAR one of S_T, S_L, T_k, D_k, L_k, H_k (k >= 1), stick_fraction, e.g. S_T=0.05");
+        let (var, se) = s.split_once('=').ok_or_else(|| bad("no '='"))?;
+        let se: f64 = se.trim().parse().map_err(|_| bad("SE is not a number"))?;
+        if !(se.is_finite() && se > 0.0) {
+            return Err(bad("SE must be a positive number"));
+        }
+        let var = var.trim();
+        let (quantity, name, index) = match var {
+            "S_T" => (Quantity::SticksCount, "S_T", 0),
+            "S_L" => (Quantity::SlipsCount, "S_L", 0),
+            "stick_fraction" => (Quantity::StickFraction, "stick_fraction", 0),
+            _ => {
+                let (v, k) = var.split_once('_').ok_or_else(|| bad("unknown VAR"))?;
+                let k: usize = k.parse().ok().filter(|&k| (1..=1000).contains(&k)).ok_or_else(|| bad("k must be an integer from 1 to 1000"))?;
+                match v {
+                    "T" => (Quantity::StickStart(k), "T", k),
+                    "D" => (Quantity::StickDuration(k), "D", k),
+                    "L" => (Quantity::SlipStart(k), "L", k),
+                    "H" => (Quantity::SlipDuration(k), "H", k),
+                    _ => return Err(bad("unknown VAR")),
+                }
+            }
+        };
+        Ok(Target { quantity, se, name, index })
+    }
+}
+
+impl Quantity {
+    /// Its value in one realization (None: the realization does not have it).
+    pub fn value(&self, o: &Outcome, duration: f64) -> Option<f64> {
+        let r = &o.record;
+        let (nt, nl) = (r.n_stick(), r.n_slip());
+        match *self {
+            Quantity::SticksCount => Some(nt as f64),
+            Quantity::SlipsCount => Some(nl as f64),
+            Quantity::StickFraction => Some(r.stick_duration.iter().sum::<f64>() / duration),
+            Quantity::StickStart(k) => r.stick_start.get(k - 1).copied(),
+            Quantity::SlipStart(k) => r.slip_start.get(k - 1).copied(),
+            // the interval cut at t_a is censored: excluded, as in `analyze`
+            Quantity::StickDuration(k) => r.stick_duration.get(k - 1).copied().filter(|_| !(r.last_truncated && nt == k && nt > nl)),
+            Quantity::SlipDuration(k) => r.slip_duration.get(k - 1).copied().filter(|_| !(r.last_truncated && nl == k && nt == nl)),
+        }
+    }
+}
+
+/// Count, mean and M2 = Σ (x − mean)² of one quantity (Welford's update, Chan et al.'s merge).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Running {
+    n: u64,
+    mean: f64,
+    m2: f64,
+}
+
+impl Running {
+    fn add(&mut self, x: f64) {
+        self.n += 1;
+        let d = x - self.mean;
+        self.mean += d / self.n as f64;
+        self.m2 += d * (x - self.mean);
+    }
+
+    fn merge(&self, o: &Running) -> Running {
+        if self.n == 0 {
+            return *o;
+        }
+        if o.n == 0 {
+            return *self;
+        }
+        let (a, b) = (self.n as f64, o.n as f64);
+        let n = a + b;
+        let d = o.mean - self.mean;
+        Running { n: self.n + o.n, mean: self.mean + d * b / n, m2: self.m2 + o.m2 + d * d * a * b / n }
+    }
+
+    /// √(s²/n), s² unbiased (None below two values).
+    pub fn mean_se(&self) -> Option<f64> {
+        (self.n >= 2).then(|| (self.m2 / (self.n - 1) as f64 / self.n as f64).sqrt())
+    }
+}
+
+/// The running moments of each target's quantity.
+#[derive(Debug, Clone)]
+pub struct Tracker {
+    pub targets: Vec<Target>,
+    pub moments: Vec<Running>,
+}
+
+impl Tracker {
+    pub fn new(targets: &[Target]) -> Tracker {
+        Tracker { targets: targets.to_vec(), moments: vec![Running::default(); targets.len()] }
+    }
+
+    /// Add one realization.
+    pub fn add(&mut self, o: &Outcome, duration: f64) {
+        for (t, m) in self.targets.iter().zip(&mut self.moments) {
+            if let Some(x) = t.quantity.value(o, duration) {
+                m.add(x);
+            }
+        }
+    }
+
+    /// Merge a later chunk's tracker (same targets).
+    pub fn merge(&mut self, later: &Tracker) {
+        for (m, l) in self.moments.iter_mut().zip(&later.moments) {
+            *m = m.merge(l);
+        }
+    }
+
+    /// The current standard errors of the means (None below two values).
+    pub fn errors(&self) -> Vec<Option<f64>> {
+        self.moments.iter().map(Running::mean_se).collect()
+    }
+
+    /// Every target met.
+    pub fn met(&self) -> bool {
+        self.errors().iter().zip(&self.targets).all(|(se, t)| se.is_some_and(|se| se <= t.se))
+    }
+
+    /// `VAR se=… (target …)` for each target, for progress and messages.
+    pub fn describe(&self) -> String {
+        self.targets
+            .iter()
+            .zip(self.errors())
+            .map(|(t, se)| format!("{t} se {} (target {})", se.map_or("–".into(), |x| format!("{x:.3e}")), t.se))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn targets_parse_and_bad_ones_are_named() {
+        let t: Target = "D_3=0.01".parse().unwrap();
+        assert_eq!((t.quantity, t.se, t.to_string()), (Quantity::StickDuration(3), 0.01, "D_3".to_string()));
+        assert_eq!("stick_fraction=1e-3".parse::<Target>().unwrap().quantity, Quantity::StickFraction);
+        for bad in ["S_T", "S_T=0", "S_T=-1", "X_1=0.1", "T_0=0.1", "T_x=0.1", "S_T=nan"] {
+            let e = bad.parse::<Target>().unwrap_err();
+            assert!(e.contains("--target-se"), "{e}");
+        }
+    }
+
+    #[test]
+    fn merged_running_moments_equal_one_pass() {
+        let xs: Vec<f64> = (0..50).map(|i| (i as f64 * 0.37).sin() * 3.0 + 1.0).collect();
+        let (mut all, mut a, mut b) = (Running::default(), Running::default(), Running::default());
+        xs.iter().for_each(|&x| all.add(x));
+        xs[..17].iter().for_each(|&x| a.add(x));
+        xs[17..].iter().for_each(|&x| b.add(x));
+        let m = a.merge(&b);
+        let mean = xs.iter().sum::<f64>() / 50.0;
+        let s2 = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / 49.0;
+        assert!((m.mean_se().unwrap() - (s2 / 50.0).sqrt()).abs() < 1e-14);
+        assert!((all.mean_se().unwrap() - m.mean_se().unwrap()).abs() < 1e-14);
+    }
+}
