@@ -160,6 +160,31 @@ pub struct Analysis {
     pub joints: Vec<Joint>,
     pub growth: Vec<GrowthFit>,
     pub renewal: Option<Renewal>,
+    pub convergence: Vec<Convergence>,
+}
+
+/// The running mean of one series against the number of realizations read, at a geometric grid
+/// of realization counts (10 per decade from 10, and the last): (realizations, values, mean,
+/// standard error of the mean).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Convergence {
+    pub series: Series,
+    pub points: Vec<(u64, u64, f64, Option<f64>)>,
+}
+
+/// The series of the convergence figure.
+pub const CONVERGENCE: [(Variable, Option<u32>); 4] = [(Variable::St, None), (Variable::T, Some(1)), (Variable::D, Some(1)), (Variable::H, Some(1))];
+
+/// The next checkpoint of the convergence grid after `n` realizations: round(10^(j/10)) ≥ 10.
+fn next_checkpoint(n: u64) -> u64 {
+    let mut j = 10.0;
+    loop {
+        let c = 10f64.powf(j / 10.0).round() as u64;
+        if c > n {
+            return c;
+        }
+        j += 1.0;
+    }
 }
 
 impl Analysis {
@@ -252,6 +277,10 @@ struct Accumulated {
     group_moments: Vec<Vec<Moments>>,
     group_sketches: Vec<Option<Vec<Sketch>>>,
     group_pmf: Vec<Vec<BTreeMap<i64, u64>>>,
+    /// per convergence series: (series position, running moments, next checkpoint, points)
+    convergence: Vec<(usize, Moments, u64, Vec<(u64, u64, f64, Option<f64>)>)>,
+    /// realizations read so far
+    read: u64,
 }
 
 /// Analyse the dataset below `dir` (one scenario; see [`sweep`] for parameter sweeps).
@@ -283,9 +312,29 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
         group_moments: vec![vec![Moments::default(); jackknife::GROUPS]; n],
         group_sketches: series.iter().map(|s| (!s.var.is_count()).then(|| vec![Sketch::new(scale); jackknife::GROUPS])).collect(),
         group_pmf: vec![vec![BTreeMap::new(); jackknife::GROUPS]; n],
+        convergence: CONVERGENCE
+            .iter()
+            .filter_map(|(v, k)| series.iter().position(|s| s.var == *v && s.index == *k))
+            .map(|i| (i, Moments::default(), next_checkpoint(0), Vec::new()))
+            .collect(),
+        read: 0,
     };
     let acc = pass(&data, &series, opts.progress, start, |st, series, b| {
-        let Accumulated { moments, n_cut, pmf, sketches, joints, group_moments, group_sketches, group_pmf } = st;
+        let Accumulated { moments, n_cut, pmf, sketches, joints, group_moments, group_sketches, group_pmf, convergence, read } = st;
+        // running means, in realization order, recorded at the checkpoints
+        for (i, m, next, points) in convergence.iter_mut() {
+            for r in 0..b.n_stick.len() {
+                if let Some(x) = value(series, *i, b, r) {
+                    m.add(x);
+                }
+                let count = *read + r as u64 + 1;
+                if count == *next {
+                    points.push((count, m.n, m.mean, m.mean_se()));
+                    *next = next_checkpoint(count);
+                }
+            }
+        }
+        *read += b.n_stick.len() as u64;
         for_each_value(
             series,
             b,
@@ -428,6 +477,17 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
             ..r
         }
     });
+    let convergence = acc
+        .convergence
+        .iter()
+        .map(|(i, m, _, points)| {
+            let mut points = points.clone();
+            if points.last().is_none_or(|p| p.0 < acc.read) {
+                points.push((acc.read, m.n, m.mean, m.mean_se()));
+            }
+            Convergence { series: series[*i], points }
+        })
+        .collect();
     let options = Options { permutations, ..opts.clone() };
-    Ok(Analysis { dataset: data, options, stats, joints, growth, renewal })
+    Ok(Analysis { dataset: data, options, stats, joints, growth, renewal, convergence })
 }

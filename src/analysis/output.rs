@@ -13,6 +13,9 @@
 //!   mutual_information, mi_null_mean, mi_p_value, permutations, verdict;
 //! - `growth.parquet`: variable, statistic, slope, intercept, r2, slope_se, points, slope_lo,
 //!   slope_hi (95 % jackknife);
+//! - `convergence.parquet`: variable, index, realizations, n, mean, mean_lo, mean_hi — the running
+//!   mean of S_T, T_1, D_1, H_1 with its 95 % interval (mean ± 1.96 se) at 10 realization counts
+//!   per decade (the paper's question: how many realizations?);
 //! - `summary.json`: provenance, policies, counts, regressions, renewal check, tests;
 //! - `table1.md`: our Table 1 beside the paper's;
 //! - `trajectories.csv`: copied from the dataset when it has one (the paper's Fig. 4).
@@ -189,6 +192,20 @@ fn growth_table(a: &Analysis) -> Table {
     t
 }
 
+fn convergence_table(a: &Analysis) -> Table {
+    let rows: Vec<(&super::Convergence, &(u64, u64, f64, Option<f64>))> = a.convergence.iter().flat_map(|c| c.points.iter().map(move |p| (c, p))).collect();
+    let half = |p: &(u64, u64, f64, Option<f64>)| p.3.map(|se| 1.96 * se);
+    let mut t = Table::default();
+    t.push("variable", Col::Str(rows.iter().map(|(c, _)| c.series.var.name().to_string()).collect()))
+        .push("index", Col::Int(rows.iter().map(|(c, _)| c.series.index.map(i64::from)).collect()))
+        .push("realizations", Col::Int(rows.iter().map(|(_, p)| Some(p.0 as i64)).collect()))
+        .push("n", Col::Int(rows.iter().map(|(_, p)| Some(p.1 as i64)).collect()))
+        .push("mean", Col::Float(rows.iter().map(|(_, p)| f((p.1 > 0).then_some(p.2))).collect()))
+        .push("mean_lo", Col::Float(rows.iter().map(|(_, p)| f(half(p).map(|h| p.2 - h))).collect()))
+        .push("mean_hi", Col::Float(rows.iter().map(|(_, p)| f(half(p).map(|h| p.2 + h))).collect()));
+    t
+}
+
 fn num(v: Option<f64>) -> serde_json::Value {
     f(v).map_or(serde_json::Value::Null, |x| json!(x))
 }
@@ -317,6 +334,7 @@ pub fn write_into(a: &Analysis, dir: &Path, shown: &Path) -> Result<(), Analysis
         ("joint_histograms.parquet", joint_table(a)),
         ("independence.parquet", independence_table(a)),
         ("growth.parquet", growth_table(a)),
+        ("convergence.parquet", convergence_table(a)),
     ];
     for (file, table) in tables {
         table.write_parquet(&dir.join(file)).map_err(|e| werr(&shown.join(file), &e))?;

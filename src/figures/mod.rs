@@ -93,6 +93,8 @@ pub struct Inputs {
     pub scenario: Scenario,
     /// `trajectories.csv`, if the analysis directory has one
     pub trajectories: Option<String>,
+    /// `convergence.parquet`, if the analysis has one (older analyses do not)
+    pub convergence: Option<Table>,
 }
 
 impl Inputs {
@@ -110,6 +112,12 @@ impl Inputs {
         let toml = summary["dataset"]["scenario"].as_str().ok_or_else(|| bad("no dataset.scenario".into()))?;
         let scenario = Scenario::from_text(Some(toml), &summary_path, &[]).map_err(|e| bad(e.to_string()))?;
         let trajectories = std::fs::read_to_string(adir.join("trajectories.csv")).ok();
+        let convergence_path = adir.join("convergence.parquet");
+        let convergence = if convergence_path.exists() {
+            Some(read("convergence.parquet", &keyed(&[("realizations", 'i'), ("mean", 'f'), ("mean_lo", 'f'), ("mean_hi", 'f')]))?)
+        } else {
+            None
+        };
         Ok(Inputs {
             moments: read("moments.parquet", &keyed(&[("mean", 'f'), ("variance", 'f')]))?,
             histograms: read("histograms.parquet", &keyed(&[("lo", 'f'), ("hi", 'f'), ("density", 'f')]))?,
@@ -124,6 +132,7 @@ impl Inputs {
             growth: read("growth.parquet", &[("variable", 's'), ("statistic", 's'), ("slope", 'f'), ("intercept", 'f'), ("r2", 'f')])?,
             scenario,
             trajectories,
+            convergence,
         })
     }
 
@@ -426,7 +435,44 @@ pub fn all(inp: &Inputs) -> Vec<Figure> {
     out.extend(indexed_histograms(inp, "D", "fig12_d", "the first six stick durations D_1..D_6"));
     out.extend(joint_figure(inp, "D_1", "D_2", "fig13_d1_d2"));
     out.extend(indexed_histograms(inp, "H", "fig14_h", "the first six slip durations H_1..H_6"));
+    out.extend(convergence_figure(inp));
     out
+}
+
+/// The running mean of S_T, T_1, D_1 and H_1 against the number of realizations (log axis), with
+/// its 95 % interval: how many realizations a precision needs.
+pub fn convergence_figure(inp: &Inputs) -> Option<Figure> {
+    let t = inp.convergence.as_ref()?;
+    let (vars, idx, n) = (t.strings("variable")?, t.ints("index")?, t.ints("realizations")?);
+    let (mean, lo, hi) = (t.floats("mean")?, t.floats("mean_lo")?, t.floats("mean_hi")?);
+    let panels: Vec<Panel> = crate::analysis::CONVERGENCE
+        .iter()
+        .map(|(var, k)| {
+            let rows: Vec<usize> = (0..t.height()).filter(|&r| vars[r] == var.name() && idx[r] == k.map(i64::from)).collect();
+            let line = |col: &[Option<f64>]| rows.iter().filter_map(|&r| Some((n[r]? as f64, col[r]?))).collect::<Vec<_>>();
+            let name = k.map_or(var.name().to_string(), |k| format!("{}_{k}", var.name()));
+            Panel {
+                title: format!("running mean of {name}"),
+                x_label: "realizations".into(),
+                y_label: format!("mean of {name}"),
+                lines: vec![
+                    Series { label: "mean".into(), color: 0, points: line(mean), ..Default::default() },
+                    Series { label: "95 % interval".into(), color: 1, points: line(lo), ..Default::default() },
+                    Series { label: String::new(), color: 1, points: line(hi), ..Default::default() },
+                ],
+                x_log: true,
+                ..Default::default()
+            }
+        })
+        .collect();
+    panels.iter().any(|p| !p.lines[0].points.is_empty()).then(|| Figure {
+        name: "convergence".into(),
+        title: "Monte Carlo convergence: running mean ± 95 % interval against the number of realizations".into(),
+        rows: 2,
+        cols: 2,
+        size: (1200, 800),
+        panels,
+    })
 }
 
 /// The per-cell metrics of `sweep.parquet` drawn by [`sweep_figure`]: (column, panel title).

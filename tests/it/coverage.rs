@@ -49,3 +49,20 @@ fn intervals_cover_a_large_sample_reference() {
         assert!(total[k] >= 400 && coverage >= floor, "{name}: coverage {coverage:.3} over {} intervals", total[k]);
     }
 }
+
+#[test]
+fn the_convergence_table_ends_at_the_whole_sample_and_narrows_as_one_over_root_n() {
+    let tmp = tempfile::tempdir().unwrap();
+    let a = analysed(&tmp.path().join("d"), 7, 50_000);
+    assert_eq!(a.convergence.len(), 4);
+    for c in &a.convergence {
+        let whole = a.stats.iter().find(|s| s.series == c.series).unwrap().moments;
+        let last = c.points.last().unwrap();
+        assert_eq!((last.0, last.1, last.2), (50_000, whole.n, whole.mean), "{}", c.series);
+        // realization counts grow geometrically, 10 per decade
+        assert!(c.points.windows(2).all(|w| w[1].0 > w[0].0));
+        let at = |n: u64| c.points.iter().find(|p| p.0 >= n).unwrap().3.unwrap();
+        let ratio = at(500) / last.3.unwrap();
+        assert!((5.0..=20.0).contains(&ratio), "{}: se ratio {ratio} for 100x the realizations (1/√N: 10)", c.series);
+    }
+}
