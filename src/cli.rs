@@ -49,6 +49,10 @@ pub enum Command {
     /// Measure the speed/accuracy trade: the same realizations through every solver over a ladder
     /// of tolerances and steps, against `exact`; writes DIR/tradeoff.parquet and a work-precision plot.
     Tradeoff(TradeoffArgs),
+    /// Global sensitivity: first-order and total Sobol indices of S_T, the stick fraction and the
+    /// mean stick and slip durations with respect to each random scene key and to the intrinsic
+    /// randomness (pick-freeze, N·(d+3) realizations); writes DIR/sobol.parquet, sobol.png, sobol.md.
+    Sensitivity(SensitivityArgs),
     /// Print a shell completion script, e.g. `stickslip completions bash > /etc/bash_completion.d/stickslip`.
     Completions {
         /// The shell: bash, zsh, fish, elvish or powershell.
@@ -136,6 +140,14 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
             _ => false,
         };
     }
+    if let Some(s) = e.downcast_ref::<crate::sensitivity::SensitivityError>() {
+        use crate::sensitivity::SensitivityError as S;
+        return match s {
+            S::Scenario(_) | S::NoRandomKey => true,
+            S::Out(o) => out(o),
+            S::Run(_) | S::Write { .. } => false,
+        };
+    }
     false
 }
 
@@ -168,6 +180,21 @@ pub struct ScenarioArgs {
     /// (--set 'model.friction_coefficient={dist = "uniform", low = 0.3, high = 0.7}').
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub sets: Vec<String>,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct SensitivityArgs {
+    #[command(flatten)]
+    pub input: ScenarioArgs,
+    /// Output directory (replaced atomically when complete).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Pick-freeze samples N (the run simulates N·(d+3) realizations for d random keys).
+    #[arg(long, value_name = "N", default_value_t = 2000)]
+    pub realizations: u64,
+    /// Random seed (overrides run.seed).
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -273,6 +300,7 @@ pub fn main() -> anyhow::Result<()> {
         Command::Report(args) => report_command(&args, quiet),
         Command::Reproduce(args) => reproduce_command(args, quiet),
         Command::Tradeoff(args) => tradeoff_command(args, quiet),
+        Command::Sensitivity(args) => sensitivity_command(args, quiet),
         Command::Completions { shell } => {
             clap_complete::generate(shell, &mut <Cli as clap::CommandFactory>::command(), "stickslip", &mut std::io::stdout());
             Ok(())
@@ -328,6 +356,21 @@ fn tradeoff_command(args: TradeoffArgs, quiet: bool) -> anyhow::Result<()> {
             ),
             None => println!("\nno setting keeps every Table 1 bias below {} of its standard error at run.realizations = {n}", args.bias_fraction),
         }
+    }
+    Ok(())
+}
+
+fn sensitivity_command(args: SensitivityArgs, quiet: bool) -> anyhow::Result<()> {
+    if args.realizations < 2 || args.realizations > 100_000_000 {
+        return Err(usage(format!("--realizations {}: must be between 2 and 100000000", args.realizations)));
+    }
+    check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
+    let mut scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
+    Overrides { realizations: None, seed: args.seed }.apply(&mut scenario);
+    scenario.check()?;
+    let rows = crate::sensitivity::run(&scenario, args.realizations, &args.out).context("sensitivity")?;
+    if !quiet {
+        print!("{}", crate::sensitivity::markdown(&rows, args.realizations));
     }
     Ok(())
 }

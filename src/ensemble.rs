@@ -87,18 +87,25 @@ impl Ensemble {
 
     /// Simulate realization `index` into `out` (its buffers are reused).
     pub fn realization(&self, index: u64, out: &mut Outcome) -> Result<(), RunError> {
-        self.run(index, out, &mut ())
+        self.run(index, &[], out, &mut ())
+    }
+
+    /// A realization whose belt and initial conditions are those of realization `intrinsic` and
+    /// whose j-th random key is that of realization `params_from[j]` (the pick-freeze design of
+    /// `sensitivity`; every draw has its own sub-stream, so the mix is exact).
+    pub fn realization_mixed(&self, intrinsic: u64, params_from: &[u64], out: &mut Outcome) -> Result<(), RunError> {
+        self.run(intrinsic, params_from, out, &mut ())
     }
 
     /// Simulate realization `index` and sample its trajectory every `step` seconds.
     pub fn trajectory(&self, index: u64, step: f64, out: &mut Outcome) -> Result<Sampler, RunError> {
         let mut sampler = Sampler::new(step);
-        self.run(index, out, &mut sampler)?;
+        self.run(index, &[], out, &mut sampler)?;
         Ok(sampler)
     }
 
     /// Simulate realization `index`, counting into `out.record` and also showing `extra` the motion.
-    fn run<O: Observer>(&self, index: u64, out: &mut Outcome, extra: &mut O) -> Result<(), RunError> {
+    fn run<O: Observer>(&self, index: u64, params_from: &[u64], out: &mut Outcome, extra: &mut O) -> Result<(), RunError> {
         let mut rng = realization_rng(self.seed, index);
         let uniform = |r: [f64; 2], u: f64| r[0] + (r[1] - r[0]) * u;
         out.x0 = uniform(self.position, unit_f64(&mut rng));
@@ -106,7 +113,7 @@ impl Ensemble {
         let (mut physics, mut belt) = (self.physics, self.scene.belt);
         out.params = self.scene.params;
         if !self.scene.random.is_empty() {
-            self.scene.draw(self.seed, index, &mut out.params, &mut belt, &mut out.drawn);
+            self.scene.draw(self.seed, |j| params_from.get(j).copied().unwrap_or(index), &mut out.params, &mut belt, &mut out.drawn);
             physics = out.params.per_unit_mass();
             if ![physics.omega2, physics.gamma, physics.kinetic, physics.breakaway].iter().all(|x| x.is_finite()) {
                 let drawn = self.scene.columns().iter().zip(&out.drawn).map(|(k, x)| format!("{k} = {x:e}")).collect::<Vec<_>>().join(", ");

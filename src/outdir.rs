@@ -36,6 +36,7 @@ pub enum Kind {
     Figures,
     Tradeoff,
     Reproduce,
+    Sensitivity,
 }
 
 impl Kind {
@@ -46,6 +47,7 @@ impl Kind {
             Kind::Figures => "figures",
             Kind::Tradeoff => "tradeoff",
             Kind::Reproduce => "reproduce",
+            Kind::Sensitivity => "sensitivity",
         }
     }
 }

@@ -219,14 +219,15 @@ impl Scene {
         self.random.iter().map(|(k, _)| k.name()).collect()
     }
 
-    /// Draw realization `index`'s random keys into `params`, `belt` (reset to the fixed scene
-    /// first) and `values` (in [`Scene::columns`] order).
-    pub fn draw(&self, seed: u64, index: u64, params: &mut Params, belt: &mut Belt, values: &mut Vec<f64>) {
+    /// Draw the random keys into `params`, `belt` (reset to the fixed scene first) and `values`
+    /// (in [`Scene::columns`] order): key j from its sub-stream of realization `index(j)` (one
+    /// index for all in a plain run; a pick-freeze design mixes them).
+    pub fn draw(&self, seed: u64, index: impl Fn(usize) -> u64, params: &mut Params, belt: &mut Belt, values: &mut Vec<f64>) {
         *params = self.params;
         *belt = self.belt;
         values.clear();
-        for &(key, dist) in &self.random {
-            let x = dist.sample(&mut substream(seed, index, key.purpose()), key.lower_bound());
+        for (j, &(key, dist)) in self.random.iter().enumerate() {
+            let x = dist.sample(&mut substream(seed, index(j), key.purpose()), key.lower_bound());
             values.push(x);
             match (key, &mut belt.process) {
                 (Key::Mass, _) => params.mass = x,

@@ -17,5 +17,6 @@ mod precision;
 mod reference;
 mod safety;
 mod scenes;
+mod sensitivity;
 mod solvers;
 mod stribeck;
