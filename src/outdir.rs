@@ -142,10 +142,19 @@ fn read_marker(dir: &Path) -> Option<Marker> {
     serde_json::from_str(&text).ok()
 }
 
+/// Write the marker of `dir`, which must not have one: complete in a unique temporary first,
+/// then hard-linked into place (a link fails if the marker exists, and is atomic), so that a
+/// concurrent reader never sees a partial marker.
 fn write_marker(dir: &Path, kind: Kind, files: Vec<String>) -> Result<(), OutDirError> {
     let m = Marker { kind: kind.name().into(), stickslip: env!("CARGO_PKG_VERSION").into(), files };
     let text = serde_json::to_string_pretty(&m).expect("a marker serializes") + "\n";
-    write_new(&dir.join(MARKER), text.as_bytes())
+    let path = dir.join(MARKER);
+    let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_nanos());
+    let tmp = dir.join(format!("{MARKER}.tmp-{}-{nanos}", std::process::id()));
+    write_new(&tmp, text.as_bytes())?;
+    let linked = std::fs::hard_link(&tmp, &path);
+    let _ = std::fs::remove_file(&tmp);
+    linked.map_err(|e| fail(&path, e))
 }
 
 /// Whether `dir` (or, for a dataset, one of its ancestors) is marked as the tool's `kind`.
@@ -177,8 +186,15 @@ fn files_below(dir: &Path) -> std::io::Result<Vec<String>> {
     Ok(out)
 }
 
+/// Whether `dir` has no entries (a concurrent writer's marker temporary does not count).
 fn is_empty_dir(dir: &Path) -> std::io::Result<bool> {
-    Ok(std::fs::read_dir(dir)?.next().is_none())
+    let marker_tmp = format!("{MARKER}.tmp-");
+    for entry in std::fs::read_dir(dir)? {
+        if !entry?.file_name().to_string_lossy().starts_with(&marker_tmp) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
 }
 
 /// Check that `target` may be replaced by a new output of `kind`: it does not exist, is an empty
@@ -441,14 +457,15 @@ impl DatasetDir {
         }
         let inside_dataset = dir.ancestors().any(|a| !a.as_os_str().is_empty() && is_marked(a, Kind::Dataset));
         if !inside_dataset {
-            if !is_empty_dir(dir).map_err(|e| fail(dir, e))? {
+            // (a concurrent simulate may have marked it since: a complete marker saying "dataset")
+            if !is_empty_dir(dir).map_err(|e| fail(dir, e))? && !is_marked(dir, Kind::Dataset) {
                 let why = match read_marker(dir) {
                     Some(m) => format!("holds a stickslip {}, not a dataset", m.kind),
                     None => format!("is not empty and is not a stickslip dataset (no {MARKER})"),
                 };
                 return Err(refuse(dir, format!("--out {why}; simulate adds part files only to a dataset directory: choose another --out")));
             }
-            match write_marker(dir, Kind::Dataset, Vec::new()) {
+            match if is_marked(dir, Kind::Dataset) { Err(fail(dir, std::io::Error::other("marked"))) } else { write_marker(dir, Kind::Dataset, Vec::new()) } {
                 Ok(()) => d.marked = true,
                 // a concurrent shard marked it first
                 Err(_) if is_marked(dir, Kind::Dataset) => {}
