@@ -27,6 +27,7 @@ pub mod rng;
 pub mod scenario;
 pub mod sensitivity;
 pub mod simulate;
+pub mod stats;
 pub mod solver;
 pub mod tradeoff;
 pub mod trajectory;

@@ -13,6 +13,7 @@
 use std::str::FromStr;
 
 use crate::ensemble::Outcome;
+use crate::stats::Moments;
 
 /// A per-realization quantity whose mean a target bounds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -94,51 +95,16 @@ impl Quantity {
     }
 }
 
-/// Count, mean and M2 = Σ (x − mean)² of one quantity (Welford's update, Chan et al.'s merge).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Running {
-    n: u64,
-    mean: f64,
-    m2: f64,
-}
-
-impl Running {
-    fn add(&mut self, x: f64) {
-        self.n += 1;
-        let d = x - self.mean;
-        self.mean += d / self.n as f64;
-        self.m2 += d * (x - self.mean);
-    }
-
-    fn merge(&self, o: &Running) -> Running {
-        if self.n == 0 {
-            return *o;
-        }
-        if o.n == 0 {
-            return *self;
-        }
-        let (a, b) = (self.n as f64, o.n as f64);
-        let n = a + b;
-        let d = o.mean - self.mean;
-        Running { n: self.n + o.n, mean: self.mean + d * b / n, m2: self.m2 + o.m2 + d * d * a * b / n }
-    }
-
-    /// √(s²/n), s² unbiased (None below two values).
-    pub fn mean_se(&self) -> Option<f64> {
-        (self.n >= 2).then(|| (self.m2 / (self.n - 1) as f64 / self.n as f64).sqrt())
-    }
-}
-
 /// The running moments of each target's quantity.
 #[derive(Debug, Clone)]
 pub struct Tracker {
     pub targets: Vec<Target>,
-    pub moments: Vec<Running>,
+    pub moments: Vec<Moments>,
 }
 
 impl Tracker {
     pub fn new(targets: &[Target]) -> Tracker {
-        Tracker { targets: targets.to_vec(), moments: vec![Running::default(); targets.len()] }
+        Tracker { targets: targets.to_vec(), moments: vec![Moments::default(); targets.len()] }
     }
 
     /// Add one realization.
@@ -159,7 +125,7 @@ impl Tracker {
 
     /// The current standard errors of the means (None below two values).
     pub fn errors(&self) -> Vec<Option<f64>> {
-        self.moments.iter().map(Running::mean_se).collect()
+        self.moments.iter().map(Moments::mean_se).collect()
     }
 
     /// Every target met.
@@ -191,19 +157,5 @@ mod tests {
             let e = bad.parse::<Target>().unwrap_err();
             assert!(e.contains("--target-se"), "{e}");
         }
-    }
-
-    #[test]
-    fn merged_running_moments_equal_one_pass() {
-        let xs: Vec<f64> = (0..50).map(|i| (i as f64 * 0.37).sin() * 3.0 + 1.0).collect();
-        let (mut all, mut a, mut b) = (Running::default(), Running::default(), Running::default());
-        xs.iter().for_each(|&x| all.add(x));
-        xs[..17].iter().for_each(|&x| a.add(x));
-        xs[17..].iter().for_each(|&x| b.add(x));
-        let m = a.merge(&b);
-        let mean = xs.iter().sum::<f64>() / 50.0;
-        let s2 = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / 49.0;
-        assert!((m.mean_se().unwrap() - (s2 / 50.0).sqrt()).abs() < 1e-14);
-        assert!((all.mean_se().unwrap() - m.mean_se().unwrap()).abs() < 1e-14);
     }
 }
