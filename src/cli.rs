@@ -113,7 +113,7 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
     }
     if let Some(s) = e.downcast_ref::<SimulateError>() {
         return match s {
-            SimulateError::Threads(_) | SimulateError::Scenario(_) | SimulateError::TargetShard => true,
+            SimulateError::Threads(_) | SimulateError::Scenario(_) => true,
             SimulateError::Dataset(d) => dataset(d),
             SimulateError::Out(o) => out(o),
             SimulateError::Run(_) | SimulateError::Pool(_) => false,
@@ -281,7 +281,8 @@ pub struct SimulateArgs {
     /// Stop when the standard error of the mean of VAR is at most SE (repeatable; all must be
     /// met). VAR: S_T, S_L, T_k, D_k, L_k, H_k (k >= 1) or stick_fraction. Checked after every
     /// chunk of realizations in index order, so the dataset is the first N rows of a fixed-N run;
-    /// --realizations (run.realizations) is the cap. Not with --shard.
+    /// --realizations (run.realizations) is the cap. With --shard, each shard applies the targets
+    /// to its own block (its standard errors, not the union's).
     #[arg(long = "target-se", value_name = "VAR=SE")]
     pub target_se: Vec<crate::precision::Target>,
     /// Worker threads (default: all cores). The output does not depend on it.

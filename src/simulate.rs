@@ -87,8 +87,6 @@ pub enum SimulateError {
     Threads(usize),
     #[error("cannot start worker threads: {0}")]
     Pool(String),
-    #[error("--target-se cannot be combined with --shard: run the shards without it, or one unsharded run with it")]
-    TargetShard,
 }
 
 /// Most worker threads accepted (`--threads`).
@@ -157,12 +155,11 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
 }
 
 /// [`compute`], stopping at the first chunk boundary where every `targets` standard error is met
-/// ([`crate::precision`]; `run.realizations` is the cap). Sharded runs take no targets.
+/// ([`crate::precision`]; `run.realizations` is the cap). A shard applies the targets to its own
+/// block of realizations and records the block (`stickslip.shard_block`).
 pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) -> Result<Pending, SimulateError> {
     let start = Instant::now();
-    if !targets.is_empty() && opts.shard != Shard::WHOLE {
-        return Err(SimulateError::TargetShard);
-    }
+
     let threads = worker_threads(opts.threads)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -173,9 +170,12 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
     // with targets, the realizations written are known only at the end: their metadata is
     // appended when the part is finished
+    // (sharded: each shard stops within its block at its own targets; the run's size stays the
+    // index space the blocks split, and the block is recorded for the reader)
+    let sharded = opts.shard != Shard::WHOLE;
     let mut metadata = provenance(scenario, opts.shard);
     if !targets.is_empty() {
-        metadata.retain(|(k, _)| k != "stickslip.realizations" && k != "stickslip.realization_range");
+        metadata.retain(|(k, _)| k != "stickslip.realization_range" && (sharded || k != "stickslip.realizations"));
     }
     let writer = PartWriter::create(&opts.out, opts.shard.index, opts.shard.count, layout, metadata)?;
     let progress = progress_bar(range.end - range.start, opts.progress);
@@ -230,14 +230,18 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     if !targets.is_empty() {
         let rule = targets.iter().map(|t| format!("{t}={}", t.se)).collect::<Vec<_>>().join(", ");
         let reached_se = targets.iter().zip(tracker.errors()).map(|(t, se)| format!("{t}={}", se.map_or("none".into(), |x| format!("{x:e}")))).collect::<Vec<_>>().join(", ");
-        for (k, v) in [
-            ("stickslip.realizations", reached.to_string()),
-            ("stickslip.realization_range", format!("0..{reached}")),
+        let mut meta = vec![("stickslip.realization_range", format!("{}..{reached}", range.start))];
+        if sharded {
+            meta.push(("stickslip.shard_block", format!("{}..{}", range.start, range.end)));
+        } else {
+            meta.push(("stickslip.realizations", reached.to_string()));
+        }
+        for (k, v) in meta.into_iter().chain([
             ("stickslip.target_se", rule),
             ("stickslip.target_se_reached", reached_se),
             ("stickslip.target_se_met", tracker.met().to_string()),
             ("stickslip.target_se_cap", scenario.run.realizations.to_string()),
-        ] {
+        ]) {
             written.append_metadata(k, &v);
         }
     }

@@ -129,6 +129,9 @@ struct Part {
     total: u64,
     /// `stickslip.realization_range`
     range: std::ops::Range<u64>,
+    /// `stickslip.shard_block`: the block a shard with `--target-se` was given (it stops within
+    /// it, at its own target); None for every other part
+    block: Option<std::ops::Range<u64>>,
     stamp: Stamp,
 }
 
@@ -171,7 +174,16 @@ fn check(path: &Path) -> Result<Part, InputError> {
     if rows != range.end - range.start {
         return Err(bad(path, format!("holds {rows} rows but its metadata declares realizations {}..{}", range.start, range.end)));
     }
-    Ok(Part { rows, scenario, switch_times, total, range, stamp })
+    let block = get("stickslip.shard_block").and_then(|r| {
+        let (a, b) = r.split_once("..")?;
+        Some(a.trim().parse::<u64>().ok()?..b.trim().parse::<u64>().ok()?)
+    });
+    if let Some(b) = &block {
+        if !(b.start == range.start && range.end <= b.end && b.end <= total) {
+            return Err(bad(path, "its stickslip.shard_block does not hold its realization_range"));
+        }
+    }
+    Ok(Part { rows, scenario, switch_times, total, range, block, stamp })
 }
 
 /// Find and check the dataset below `dir` (a single scenario, complete).
@@ -239,12 +251,16 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
                 ),
             ));
         }
-        if p.range.start > next {
+        // a shard that met its own target stopped inside its block: the rest of the block was
+        // never meant to be simulated
+        let stopped_at = |end: u64| parts[..i].iter().any(|(_, q)| q.range.end == next && q.block.as_ref().is_some_and(|b| b.end == end));
+        if p.range.start > next && !stopped_at(p.range.start) {
             missing.push(next..p.range.start);
         }
         next = p.range.end;
     }
-    if next < total {
+    let last_stopped = parts.last().is_some_and(|(_, q)| q.range.end == next && q.block.as_ref().is_some_and(|b| b.end == total));
+    if next < total && !last_stopped {
         missing.push(next..total);
     }
     if !missing.is_empty() && !allow_partial {
@@ -256,13 +272,16 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
     }
     let scenario = Scenario::from_text(Some(&toml), &first, &[]).map_err(|e| bad(&first, format!("its recorded scenario: {e}")))?;
     let trajectories = Some(dir.join("trajectories.csv")).filter(|p| p.is_file());
+    let rows: u64 = parts.iter().map(|(_, p)| p.rows).sum();
+    // shards that stopped at their own targets: the run is what they simulated
+    let expected_rows = if parts.iter().any(|(_, p)| p.block.is_some()) { rows + missing.iter().map(|r| r.end - r.start).sum::<u64>() } else { total };
     Ok(Dataset {
-        rows: parts.iter().map(|(_, p)| p.rows).sum(),
+        rows,
         file_rows: parts.iter().map(|(_, p)| p.rows).collect(),
         file_stamps: parts.iter().map(|(_, p)| p.stamp).collect(),
         file_starts: parts.iter().map(|(_, p)| p.range.start).collect(),
         files: parts.into_iter().map(|(f, _)| f).collect(),
-        expected_rows: total,
+        expected_rows,
         missing,
         scenario,
         switch_times,

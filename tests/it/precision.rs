@@ -47,15 +47,34 @@ fn a_target_run_is_a_prefix_of_the_fixed_run() {
 }
 
 #[test]
-fn the_cap_is_reported_and_shards_are_refused() {
+fn each_shard_stops_at_its_own_target_and_the_union_is_complete() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let args = |shard: &'static str| ["simulate", "--out", "s", "--realizations", "100000", "--shard", shard, "--target-se", "S_T=0.08", "-q"];
+    assert!(stickslip(&args("0/2"), t).status.success());
+    // one shard alone: the other block is missing
+    let o = stickslip(&["analyze", "s", "--out", "a0", "-q"], t);
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("incomplete"));
+    assert!(stickslip(&args("1/2"), t).status.success());
+    let a = stickslip::analysis::analyze(&t.join("s"), &Default::default()).expect("both shards: complete");
+    assert!(a.dataset.missing.is_empty());
+    // each shard is the start of its block of the fixed run: realizations 0.. and 50000..
+    let d = read_dir(&t.join("s"));
+    let idx = d.column("realization").unwrap().i64().unwrap().clone();
+    let starts: Vec<i64> = (0..idx.len()).filter(|&r| r == 0 || idx.get(r).unwrap() != idx.get(r - 1).unwrap() + 1).map(|r| idx.get(r).unwrap()).collect();
+    assert_eq!(starts, [0, 50_000]);
+    assert_eq!(a.dataset.rows as usize, d.height());
+    assert!(d.height() < 20_000, "each shard stopped early: {}", d.height());
+}
+
+#[test]
+fn the_cap_is_reported_and_bad_targets_are_refused() {
     let tmp = tempfile::tempdir().unwrap();
     let o = stickslip(&["simulate", "--out", "c", "--realizations", "2000", "--target-se", "S_T=0.0001", "-q"], tmp.path());
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("cap of 2000"), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(metadata(&tmp.path().join("c"), "stickslip.target_se_met").as_deref(), Some("false"));
-    let o = stickslip(&["simulate", "--out", "s", "--shard", "0/2", "--target-se", "S_T=0.1", "-q"], tmp.path());
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("--shard"));
     let o = stickslip(&["simulate", "--out", "s", "--target-se", "Q=0.1", "-q"], tmp.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(!tmp.path().join("s").exists());
