@@ -48,7 +48,7 @@ pub fn grid_exponent(m: &Moments, fixed: Option<usize>, finest: i32) -> i32 {
 }
 
 /// Mode of the reflected Gaussian KDE evaluated on the fine histogram `fine` of a sample with
-/// moments `m`.
+/// moments `m` (exactly 0 when the estimate peaks in the first cell at the boundary 0).
 pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
     if m.n == 0 {
         return None;
@@ -86,6 +86,13 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
         if f > best.0 {
             best = (f, Some(center(j)));
         }
+    }
+    // A maximum in the first cell of a grid that starts at the boundary 0 is the boundary: the
+    // reflected estimate has zero slope there and falls from it (a density peaking at 0, as the
+    // first stick start, stick and slip durations do). Its cell centre would move with the
+    // sample's grid resolution, not with the density.
+    if mirrored > 0 && fine.lo < w && best.1 == Some(center(0)) {
+        return Some(0.0);
     }
     best.1
 }

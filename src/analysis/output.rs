@@ -266,7 +266,7 @@ fn summary(a: &Analysis) -> serde_json::Value {
             "truncated_intervals": "The interval running at t_a is cut there and flagged; its length is censored, so it is excluded from D_k and H_k (moments.n_truncated_excluded counts them). T_k and L_k always include every realization that has a k-th event.",
             "moments": "variance unbiased (n-1); skewness m3/m2^1.5 and kurtosis m4/m2^2 (Pearson, 3 for a normal) with population moments, as MATLAB's skewness/kurtosis; mean_se = sqrt(s^2/n); variance_se = sqrt((m4 - (n-3)/(n-1) s^4)/n)",
             "intervals": "95 % intervals <stat>_lo/_hi by the delete-a-group jackknife: realization i is in group i mod 20; each statistic is recomputed without each group (theta_g) and se^2 = (G-1)/G sum (theta_g - mean theta_g)^2, interval = estimate -/+ t(19, 0.975) se with t = 2.093; the same for any thread count or shard split",
-            "mode": "maximum of a Gaussian KDE (Silverman bandwidth 0.9 sigma n^-1/5, reflected at 0) evaluated on the (up to 4096) bins of the one-pass sketch; counts: most frequent value",
+            "mode": "maximum of a Gaussian KDE (Silverman bandwidth 0.9 sigma n^-1/5, reflected at 0) evaluated on the (up to 4096) bins of the one-pass sketch, a maximum in the first bin at 0 reported as 0; counts: most frequent value",
             "bins": "equal width over the sample range; Scott's rule 3.49 sigma n^-1/3 clamped to 10..200 bins, or --bins",
             "independence": "contingency table of the joint histogram merged to <= 10x10 cells of ~equal marginal mass; Pearson chi2 and G tests; mutual information with a permutation null",
         },
