@@ -1,0 +1,276 @@
+//! Validation of a typed scenario — every key in its range, every distribution's support inside
+//! its key's, the combinations — and the scene it describes.
+
+use super::{invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, MAX_EXPECTED_SWITCHES, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES};
+use crate::belt::{Belt, Process, Symmetric, Telegraph};
+use crate::params::{Key, Scene};
+use crate::physics::{FrictionLaw, Params, Stribeck};
+use crate::solver::SolverKind;
+
+impl Scenario {
+    /// Whether the scene's slips have closed forms: Coulomb friction, or a Stribeck law whose
+    /// μ_s is μ_k (no `static_friction_coefficient`), which is Coulomb.
+    pub fn has_closed_forms(&self) -> bool {
+        self.model.friction_law != Some(FrictionLaw::Stribeck) || self.model.static_friction_coefficient.is_none()
+    }
+
+    /// The solver that actually runs: `auto` is `exact` where the scene has closed forms, else
+    /// `rk45` at the `[numerics]` tolerances.
+    pub fn solver(&self) -> SolverKind {
+        match self.run.solver {
+            SolverKind::Auto if self.has_closed_forms() => SolverKind::Exact,
+            SolverKind::Auto => SolverKind::Rk45,
+            other => other,
+        }
+    }
+
+    /// The scene every realization is drawn from: fixed parameters, random keys, the belt.
+    pub fn scene(&self) -> Result<Scene, ScenarioError> {
+        let m = &self.model;
+        let fixed = |p: &Option<Param>| match p {
+            Some(Param::Value(x)) => Some(*x),
+            _ => None,
+        };
+        let value = |p: &Param| match p {
+            Param::Value(x) => *x,
+            Param::Random(d) => d.mean(),
+            Param::Sweep(l) => l[0],
+        };
+        let kinetic = value(&m.friction_coefficient);
+        let params = Params {
+            mass: value(&m.mass),
+            stiffness: value(&m.stiffness),
+            damping: m.damping.as_ref().map_or(0.0, value),
+            normal_force: value(&m.normal_force),
+            kinetic,
+            static_: m.static_friction_coefficient.as_ref().map_or(kinetic, value),
+            law: m.friction_law.unwrap_or(FrictionLaw::Coulomb),
+            stribeck: Stribeck {
+                velocity: m.stribeck_velocity.as_ref().map_or(Params::PAPER.stribeck.velocity, value),
+                exponent: m.stribeck_exponent.as_ref().map_or(2.0, value),
+            },
+        };
+        let b = &self.belt;
+        let (speed, rate) = (value(&b.speed), value(&b.switch_rate));
+        let symmetric = match (&b.reverse_speed, &b.reverse_switch_rate) {
+            (None, None) => true,
+            (Some(rs), Some(rr)) => fixed(&Some(rs.clone())) == Some(speed) && fixed(&Some(rr.clone())) == Some(rate) && !matches!(b.speed, Param::Random(_)) && !matches!(b.switch_rate, Param::Random(_)),
+            (Some(_), None) | (None, Some(_)) => {
+                let (k, other) = if b.reverse_speed.is_some() { ("belt.reverse_speed", "belt.reverse_switch_rate") } else { ("belt.reverse_switch_rate", "belt.reverse_speed") };
+                return Err(invalid(k, "(set)", &format!("the asymmetric belt needs {other} too (give both, or neither for the paper's symmetric belt)")));
+            }
+        };
+        let process = if symmetric {
+            Process::Symmetric(Symmetric { speed, switch_rate: rate })
+        } else {
+            Process::Telegraph(Telegraph {
+                forward_speed: speed,
+                forward_rate: rate,
+                reverse_speed: b.reverse_speed.as_ref().map_or(speed, value),
+                reverse_rate: b.reverse_switch_rate.as_ref().map_or(rate, value),
+            })
+        };
+        let belt = Belt { process, initial_sign: b.initial_sign.0, duration: self.run.duration };
+        let random = Key::ALL
+            .into_iter()
+            .filter_map(|k| match self.param(k) {
+                Some(Param::Random(d)) => Some((k, *d)),
+                _ => None,
+            })
+            .collect();
+        Ok(Scene::new(params, belt, random))
+    }
+
+    /// The mean λ t_a of the Poisson number of belt switches: the paper's symmetric belt at a
+    /// fixed rate only (None otherwise).
+    pub fn poisson_mean(&self) -> Option<f64> {
+        let scene = self.scene().ok()?;
+        let random_rate = scene.random.iter().any(|(k, _)| *k == Key::SwitchRate);
+        match scene.belt.process {
+            Process::Symmetric(p) if !random_rate => Some(p.switch_rate * self.run.duration),
+            _ => None,
+        }
+    }
+
+    /// Every check: each key in its range, each distribution's support inside its key's range,
+    /// and the combinations (μ_s ≥ μ_k for every draw, finite ratios, budgets).
+    pub fn check(&self) -> Result<(), ScenarioError> {
+        for key in Key::ALL {
+            if let Some(p) = self.param(key) {
+                check_param(key, p)?;
+            }
+        }
+        let (lo_s, _) = self.model.static_friction_coefficient.as_ref().map_or((f64::INFINITY, 0.0), support);
+        let (_, hi_k) = support(&self.model.friction_coefficient);
+        if self.model.static_friction_coefficient.is_some() && lo_s < hi_k {
+            return Err(invalid(
+                "model.static_friction_coefficient",
+                &shown_param(self.model.static_friction_coefficient.as_ref().unwrap()),
+                &format!("must be >= model.friction_coefficient for every draw (the smallest possible is {}, the largest friction_coefficient {})", short(lo_s), short(hi_k)),
+            ));
+        }
+        let law = self.model.friction_law.unwrap_or(FrictionLaw::Coulomb);
+        if law == FrictionLaw::Stribeck && self.model.stribeck_velocity.is_none() {
+            return Err(invalid("model.stribeck_velocity", "(absent)", "the Stribeck law needs v_s > 0 (m/s)"));
+        }
+        if law != FrictionLaw::Stribeck {
+            if let Some(key) = [(Key::StribeckVelocity), (Key::StribeckExponent)].into_iter().find(|&k| self.param(k).is_some()) {
+                return Err(invalid(key.dotted(), "(set)", "only the Stribeck law uses it: set model.friction_law = \"stribeck\" too"));
+            }
+        }
+        if self.run.solver == SolverKind::Exact && !self.has_closed_forms() {
+            return Err(invalid(
+                "model.friction_law",
+                "\"stribeck\"",
+                "has no closed-form slip, so run.solver = \"exact\" cannot run it: use \"auto\" (rk45) or a numerical solver",
+            ));
+        }
+        let r = &self.run;
+        if !(r.duration.is_finite() && r.duration > 0.0) {
+            return Err(invalid("run.duration", &short(r.duration), "must be > 0 (s) and finite"));
+        }
+        if r.realizations == 0 || r.realizations > MAX_REALIZATIONS {
+            return Err(invalid("run.realizations", &r.realizations.to_string(), &format!("must be between 1 and {MAX_REALIZATIONS}")));
+        }
+        if r.seed > i64::MAX as u64 {
+            return Err(invalid("run.seed", &r.seed.to_string(), &format!("must be at most {}", i64::MAX)));
+        }
+        for (key, [lo, hi]) in [("initial_conditions.position", self.initial_conditions.position), ("initial_conditions.velocity", self.initial_conditions.velocity)] {
+            if !(lo.is_finite() && hi.is_finite() && lo <= hi && (hi - lo).is_finite()) {
+                return Err(invalid(key, &format!("[{}, {}]", short(lo), short(hi)), "must be [lo, hi] with finite lo <= hi and a finite width hi - lo"));
+            }
+        }
+        let n = &self.numerics;
+        for (key, x, unit) in [
+            ("numerics.rtol", n.rtol, ""),
+            ("numerics.atol", n.atol, ""),
+            ("numerics.max_step", n.max_step, " (s)"),
+            ("numerics.step", n.step, " (s)"),
+            ("numerics.epsilon", n.epsilon, " (m/s)"),
+            ("numerics.stick_velocity", n.stick_velocity, " (m/s)"),
+            ("output.trajectory_step", self.output.trajectory_step, " (s)"),
+        ] {
+            if !(x.is_finite() && x > 0.0) {
+                return Err(invalid(key, &short(x), &format!("must be > 0{unit} and finite")));
+            }
+        }
+        if n.step_budget == 0 {
+            return Err(invalid("numerics.step_budget", "0", "must be an integer >= 1"));
+        }
+        self.check_derived()
+    }
+
+    /// Checks on combinations of keys, at the extremes of every random key's support where
+    /// they are finite (a draw of an unbounded law that still overflows a ratio is refused per
+    /// realization, naming it).
+    fn check_derived(&self) -> Result<(), ScenarioError> {
+        self.scene()?;
+        let bounded = |p: &Param| {
+            let (lo, hi) = support(p);
+            let mean = match p {
+                Param::Random(d) => d.mean(),
+                _ => lo,
+            };
+            (if lo > 0.0 && lo.is_finite() { lo } else { mean }, if hi.is_finite() { hi } else { mean })
+        };
+        let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), bounded);
+        let hi = |k: Key| self.param(k).map_or(0.0, |p| bounded(p).1);
+        let ratios = [hi(Key::Stiffness) / m_lo, hi(Key::Damping) / m_lo, hi(Key::NormalForce) * hi(Key::Static).max(hi(Key::Kinetic)) / m_lo];
+        if ratios.iter().any(|r| !r.is_finite()) || !(m_hi > 0.0) {
+            return Err(ScenarioError::Invalid {
+                key: "model".into(),
+                value: format!("k/m up to {:e} 1/s², c/m up to {:e} 1/s, mu n/m up to {:e} m/s²", ratios[0], ratios[1], ratios[2]),
+                reason: "these ratios must be finite".into(),
+            });
+        }
+        let o = &self.output;
+        if o.trajectories > 1000 || o.trajectories as f64 * self.run.duration / o.trajectory_step > MAX_TRAJECTORY_SAMPLES {
+            return Err(ScenarioError::Invalid {
+                key: "output.trajectories".into(),
+                value: o.trajectories.to_string(),
+                reason: format!(
+                    "at most 1000 trajectories and {MAX_TRAJECTORY_SAMPLES:e} samples in all (run.duration / output.trajectory_step = {:e} each)",
+                    self.run.duration / o.trajectory_step
+                ),
+            });
+        }
+        // Numerical solvers: refuse settings that cannot work, before any realization runs.
+        let num = &self.numerics;
+        let solver = self.solver();
+        let fixed = matches!(solver, SolverKind::Rk4 | SolverKind::Moreau);
+        let omega = ratios[0].sqrt();
+        if solver == SolverKind::Rk4 && omega * num.step > 1.0 {
+            return Err(invalid(
+                "numerics.step",
+                &short(num.step),
+                &format!(
+                    "too coarse for rk4 with ω = √(k/m) up to {omega:e} rad/s: ω·step = {:e} must be at most 1 (RK4 loses accuracy, and is unstable past 2.8)",
+                    omega * num.step
+                ),
+            ));
+        }
+        let least_steps = self.run.duration / if fixed { num.step } else { num.max_step };
+        if matches!(solver, SolverKind::Rk45 | SolverKind::Rk4 | SolverKind::Moreau) && least_steps > num.step_budget as f64 {
+            let key = if fixed { "numerics.step" } else { "numerics.max_step" };
+            return Err(invalid(
+                key,
+                &short(if fixed { num.step } else { num.max_step }),
+                &format!("run.duration needs at least {least_steps:e} steps, over numerics.step_budget = {}", num.step_budget),
+            ));
+        }
+        let rate = hi(Key::SwitchRate).max(hi(Key::ReverseSwitchRate));
+        let expected = rate * self.run.duration;
+        if !(expected <= MAX_EXPECTED_SWITCHES) {
+            return Err(invalid(
+                "belt.switch_rate",
+                &short(rate),
+                &format!("switch rate × run.duration = {expected:e} expected belt switches per realization; at most {MAX_EXPECTED_SWITCHES:e} are supported"),
+            ));
+        }
+        Ok(())
+    }
+}
+
+
+/// The smallest and largest value a key can take: the number, or the distribution's support
+/// (a sweep's extremes).
+fn support(p: &Param) -> (f64, f64) {
+    match p {
+        Param::Value(x) => (*x, *x),
+        Param::Sweep(l) => l.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x))),
+        Param::Random(d) => d.support(),
+    }
+}
+
+/// One key's value or distribution against the key's valid range.
+fn check_param(key: Key, p: &Param) -> Result<(), ScenarioError> {
+    let (lo, open) = key.lower_bound();
+    let unit = key.unit();
+    let rel = if open { ">" } else { ">=" };
+    let ok = |x: f64| x.is_finite() && if open { x > lo } else { x >= lo };
+    match p {
+        Param::Value(x) => {
+            if !ok(*x) {
+                return Err(invalid(key.dotted(), &short(*x), &if x.is_finite() { format!("must be {rel} {lo}{unit}") } else { "must be finite".into() }));
+            }
+        }
+        Param::Sweep(list) => {
+            if let Some(x) = list.iter().find(|x| !ok(**x)) {
+                return Err(invalid(key.dotted(), &shown_list(list), &format!("the value {} must be {rel} {lo}{unit} and finite", short(*x))));
+            }
+        }
+        Param::Random(d) => {
+            d.check().map_err(|reason| invalid(key.dotted(), &shown_param(p), &reason))?;
+            let (s_lo, _) = d.support();
+            let inside = if open { s_lo > lo || (s_lo == lo && d.open_at_low()) } else { s_lo >= lo };
+            if !inside && !d.truncated() {
+                return Err(invalid(key.dotted(), &shown_param(p), &format!("the distribution can draw {}, but the key must be {rel} {lo}{unit}", short(s_lo))));
+            }
+            if d.truncated() && !ok(d.mean()) {
+                return Err(invalid(key.dotted(), &shown_param(p), &format!("a normal is truncated to the key's range ({rel} {lo}{unit}); its mean must lie in it")));
+            }
+        }
+    }
+    Ok(())
+}
+

@@ -1,0 +1,407 @@
+//! Scenario files: TOML in, a typed and validated [`Scenario`] out — every check happens here,
+//! before a single realization runs.
+//!
+//! Resolution order: the embedded paper scenario (`pipelines/paper.toml`) ← the user's file (any
+//! subset of keys) ← `--set key=value` overrides (TOML values) ← typed [`Overrides`]
+//! (`--realizations`, `--seed`). The merged table is deserialized once into typed structs (serde,
+//! unknown keys denied: a typo never silently keeps a default), then validated with every error
+//! naming its key. Provenance is the typed value serialized back ([`Scenario::to_toml`]).
+//!
+//! Any numeric `[model]` or `[belt]` key is a [`Param`]: a number, a list of numbers (a sweep:
+//! one cell per value, resolved by [`Scenario::resolve_sweep`]) or a distribution drawn per
+//! realization ([`crate::params`]).
+//!
+//! Files: this one resolves (merging, `--set`, sweeps, errors); `spec.rs` is the typed file;
+//! `check.rs` validates it and builds the scene it describes.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use toml::{Table, Value};
+
+use crate::params::Key;
+pub use crate::solver::Numerics;
+
+mod check;
+mod spec;
+
+pub use spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, Run, Sign};
+
+/// The paper scenario, embedded: the default of every key.
+pub const PAPER_TOML: &str = include_str!("../../pipelines/paper.toml");
+
+/// Largest accepted λ·t_a (expected belt switches per realization): their instants are held in memory.
+pub const MAX_EXPECTED_SWITCHES: f64 = 1e7;
+
+/// Most realizations one run may ask for.
+pub const MAX_REALIZATIONS: u64 = 1_000_000_000_000;
+
+/// Most cells one sweep may have (each is a full run and a directory).
+pub const MAX_CELLS: usize = 10_000;
+
+/// Largest scenario file read (a scenario is a few hundred bytes).
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
+/// Most trajectory samples in all (`output.trajectories` × duration / step): about 0.6 GB of CSV.
+pub const MAX_TRAJECTORY_SAMPLES: f64 = 1e7;
+
+/// A scenario: the typed file. Fields may be set directly; [`Scenario::check`] validates again.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    pub model: ModelSpec,
+    pub belt: BeltSpec,
+    pub initial_conditions: InitialConditions,
+    pub run: Run,
+    pub numerics: Numerics,
+    pub output: Output,
+}
+
+/// Typed overrides applied after `--set` (`--realizations`, `--seed`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Overrides {
+    pub realizations: Option<u64>,
+    pub seed: Option<u64>,
+}
+
+/// One cell of a parameter sweep: the swept keys' values, its hive path and its scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Cell {
+    /// (dotted key, value) of each swept key, in the order of their names
+    pub values: Vec<(String, f64)>,
+    /// `name=value/...` with the last component of each key (empty without a sweep)
+    pub path: String,
+    pub scenario: Scenario,
+}
+
+/// Everything that can be wrong with a scenario, each naming its culprit.
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    #[error("cannot read scenario file {}: {source}", path.display())]
+    Read { path: PathBuf, source: std::io::Error },
+    #[error("scenario file {} is not valid TOML: {message}", path.display())]
+    Syntax { path: PathBuf, message: String },
+    #[error("unknown scenario key `{key}`{hint}")]
+    UnknownKey { key: String, hint: Hint },
+    #[error("scenario key `{key}` = {value}: {reason}")]
+    Invalid { key: String, value: String, reason: String },
+    #[error("--set {arg:?}: expected KEY=VALUE with a dotted key, e.g. --set belt.switch_rate=1.0")]
+    BadSet { arg: String },
+    #[error("--set {arg:?}: {reason}")]
+    BadSetValue { arg: String, reason: String },
+    #[error("scenario file {}: {reason}", path.display())]
+    TooBig { path: PathBuf, reason: String },
+}
+
+/// The known keys next to an unknown one, for the error message.
+#[derive(Debug)]
+pub struct Hint(Vec<String>);
+
+impl fmt::Display for Hint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.is_empty() {
+            Ok(())
+        } else {
+            write!(f, " (known here: {})", self.0.join(", "))
+        }
+    }
+}
+
+impl Scenario {
+    /// The paper scenario.
+    pub fn paper() -> Scenario {
+        Scenario::resolve(None, &[]).expect("the embedded paper scenario is valid")
+    }
+
+    /// Resolve a scenario from an optional file and `KEY=VALUE` overrides.
+    pub fn resolve(file: Option<&Path>, sets: &[String]) -> Result<Scenario, ScenarioError> {
+        Scenario::from_text(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), sets)
+    }
+
+    /// Resolve a scenario from TOML text (`origin` names it in errors) and overrides.
+    pub fn from_text(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Scenario, ScenarioError> {
+        let sc = typed(merged(text, origin, sets)?)?;
+        sc.check()?;
+        Ok(sc)
+    }
+
+    /// Resolve a scenario whose `[model]`/`[belt]` keys may be lists (a sweep) into its cells: the
+    /// Cartesian product of the lists, keys in the order of their dotted names (`belt.*` before
+    /// `model.*`; the hive path nests them in that order). Each cell's `run.seed` is derived from the
+    /// base seed and the cell's path (SplitMix64 of seed ⊕ FNV-1a(path)), so cells draw
+    /// independent streams, and re-running one cell's recorded scenario reproduces it.
+    pub fn resolve_sweep(file: Option<&Path>, sets: &[String], over: Overrides) -> Result<Vec<Cell>, ScenarioError> {
+        let mut base = typed(merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), sets)?)?;
+        over.apply(&mut base);
+        let mut axes: Vec<(Key, Vec<f64>)> = Vec::new();
+        for key in Key::ALL {
+            if let Some(Param::Sweep(list)) = base.param(key) {
+                if list.is_empty() {
+                    return Err(invalid(key.dotted(), "[]", "a swept key needs at least one value"));
+                }
+                let mut seen: Vec<f64> = Vec::new();
+                for &x in list {
+                    if seen.contains(&x) {
+                        return Err(invalid(key.dotted(), &shown_list(list), &format!("the value {} is listed twice", short(x))));
+                    }
+                    seen.push(x);
+                }
+                axes.push((key, list.clone()));
+            }
+        }
+        axes.sort_by_key(|a| a.0.dotted());
+        let total = axes.iter().try_fold(1usize, |n, a| n.checked_mul(a.1.len()).filter(|&n| n <= MAX_CELLS));
+        let Some(total) = total else {
+            let sizes: Vec<String> = axes.iter().map(|(k, l)| format!("{}: {}", k.dotted(), l.len())).collect();
+            return Err(ScenarioError::Invalid {
+                key: axes.iter().map(|a| a.0.dotted()).collect::<Vec<_>>().join(", "),
+                value: sizes.join(" × "),
+                reason: format!("the sweep has more than {MAX_CELLS} cells"),
+            });
+        };
+        let mut cells = Vec::with_capacity(total);
+        for n in 0..total {
+            let (mut sc, mut values, mut parts, mut rest) = (base.clone(), Vec::new(), Vec::new(), n);
+            for (key, list) in axes.iter().rev() {
+                let x = list[rest % list.len()];
+                rest /= list.len();
+                sc.param_mut(*key).set(Some(Param::Value(x)));
+                values.push((key.dotted().to_string(), x));
+                parts.push(format!("{}={}", key.name(), short(x)));
+            }
+            values.reverse();
+            parts.reverse();
+            let path = parts.join("/");
+            if !axes.is_empty() {
+                sc.run.seed = cell_seed(base.run.seed, &path);
+            }
+            sc.check()?;
+            cells.push(Cell { values, path, scenario: sc });
+        }
+        Ok(cells)
+    }
+
+    /// The resolved scenario as TOML text (the provenance datasets record).
+    pub fn to_toml(&self) -> String {
+        toml::to_string(self).expect("a scenario serializes")
+    }
+}
+
+impl Overrides {
+    /// Set the typed fields.
+    pub fn apply(&self, sc: &mut Scenario) {
+        if let Some(n) = self.realizations {
+            sc.run.realizations = n;
+        }
+        if let Some(s) = self.seed {
+            sc.run.seed = s;
+        }
+    }
+}
+
+/// The typed scenario of a merged table; errors name the key.
+fn typed(table: Table) -> Result<Scenario, ScenarioError> {
+    let mut table = table;
+    positive_zeros(&mut table);
+    Scenario::deserialize(table.clone()).map_err(|e| schema_error(&e, &table))
+}
+
+/// A serde error as a scenario error naming the key (toml records the key path).
+fn schema_error(e: &toml::de::Error, table: &Table) -> ScenarioError {
+    let text = e.to_string();
+    let path = text.lines().find_map(|l| l.strip_prefix("in `").and_then(|s| s.strip_suffix('`'))).unwrap_or("").to_string();
+    let msg = e.message();
+    if let Some(rest) = msg.strip_prefix("unknown field `") {
+        let field = rest.split('`').next().unwrap_or("");
+        let known = msg.split_once("expected").map_or(vec![], |(_, k)| k.split('`').skip(1).step_by(2).map(str::to_string).collect());
+        let key = if path.is_empty() { field.to_string() } else { format!("{path}.{field}") };
+        return ScenarioError::UnknownKey { key, hint: Hint(known) };
+    }
+    let mut v = Some(&Value::Table(table.clone()));
+    let owned;
+    for part in path.split('.').filter(|p| !p.is_empty()) {
+        v = v.and_then(|v| v.get(part));
+    }
+    owned = v.map_or_else(|| "(missing)".to_string(), shown);
+    ScenarioError::Invalid { key: path, value: owned, reason: msg.trim_end().to_string() }
+}
+
+/// A number in its shortest round-trip form, never as hundreds of digits (hive values, errors):
+/// positional while that takes at most 16 characters (0.51, 0.00001, 2.5), else with an exponent.
+pub fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 16 {
+        plain
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The seed of a sweep cell: SplitMix64(seed ⊕ FNV-1a 64(path)), kept below 2^63.
+pub fn cell_seed(seed: u64, path: &str) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in path.bytes() {
+        h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+    }
+    let mut z = (seed ^ h).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    (z ^ (z >> 31)) >> 1
+}
+
+/// The text of an optional scenario file (at most [`MAX_FILE_BYTES`], UTF-8).
+fn read(file: Option<&Path>) -> Result<Option<String>, ScenarioError> {
+    use std::io::Read as _;
+    let Some(path) = file else { return Ok(None) };
+    let err = |source| ScenarioError::Read { path: path.to_owned(), source };
+    let mut bytes = Vec::new();
+    std::fs::File::open(path).and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)).map_err(err)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(ScenarioError::TooBig { path: path.to_owned(), reason: format!("larger than {MAX_FILE_BYTES} bytes; a scenario is a small TOML file") });
+    }
+    String::from_utf8(bytes).map(Some).map_err(|_| ScenarioError::TooBig { path: path.to_owned(), reason: "is not UTF-8 text".into() })
+}
+
+/// Signed zeros become +0 everywhere (a `-0.0` passes `>= 0` but divides to −∞).
+fn positive_zeros(table: &mut Table) {
+    fn fix(v: &mut Value) {
+        match v {
+            Value::Float(x) if *x == 0.0 => *x = 0.0,
+            Value::Array(a) => a.iter_mut().for_each(fix),
+            Value::Table(t) => t.iter_mut().for_each(|(_, v)| fix(v)),
+            _ => {}
+        }
+    }
+    table.iter_mut().for_each(|(_, v)| fix(v));
+}
+
+/// The paper scenario ← the user's text ← `--set` overrides, as a table (not yet typed).
+fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, ScenarioError> {
+    let mut table: Table = PAPER_TOML.parse().expect("embedded scenario parses");
+    if let Some(text) = text {
+        let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax {
+            path: origin.to_owned(),
+            message: e.to_string().trim_end().to_owned(),
+        })?;
+        merge(&mut table, user, "")?;
+    }
+    for arg in sets {
+        if arg.chars().any(char::is_control) {
+            return Err(ScenarioError::BadSetValue { arg: arg.clone(), reason: "contains a newline or control character; give one KEY=VALUE per --set".into() });
+        }
+        let (key, value) = arg.split_once('=').ok_or_else(|| ScenarioError::BadSet { arg: arg.clone() })?;
+        set(&mut table, key.trim(), parse_value(value.trim()))?;
+    }
+    Ok(table)
+}
+
+/// A `--set` value: TOML if it parses as TOML (`1.0`, `[-1, 1]`, `{ dist = … }`, `"x"`), else a
+/// bare string.
+fn parse_value(text: &str) -> Value {
+    format!("v = {text}")
+        .parse::<Table>()
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| Value::String(text.to_owned()))
+}
+
+/// Merge `user` into `base` (tables merge, values replace; unknown keys are left for the typed
+/// step to name).
+fn merge(base: &mut Table, user: Table, prefix: &str) -> Result<(), ScenarioError> {
+    for (key, value) in user {
+        let dotted = if prefix.is_empty() { key.clone() } else { format!("{prefix}.{key}") };
+        match (base.get_mut(&key), value) {
+            (Some(Value::Table(b)), Value::Table(u)) if !is_dist(&u) => merge(b, u, &dotted)?,
+            (Some(Value::Table(_)), v) => return Err(invalid(&dotted, &shown(&v), "must be a table")),
+            (None, Value::Table(u)) if prefix.is_empty() => {
+                base.insert(key, Value::Table(u));
+            }
+            (_, v) => {
+                base.insert(key, v);
+            }
+        }
+    }
+    Ok(())
+}
+
+fn is_dist(t: &Table) -> bool {
+    t.contains_key("dist")
+}
+
+/// Set one dotted key (its section must exist; the typed step refuses unknown leaves).
+fn set(table: &mut Table, key: &str, value: Value) -> Result<(), ScenarioError> {
+    let Some((section, leaf)) = key.split_once('.') else {
+        return Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(table.keys().cloned().collect()) });
+    };
+    match table.get_mut(section) {
+        Some(Value::Table(t)) if !leaf.contains('.') && !leaf.is_empty() => {
+            t.insert(leaf.to_owned(), value);
+            Ok(())
+        }
+        _ => Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(table.keys().cloned().collect()) }),
+    }
+}
+
+fn invalid(key: &str, value: &str, reason: &str) -> ScenarioError {
+    ScenarioError::Invalid { key: key.to_owned(), value: value.to_owned(), reason: reason.to_owned() }
+}
+
+fn shown_list(l: &[f64]) -> String {
+    format!("[{}]", l.iter().map(|x| short(*x)).collect::<Vec<_>>().join(", "))
+}
+
+fn shown_param(p: &Param) -> String {
+    shown(&Value::try_from(p).unwrap_or(Value::String("?".into())))
+}
+
+/// A value as an error message shows it: numbers in their short form ([`short`]).
+fn shown(v: &Value) -> String {
+    match v {
+        Value::Float(x) => short(*x),
+        Value::Array(a) => format!("[{}]", a.iter().map(shown).collect::<Vec<_>>().join(", ")),
+        Value::Table(t) => format!("{{ {} }}", t.iter().map(|(k, v)| format!("{k} = {}", shown(v))).collect::<Vec<_>>().join(", ")),
+        other => other.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::belt::InitialSign;
+    use crate::physics::Params;
+    use crate::solver::SolverKind;
+
+    #[test]
+    fn paper_defaults() {
+        let s = Scenario::paper();
+        assert_eq!(s.scene().unwrap().params, Params::PAPER);
+        assert_eq!(s.run.realizations, 18_000);
+        assert_eq!(s.initial_conditions.position, [-1.0, 1.0]);
+        assert_eq!(s.solver(), SolverKind::Exact);
+    }
+
+    #[test]
+    fn set_overrides_and_names_unknown_keys() {
+        let s = Scenario::resolve(None, &["belt.switch_rate=1".into(), "belt.initial_sign=random".into()]).unwrap();
+        assert_eq!(s.belt.switch_rate, Param::Value(1.0));
+        assert_eq!(s.belt.initial_sign, Sign(InitialSign::Random));
+        let e = Scenario::resolve(None, &["belt.swich_rate=1".into()]).unwrap_err().to_string();
+        assert!(e.contains("belt.swich_rate") && e.contains("switch_rate"), "{e}");
+        let e = Scenario::resolve(None, &["model.mass=-1".into()]).unwrap_err().to_string();
+        assert!(e.contains("model.mass") && e.contains("> 0"), "{e}");
+        let e = Scenario::resolve(None, &["model.mass=nan".into()]).unwrap_err().to_string();
+        assert!(e.contains("finite"), "{e}");
+        let e = Scenario::resolve(None, &["run.realizations=0".into()]).unwrap_err().to_string();
+        assert!(e.contains("run.realizations"), "{e}");
+        let e = Scenario::resolve(None, &["run.solver=rk5".into()]).unwrap_err().to_string();
+        assert!(e.contains("run.solver") && e.contains("rk45"), "{e}");
+    }
+
+    #[test]
+    fn provenance_round_trips() {
+        let s = Scenario::resolve(None, &["model.damping=0.5".into(), "model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}".into()]).unwrap();
+        let again = Scenario::from_text(Some(&s.to_toml()), Path::new("x"), &[]).unwrap();
+        assert_eq!(s, again);
+    }
+}

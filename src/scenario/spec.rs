@@ -1,0 +1,202 @@
+//! The scenario file as typed values: each section a serde struct with unknown keys denied, and
+//! every numeric scene key a [`Param`] (a number, a sweep or a distribution).
+
+use serde::{Deserialize, Serialize};
+use toml::Value;
+
+use super::Scenario;
+use crate::belt::InitialSign;
+use crate::params::{Dist, Key};
+use crate::physics::FrictionLaw;
+use crate::solver::SolverKind;
+
+/// A numeric scene key as written: a number, a sweep or a distribution.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Param {
+    Value(f64),
+    Sweep(Vec<f64>),
+    Random(Dist),
+}
+
+impl<'de> Deserialize<'de> for Param {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Param, D::Error> {
+        use serde::de::Error;
+        let number = |v: &Value| match *v {
+            Value::Float(x) => Some(x),
+            Value::Integer(i) => Some(i as f64),
+            _ => None,
+        };
+        let v = Value::deserialize(d)?;
+        match &v {
+            Value::Array(list) => list.iter().map(number).collect::<Option<Vec<f64>>>().map(Param::Sweep).ok_or_else(|| {
+                D::Error::custom("a list is a sweep and lists numbers only (a key cannot be both swept and random)")
+            }),
+            Value::Table(t) => Dist::deserialize(t.clone()).map(Param::Random).map_err(|e| D::Error::custom(e.message())),
+            other => number(other).map(Param::Value).ok_or_else(|| {
+                D::Error::custom("must be a number, a list of numbers (a sweep) or a distribution such as { dist = \"uniform\", low = 0.3, high = 0.7 }")
+            }),
+        }
+    }
+}
+
+/// `[model]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// m, kg, > 0
+    pub mass: Param,
+    /// k, N/m, ≥ 0
+    pub stiffness: Param,
+    /// n, N, ≥ 0
+    pub normal_force: Param,
+    /// μ_k, ≥ 0
+    pub friction_coefficient: Param,
+    /// c, N·s/m, ≥ 0 (absent: 0)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<Param>,
+    /// μ_s ≥ μ_k (absent: = μ_k)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_friction_coefficient: Option<Param>,
+    /// absent: coulomb
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_law: Option<FrictionLaw>,
+    /// v_s, m/s, > 0 (required by the Stribeck law)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_velocity: Option<Param>,
+    /// δ, > 0 (absent: 2)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_exponent: Option<Param>,
+}
+
+/// `belt.initial_sign`: 1, −1 or "random".
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sign(pub InitialSign);
+
+impl Serialize for Sign {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self.0 {
+            InitialSign::Positive => s.serialize_i64(1),
+            InitialSign::Negative => s.serialize_i64(-1),
+            InitialSign::Random => s.serialize_str("random"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Sign {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Sign, D::Error> {
+        match Value::deserialize(d)? {
+            Value::Integer(1) => Ok(Sign(InitialSign::Positive)),
+            Value::Integer(-1) => Ok(Sign(InitialSign::Negative)),
+            Value::String(s) if s == "random" => Ok(Sign(InitialSign::Random)),
+            _ => Err(serde::de::Error::custom("must be 1, -1 or \"random\"")),
+        }
+    }
+}
+
+/// `[belt]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeltSpec {
+    /// v0 = v_f, m/s, > 0
+    pub speed: Param,
+    /// λ = λ_f, 1/s, ≥ 0
+    pub switch_rate: Param,
+    pub initial_sign: Sign,
+    /// v_r, m/s, > 0 (with `reverse_switch_rate`: the asymmetric telegraph belt)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reverse_speed: Option<Param>,
+    /// λ_r, 1/s, ≥ 0
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reverse_switch_rate: Option<Param>,
+}
+
+/// `[initial_conditions]`: uniform ranges [lo, hi].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialConditions {
+    /// X0, m
+    pub position: [f64; 2],
+    /// Ẋ0, m/s
+    pub velocity: [f64; 2],
+}
+
+/// `[run]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Run {
+    /// t_a, s, > 0
+    pub duration: f64,
+    pub realizations: u64,
+    pub seed: u64,
+    pub solver: SolverKind,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Output {
+    pub switch_times: bool,
+    /// realizations 0..N sampled for trajectories (0: none)
+    pub trajectories: u64,
+    /// s
+    pub trajectory_step: f64,
+}
+
+impl Scenario {
+    /// The [`Param`] of a scene key (None: absent).
+    pub fn param(&self, key: Key) -> Option<&Param> {
+        let (m, b) = (&self.model, &self.belt);
+        match key {
+            Key::Mass => Some(&m.mass),
+            Key::Stiffness => Some(&m.stiffness),
+            Key::Damping => m.damping.as_ref(),
+            Key::NormalForce => Some(&m.normal_force),
+            Key::Kinetic => Some(&m.friction_coefficient),
+            Key::Static => m.static_friction_coefficient.as_ref(),
+            Key::Speed => Some(&b.speed),
+            Key::SwitchRate => Some(&b.switch_rate),
+            Key::ReverseSpeed => b.reverse_speed.as_ref(),
+            Key::ReverseSwitchRate => b.reverse_switch_rate.as_ref(),
+            Key::StribeckVelocity => m.stribeck_velocity.as_ref(),
+            Key::StribeckExponent => m.stribeck_exponent.as_ref(),
+        }
+    }
+
+    /// The slot of a scene key, to set it.
+    pub fn param_mut(&mut self, key: Key) -> ParamSlot<'_> {
+        let (m, b) = (&mut self.model, &mut self.belt);
+        match key {
+            Key::Mass => ParamSlot::Required(&mut m.mass),
+            Key::Stiffness => ParamSlot::Required(&mut m.stiffness),
+            Key::Damping => ParamSlot::Optional(&mut m.damping),
+            Key::NormalForce => ParamSlot::Required(&mut m.normal_force),
+            Key::Kinetic => ParamSlot::Required(&mut m.friction_coefficient),
+            Key::Static => ParamSlot::Optional(&mut m.static_friction_coefficient),
+            Key::Speed => ParamSlot::Required(&mut b.speed),
+            Key::SwitchRate => ParamSlot::Required(&mut b.switch_rate),
+            Key::ReverseSpeed => ParamSlot::Optional(&mut b.reverse_speed),
+            Key::ReverseSwitchRate => ParamSlot::Optional(&mut b.reverse_switch_rate),
+            Key::StribeckVelocity => ParamSlot::Optional(&mut m.stribeck_velocity),
+            Key::StribeckExponent => ParamSlot::Optional(&mut m.stribeck_exponent),
+        }
+    }
+}
+
+/// A [`Param`] slot: required keys always hold one, optional ones may be absent.
+pub enum ParamSlot<'a> {
+    Required(&'a mut Param),
+    Optional(&'a mut Option<Param>),
+}
+
+impl ParamSlot<'_> {
+    /// Set the key (None: remove an optional key; a required key keeps its value).
+    pub fn set(self, p: Option<Param>) {
+        match (self, p) {
+            (ParamSlot::Required(slot), Some(p)) => *slot = p,
+            (ParamSlot::Required(_), None) => {}
+            (ParamSlot::Optional(slot), p) => *slot = p,
+        }
+    }
+}
+
