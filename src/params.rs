@@ -204,8 +204,8 @@ pub struct Scene {
 }
 
 impl Scene {
-    pub fn new(params: Params, belt: Belt, random: Vec<(Key, Dist)>) -> Scene {
-        let static_follows_kinetic = params.static_ == params.kinetic && !random.iter().any(|(k, _)| *k == Key::Static);
+    /// `static_follows_kinetic`: the scenario gives no μ_s, so each realization's μ_s is its μ_k.
+    pub fn new(params: Params, belt: Belt, random: Vec<(Key, Dist)>, static_follows_kinetic: bool) -> Scene {
         Scene { params, belt, random, static_follows_kinetic }
     }
 

@@ -13,6 +13,7 @@
 use std::str::FromStr;
 
 use crate::ensemble::Outcome;
+use crate::events::censored;
 use crate::stats::Moments;
 
 /// A per-realization quantity whose mean a target bounds.
@@ -89,8 +90,8 @@ impl Quantity {
             Quantity::StickStart(k) => r.stick_start.get(k - 1).copied(),
             Quantity::SlipStart(k) => r.slip_start.get(k - 1).copied(),
             // the interval cut at t_a is censored: excluded, as in `analyze`
-            Quantity::StickDuration(k) => r.stick_duration.get(k - 1).copied().filter(|_| !(r.last_truncated && nt == k && nt > nl)),
-            Quantity::SlipDuration(k) => r.slip_duration.get(k - 1).copied().filter(|_| !(r.last_truncated && nl == k && nt == nl)),
+            Quantity::StickDuration(k) => r.stick_duration.get(k - 1).copied().filter(|_| !censored(true, k as u64, nt as u64, nl as u64, r.last_truncated)),
+            Quantity::SlipDuration(k) => r.slip_duration.get(k - 1).copied().filter(|_| !censored(false, k as u64, nt as u64, nl as u64, r.last_truncated)),
         }
     }
 }

@@ -216,12 +216,12 @@ fn series_list(opts: &Options, switch_times: bool) -> Vec<Series> {
 
 /// Whether row `r`'s value of series `s` is the truncated last interval (see the module docs).
 fn truncated(s: &Series, b: &Batch, r: usize) -> bool {
-    b.last_truncated[r]
-        && match (s.var, s.index) {
-            (Variable::D, Some(k)) => b.n_stick[r] == i64::from(k) && b.n_stick[r] > b.n_slip[r],
-            (Variable::H, Some(k)) => b.n_slip[r] == i64::from(k) && b.n_stick[r] == b.n_slip[r],
-            _ => false,
-        }
+    let (nt, nl) = (b.n_stick[r] as u64, b.n_slip[r] as u64);
+    match (s.var, s.index) {
+        (Variable::D, Some(k)) => crate::events::censored(true, u64::from(k), nt, nl, b.last_truncated[r]),
+        (Variable::H, Some(k)) => crate::events::censored(false, u64::from(k), nt, nl, b.last_truncated[r]),
+        _ => false,
+    }
 }
 
 /// Value of series `i` in row `r`, unless absent or truncated.

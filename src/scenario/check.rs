@@ -27,10 +27,6 @@ impl Scenario {
     /// The scene every realization is drawn from: fixed parameters, random keys, the belt.
     pub fn scene(&self) -> Result<Scene, ScenarioError> {
         let m = &self.model;
-        let fixed = |p: &Option<Param>| match p {
-            Some(Param::Value(x)) => Some(*x),
-            _ => None,
-        };
         let value = |p: &Param| match p {
             Param::Value(x) => *x,
             Param::Random(d) => d.mean(),
@@ -54,7 +50,9 @@ impl Scenario {
         let (speed, rate) = (value(&b.speed), value(&b.switch_rate));
         let symmetric = match (&b.reverse_speed, &b.reverse_switch_rate) {
             (None, None) => true,
-            (Some(rs), Some(rr)) => fixed(&Some(rs.clone())) == Some(speed) && fixed(&Some(rr.clone())) == Some(rate) && !matches!(b.speed, Param::Random(_)) && !matches!(b.switch_rate, Param::Random(_)),
+            // equal fixed values are the paper's belt, drawn by the paper's steps
+            (Some(Param::Value(rs)), Some(Param::Value(rr))) => b.speed == Param::Value(*rs) && b.switch_rate == Param::Value(*rr),
+            (Some(_), Some(_)) => false,
             (Some(_), None) | (None, Some(_)) => {
                 let (k, other) = if b.reverse_speed.is_some() { ("belt.reverse_speed", "belt.reverse_switch_rate") } else { ("belt.reverse_switch_rate", "belt.reverse_speed") };
                 return Err(invalid(k, "(set)", &format!("the asymmetric belt needs {other} too (give both, or neither for the paper's symmetric belt)")));
@@ -78,7 +76,7 @@ impl Scenario {
                 _ => None,
             })
             .collect();
-        Ok(Scene::new(params, belt, random))
+        Ok(Scene::new(params, belt, random, m.static_friction_coefficient.is_none()))
     }
 
     /// The mean λ t_a of the Poisson number of belt switches: the paper's symmetric belt at a
