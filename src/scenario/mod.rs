@@ -166,7 +166,7 @@ impl Scenario {
             for (key, list) in axes.iter().rev() {
                 let x = list[rest % list.len()];
                 rest /= list.len();
-                sc.param_mut(*key).set(Some(Param::Value(x)));
+                sc.param_mut(*key).set(Param::Value(x));
                 values.push((key.dotted().to_string(), x));
                 parts.push(format!("{}={}", key.name(), short(x)));
             }

@@ -190,12 +190,11 @@ pub enum ParamSlot<'a> {
 }
 
 impl ParamSlot<'_> {
-    /// Set the key (None: remove an optional key; a required key keeps its value).
-    pub fn set(self, p: Option<Param>) {
-        match (self, p) {
-            (ParamSlot::Required(slot), Some(p)) => *slot = p,
-            (ParamSlot::Required(_), None) => {}
-            (ParamSlot::Optional(slot), p) => *slot = p,
+    /// Set the key.
+    pub fn set(self, p: Param) {
+        match self {
+            ParamSlot::Required(slot) => *slot = p,
+            ParamSlot::Optional(slot) => *slot = Some(p),
         }
     }
 }
