@@ -77,7 +77,10 @@ impl Stribeck {
     /// `exp(−(|u|/v_s)^δ)`, the peak term (δ = 2 and δ = 1 without `powf`; 0 past the cutoff).
     #[inline]
     pub fn peak(&self, u: f64) -> f64 {
-        let r = u.abs() / self.velocity;
+        // times 1/v_s rather than over v_s: the solvers evaluate the law several times per
+        // step with the same v_s, and the reciprocal is computed once (a division's latency
+        // sits on the integrator's critical path)
+        let r = u.abs() * (1.0 / self.velocity);
         let z = if self.exponent == 2.0 {
             r * r
         } else if self.exponent == 1.0 {
@@ -189,7 +192,13 @@ impl Physics {
     /// `ẍ = σ f(|v − ẋ|)/m − ω² x − γ ẋ` [m/s²].
     #[inline]
     pub fn slip_accel(&self, x: f64, xdot: f64, v: f64, sigma: f64) -> f64 {
-        sigma * self.slip_friction(v - xdot) - self.omega2 * x - self.gamma * xdot
+        // σ a_k − (ω² x + γ ẋ) + σ (a_s − a_k) P(u): the peak term P enters last, through one
+        // multiply and one add (it is the integrators' longest chain, through `exp`)
+        let coulomb = sigma * self.kinetic - (self.omega2 * x + self.gamma * xdot);
+        match self.stribeck {
+            None => coulomb,
+            Some(s) => coulomb + sigma * (self.breakaway - self.kinetic) * s.peak(v - xdot),
+        }
     }
 
     /// Whether the slip after a breakaway only touches belt speed until the next switch (the

@@ -134,18 +134,21 @@ impl Hybrid {
     }
 }
 
-/// The longest step that keeps the Stribeck peak resolved at state `y` under belt velocity `v`
-/// (module docs; ∞ for Coulomb).
-fn peak_limit(p: &Physics, window: f64, y: State, v: f64, acc: f64) -> f64 {
-    let Some(s) = p.stribeck else { return f64::INFINITY };
+/// The longest step up to `want` that keeps the Stribeck peak resolved at state `y` under belt
+/// velocity `v` (module docs; `want` for Coulomb, or when `want` already keeps it).
+fn peak_limit(p: &Physics, window: f64, y: State, v: f64, acc: f64, want: f64) -> f64 {
+    let Some(s) = p.stribeck else { return want };
     let u = v - y[1];
     // the change of u one step may make: what is left to the window (where the peak term
     // exceeds e^−12, [`crate::physics::Stribeck::window`]), plus v_s
     let allowed = (u.abs() - window).max(0.0) + s.velocity;
     let (du, ddu) = (acc.abs(), (p.omega2 * y[1] + p.gamma * acc).abs());
+    if (du + 0.5 * ddu * want) * want <= allowed {
+        return want;
+    }
     // the positive root of |ü| h²/2 + |u̇| h = allowed, without cancellation
     let h = 2.0 * allowed / (du + (du * du + 2.0 * ddu * allowed).sqrt());
-    if h > 0.0 { h } else { f64::INFINITY }
+    if h > 0.0 { h.min(want) } else { want }
 }
 
 impl Method for Hybrid {
@@ -170,7 +173,17 @@ impl Method for Hybrid {
                 let p = self.p;
                 let acc = |y: State| p.slip_accel(y[0], y[1], v, sigma);
                 let f0 = self.f.take().unwrap_or_else(|| [self.y[1], acc(self.y)]);
-                let limit = (t1 - self.t).min(if self.peak_guard { peak_limit(&p, self.peak_window, self.y, v, f0[1]) } else { f64::INFINITY });
+                let rest = t1 - self.t;
+                let limit = if self.peak_guard {
+                    // the step rk45 would try (rk4's fixed step), unless the peak needs a shorter one
+                    let want = match self.scheme {
+                        Scheme::Rk45 => self.dopri.next(),
+                        Scheme::Rk4 => self.step,
+                    };
+                    peak_limit(&p, self.peak_window, self.y, v, f0[1], want.min(rest))
+                } else {
+                    rest
+                };
                 let step: Step = match self.scheme {
                     Scheme::Rk45 => self.dopri.step_from(&acc, self.t, self.y, f0, limit, &mut self.steps),
                     Scheme::Rk4 => {

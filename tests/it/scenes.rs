@@ -268,15 +268,15 @@ fn trajectories_are_sampled_for_every_method() {
 
 #[test]
 fn the_example_scene_files_run() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("pipelines/scenes");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut n = 0;
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
+    let scenes = std::fs::read_dir(root.join("pipelines/scenes")).unwrap().map(|e| e.unwrap().path());
+    for path in scenes.chain([root.join("pipelines/stribeck.toml")]) {
         let sc = stickslip::scenario::Scenario::resolve(Some(&path), &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         for (i, o) in outcomes(&sc, 50).iter().enumerate() {
             check_invariants(&sc, o, true).unwrap_or_else(|e| panic!("{}, realization {i}: {e}", path.display()));
         }
         n += 1;
     }
-    assert!(n >= 4, "one example file per scene feature");
+    assert!(n >= 5, "one example file per scene feature, and the Stribeck scene");
 }
