@@ -196,6 +196,22 @@ fn tradeoff_writes_one_row_per_setting() {
 }
 
 #[test]
+fn without_closed_forms_the_reference_is_tight_rk45_and_the_answer_is_numerical() {
+    // the Stribeck scene: no exact solver, so the reference is rk45 at 1e-14 (checked against
+    // 1e-13, else this fails), and the recommendation is the cheapest setting under the fraction
+    let tmp = tempfile::tempdir().unwrap();
+    let sc = scenario(&["run.duration=3", "model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"]);
+    let rows = tradeoff::run(&sc, 6, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
+    assert_eq!((rows[0].solver, rows[0].error_max), ("rk45", 0.0));
+    assert!(rows[0].setting.contains("1e-14"), "{}", rows[0].setting);
+    assert!(rows.iter().all(|r| r.solver != "exact"));
+    let cheapest = rows.iter().filter(|r| r.max_bias_over_se < tradeoff::BIAS_FRACTION).map(|r| r.seconds_per_realization).fold(f64::INFINITY, f64::min);
+    let rec: Vec<&tradeoff::Row> = rows.iter().filter(|r| r.recommended).collect();
+    assert_eq!(rec.len(), 1);
+    assert_eq!(rec[0].seconds_per_realization, cheapest);
+}
+
+#[test]
 fn on_the_paper_scene_the_answer_is_exact() {
     // exact costs ~6 µs per paper realization, the cheapest numerical rung ~30 µs and biased
     let tmp = tempfile::tempdir().unwrap();
