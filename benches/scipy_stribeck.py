@@ -5,7 +5,7 @@
     python3 benches/scipy_stribeck.py [--bin target/release/stickslip] [--n 40]
 
 1. stickslip writes realizations 0..n with their belt switch instants at the converged reference
-   setting (rk45, rtol = atol = 1e-13, max_step = 1e-2): the reference event times.
+   setting (rk45, rtol = atol = 1e-14, max_step = 1e-2, as `tradeoff`): the reference event times.
 2. scipy integrates the same realizations (x0, xdot0, initial sign, switch instants) with
    solve_ivp(method="RK45") and an event function for the return to belt speed, the stick and its
    breakaway in closed form, as stickslip does; CPU time per realization (integration only).
@@ -121,7 +121,7 @@ def main():
     ap.add_argument("--n", type=int, default=40)
     a = ap.parse_args()
     tmp = tempfile.mkdtemp()
-    _, ref_df = simulate(a.bin, os.path.join(tmp, "ref"), a.n, ["numerics.rtol=1e-13", "numerics.atol=1e-13", "numerics.max_step=1e-2"])
+    _, ref_df = simulate(a.bin, os.path.join(tmp, "ref"), a.n, ["numerics.rtol=1e-14", "numerics.atol=1e-14", "numerics.max_step=1e-2"])
     ref = events(ref_df)
     rows = []
     targs = [a.bin, "tradeoff", "--out", os.path.join(tmp, "tradeoff"), "--realizations", "200", "--quiet"]
@@ -147,7 +147,7 @@ def main():
             cpu.append((time.process_time() - start) / a.n)
         err, mism = errors(ref, out)
         rows.append(("scipy solve_ivp RK45", tol, float(np.median(cpu)), err, mism))
-    print(f"Stribeck scene, {a.n} realizations (reference: stickslip rk45 at 1e-13, max_step 1e-2)")
+    print(f"Stribeck scene, {a.n} realizations (reference: stickslip rk45 at 1e-14, max_step 1e-2)")
     print("| method | rtol = atol | CPU s per realization | RMS event-time error [s] | realizations with other counts |")
     print("|---|---|---|---|---|")
     for name, tol, secs, err, mism in rows:

@@ -171,8 +171,9 @@ pub fn message(e: &anyhow::Error) -> String {
 /// Where a scenario comes from: a file and `--set` overrides.
 #[derive(Debug, clap::Args)]
 pub struct ScenarioArgs {
-    /// Scenario file (TOML); keys it omits keep the paper values. See pipelines/paper.toml and,
-    /// for damping, static friction, an asymmetric belt and random parameters, pipelines/scenes/.
+    /// Scenario file (TOML); keys it omits keep the paper values. See pipelines/paper.toml; for
+    /// damping, static friction, an asymmetric belt and random parameters, pipelines/scenes/; for
+    /// velocity-weakening (Stribeck) friction, pipelines/stribeck.toml.
     pub scenario: Option<PathBuf>,
     /// Override a scenario key by its dotted name, e.g. --set belt.switch_rate=1.0 (repeatable). The
     /// value is TOML: a list is a sweep (--set 'model.damping=[0, 0.5, 1]'), an inline table a

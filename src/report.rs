@@ -43,8 +43,9 @@ pub struct Row {
     pub cells: [Cell; 5],
 }
 
-/// Table 1 from the analysis' `moments.parquet`.
-pub fn table1(moments: &Table) -> Vec<Row> {
+/// Table 1 from the analysis' `moments.parquet`, beside the paper's values when `compare` (the
+/// dataset is of the paper's scene, [`crate::scenario::Scenario::is_paper_scene`]).
+pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
     let (vars, idx) = (moments.strings("variable").unwrap_or_default(), moments.ints("index").unwrap_or_default());
     let n = moments.ints("n").unwrap_or_default();
     let col = |c: &str| moments.floats(c).unwrap_or_default();
@@ -58,7 +59,7 @@ pub fn table1(moments: &Table) -> Vec<Row> {
     );
     for (v, k, p) in wanted {
         let Some(r) = (0..vars.len()).find(|&r| vars[r] == v.name() && idx[r] == k.map(i64::from)) else { continue };
-        let pv = |i: usize| p.map(|p| p[i]).filter(|x| x.is_finite());
+        let pv = |i: usize| p.filter(|_| compare).map(|p| p[i]).filter(|x| x.is_finite());
         let interval = |i: usize| iv[i].0.get(r).copied().flatten().zip(iv[i].1.get(r).copied().flatten());
         let cell = |ours: Option<f64>, se: Option<f64>, i: usize| Cell { ours, se, interval: interval(i), paper: pv(i) };
         rows.push(Row {
@@ -101,6 +102,8 @@ fn num(v: &Value) -> String {
 struct Content {
     provenance: Vec<(String, String)>,
     scenario: String,
+    /// the paper's scene: Table 1 is compared with the paper's
+    paper: bool,
     table1: Vec<Row>,
     growth: Vec<[String; 5]>,
     renewal: Vec<[String; 3]>,
@@ -198,10 +201,32 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         .map(|p| (p.file_stem().unwrap_or_default().to_string_lossy().into_owned(), p))
         .collect();
     figures.sort();
-    Ok(Content { provenance, scenario: sc.to_toml(), table1: table1(&moments), growth, renewal, tests, figures })
+    let paper = sc.is_paper_scene();
+    Ok(Content { provenance, scenario: sc.to_toml(), paper, table1: table1(&moments, paper), growth, renewal, tests, figures })
 }
 
 const TABLE1_HEAD: [&str; 7] = ["variable", "n", "mean", "variance", "mode", "skewness", "kurtosis"];
+
+/// The report's first sentence (HTML): a reproduction of the paper, or a scene built on it.
+fn intro(paper: bool) -> &'static str {
+    if paper {
+        "Reproduction of Lima &amp; Sampaio, <em>Analysis of a dry-friction oscillator driven by a stochastic base motion</em>, with the exact event-driven solver of stickslip."
+    } else {
+        "A scene built on the oscillator of Lima &amp; Sampaio, <em>Analysis of a dry-friction oscillator driven by a stochastic base motion</em>, but not the paper's own (see the resolved scenario), so its statistics are not compared with the paper's."
+    }
+}
+
+fn table1_heading(paper: bool) -> &'static str {
+    if paper { "Table 1: ours beside the paper's" } else { "Table 1 statistics of this scene" }
+}
+
+fn table1_legend(paper: bool) -> &'static str {
+    if paper {
+        "Ours with its 95 % interval (delete-a-group jackknife) in brackets, the paper's value in parentheses. ✓: the paper's value lies inside our interval (widened by the paper's rounding); ✗: outside, with the relative difference."
+    } else {
+        "Ours with its 95 % interval (delete-a-group jackknife) in brackets."
+    }
+}
 
 fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
     let mut h = String::new();
@@ -216,8 +241,9 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
          figure {{ margin: 2em 0; }} figure svg {{ max-width: 100%; height: auto; }}\n\
          pre {{ background: #f6f6f6; padding: 1em; }}\n</style>\n</head>\n<body>\n\
          <h1>Stick-slip oscillator on a random bang-bang belt</h1>\n\
-         <p>Reproduction of Lima &amp; Sampaio, <em>Analysis of a dry-friction oscillator driven by a stochastic base motion</em>, with the exact event-driven solver of stickslip.</p>\n\
-         <h2>Provenance</h2>\n<table>\n"
+         <p>{}</p>\n\
+         <h2>Provenance</h2>\n<table>\n",
+        intro(c.paper)
     );
     for (k, v) in &c.provenance {
         let _ = writeln!(h, "<tr><th>{}</th><td class=\"l\">{}</td></tr>", escape(k), escape(v));
@@ -225,7 +251,9 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
     let _ = write!(h, "</table>\n<details><summary>resolved scenario</summary>\n<pre>{}</pre>\n</details>\n", escape(&c.scenario));
     let _ = write!(
         h,
-        "<h2>Table 1: ours beside the paper's</h2>\n<p>Ours with its 95 % interval (delete-a-group jackknife) in brackets, the paper's value in parentheses. ✓: the paper's value lies inside our interval (widened by the paper's rounding); ✗: outside, with the relative difference.</p>\n<table>\n<tr>{}</tr>\n",
+        "<h2>{}</h2>\n<p>{}</p>\n<table>\n<tr>{}</tr>\n",
+        table1_heading(c.paper),
+        table1_legend(c.paper),
         TABLE1_HEAD.iter().map(|x| format!("<th>{x}</th>")).collect::<String>()
     );
     for r in &c.table1 {
@@ -271,7 +299,15 @@ fn markdown(c: &Content, figdir: &Path) -> String {
     for (k, v) in &c.provenance {
         let _ = writeln!(m, "- **{k}**: {v}");
     }
-    let _ = write!(m, "\n```toml\n{}```\n\n## Table 1: ours beside the paper's\n\nOurs [95 % interval] (paper); ✓ the paper's value inside our interval (widened by its rounding), ✗ outside.\n\n| {} |\n|{}\n", c.scenario, TABLE1_HEAD.join(" | "), "---|".repeat(TABLE1_HEAD.len()));
+    let _ = write!(
+        m,
+        "\n```toml\n{}```\n\n## {}\n\n{}\n\n| {} |\n|{}\n",
+        c.scenario,
+        table1_heading(c.paper),
+        table1_legend(c.paper),
+        TABLE1_HEAD.join(" | "),
+        "---|".repeat(TABLE1_HEAD.len())
+    );
     for r in &c.table1 {
         let _ = writeln!(m, "| {} | {} | {} | {} | {} | {} | {} |", r.label, r.n, r.cells[0].shown(3), r.cells[1].shown(3), r.cells[2].shown(3), r.cells[3].shown(2), r.cells[4].shown(2));
     }

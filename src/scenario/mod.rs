@@ -114,6 +114,29 @@ impl Scenario {
         Scenario::resolve(None, &[]).expect("the embedded paper scenario is valid")
     }
 
+    /// Whether this is the paper's physical scene — its oscillator, friction, belt, initial
+    /// conditions and window, whatever the seed, the number of realizations, the solver or the
+    /// output: the scene the paper's Table 1 describes, and so the only one compared with it.
+    /// Keys spelled out at their paper values (`damping = 0`, `friction_law = "coulomb"`, μ_s equal
+    /// to μ_k) still are the paper's scene.
+    pub fn is_paper_scene(&self) -> bool {
+        let paper = Scenario::paper();
+        let mut m = self.model.clone();
+        if m.damping == Some(Param::Value(0.0)) {
+            m.damping = None;
+        }
+        if m.static_friction_coefficient.as_ref() == Some(&m.friction_coefficient) {
+            m.static_friction_coefficient = None;
+        }
+        if m.friction_law == Some(crate::physics::FrictionLaw::Coulomb) {
+            m.friction_law = None;
+        }
+        if m.friction_law.is_none() {
+            (m.stribeck_velocity, m.stribeck_exponent) = (None, None);
+        }
+        m == paper.model && self.belt == paper.belt && self.initial_conditions == paper.initial_conditions && self.run.duration == paper.run.duration
+    }
+
     /// Resolve a scenario from an optional file and `KEY=VALUE` overrides.
     pub fn resolve(file: Option<&Path>, sets: &[String]) -> Result<Scenario, ScenarioError> {
         Scenario::from_text(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), sets)

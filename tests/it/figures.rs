@@ -165,6 +165,35 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
 }
 
 #[test]
+fn only_the_papers_scene_is_compared_with_the_papers_table() {
+    // the paper's values (T_1 mean 0.36, S_T mean 16.71) and the ✓/✗ marks belong to the paper's
+    // scene; a Stribeck scene, or a damped one, shows its own statistics alone
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let stribeck = ["--set", "model.friction_law=\"stribeck\"", "--set", "model.stribeck_velocity=0.1", "--set", "model.static_friction_coefficient=0.6"];
+    for (name, sets, paper) in [
+        ("paper", &["--seed", "7", "--set", "run.solver=\"exact\"", "--set", "model.damping=0", "--set", "model.friction_law=\"coulomb\""][..], true),
+        ("stribeck", &stribeck[..], false),
+        ("damped", &["--set", "model.damping=0.5"], false),
+    ] {
+        let mut args = vec!["reproduce", "--out", name, "--realizations", "300", "-q"];
+        args.extend(sets);
+        let o = stickslip(&args, t);
+        assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+        let table = std::fs::read_to_string(t.join(name).join("analysis/table1.md")).unwrap();
+        let html = std::fs::read_to_string(t.join(name).join("report.html")).unwrap();
+        let md = std::fs::read_to_string(t.join(name).join("report.md")).unwrap();
+        let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(t.join(name).join("analysis/summary.json")).unwrap()).unwrap();
+        for (what, text) in [("table1.md", &table), ("report.html", &html), ("report.md", &md)] {
+            let marked = text.contains('✓') || text.contains('✗') || text.contains("(0.36)") || text.contains("(16.71)");
+            assert_eq!(marked, paper, "{name}: {what} compared with the paper: {marked}");
+        }
+        assert_eq!(summary["counts"]["S_T"]["paper_mean"].as_f64(), paper.then_some(16.71), "{name}: summary.json");
+        assert_eq!(html.contains("Reproduction of Lima"), paper, "{name}: the report's first sentence");
+    }
+}
+
+#[test]
 fn the_report_escapes_what_it_interpolates() {
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
