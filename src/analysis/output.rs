@@ -212,13 +212,14 @@ fn num(v: Option<f64>) -> serde_json::Value {
 
 fn summary(a: &Analysis) -> serde_json::Value {
     let sc = &a.dataset.scenario;
+    let paper_scene = sc.is_paper_scene();
     let counts: serde_json::Map<String, serde_json::Value> = a
         .stats
         .iter()
         .filter(|s| s.series.var.is_count())
         .map(|s| {
             let m = &s.moments;
-            let paper = paper::COUNTS.iter().find(|c| c.0 == s.series.var).filter(|_| sc.is_paper_scene());
+            let paper = paper::COUNTS.iter().find(|c| c.0 == s.series.var).filter(|_| paper_scene);
             (
                 s.series.to_string(),
                 json!({"n": m.n, "mean": num(Some(m.mean)), "variance": num(m.variance()), "mean_se": num(m.mean_se()),

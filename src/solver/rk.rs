@@ -270,8 +270,11 @@ impl Dopri {
             if err <= 1.0 || h <= 1e-14 * t0.abs().max(1.0) {
                 if h >= self.next() * 0.999 {
                     self.h = (h * factor()).min(self.max_step);
-                } else if err > 0.59 && factor() < 1.0 {
-                    self.h = (h * factor()).min(self.max_step);
+                } else if err > 0.59 {
+                    let f = factor();
+                    if f < 1.0 {
+                        self.h = (h * f).min(self.max_step);
+                    }
                 }
                 let d = axpy(
                     [0.0, 0.0],
