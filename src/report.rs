@@ -146,7 +146,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
             format!("{} of the run's {} — PARTIAL (--allow-partial): missing {}", data.rows, data.expected_rows, gaps.join(", "))
         }),
         ("seed".into(), sc.run.seed.to_string()),
-        ("solver".into(), sc.solver().name().to_string()),
+        ("solver".into(), solver_settings(sc)),
         ("generator".into(), crate::rng::GENERATOR.into()),
         ("stickslip".into(), summary["stickslip_version"].as_str().unwrap_or("?").into()),
         ("analysis".into(), adir.display().to_string()),
@@ -203,6 +203,29 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
     figures.sort();
     let paper = sc.is_paper_scene();
     Ok(Content { provenance, scenario: sc.to_toml(), paper, table1: table1(&moments, paper), growth, renewal, tests, figures })
+}
+
+/// The solver actually run and, for a numerical one, the `[numerics]` settings it used.
+fn solver_settings(sc: &crate::scenario::Scenario) -> String {
+    use crate::scenario::short;
+    use crate::solver::SolverKind;
+    let (kind, n) = (sc.solver(), &sc.numerics);
+    let guard = if n.peak_guard { "on" } else { "off" };
+    let settings = match kind {
+        SolverKind::Exact | SolverKind::Auto => return kind.name().to_string(),
+        SolverKind::Rk45 => format!("rtol = {}, atol = {}, max_step = {} s, peak guard {guard}", short(n.rtol), short(n.atol), short(n.max_step)),
+        SolverKind::Rk4 => format!("step = {} s, peak guard {guard}", short(n.step)),
+        SolverKind::Moreau => format!("step = {} s", short(n.step)),
+        SolverKind::Smooth => format!(
+            "epsilon = {} m/s, stick_velocity = {} m/s, rtol = {}, atol = {}, max_step = {} s",
+            short(n.epsilon),
+            short(n.stick_velocity),
+            short(n.rtol),
+            short(n.atol),
+            short(n.max_step)
+        ),
+    };
+    format!("{} ({settings})", kind.name())
 }
 
 const TABLE1_HEAD: [&str; 7] = ["variable", "n", "mean", "variance", "mode", "skewness", "kurtosis"];

@@ -190,6 +190,9 @@ fn only_the_papers_scene_is_compared_with_the_papers_table() {
         }
         assert_eq!(summary["counts"]["S_T"]["paper_mean"].as_f64(), paper.then_some(16.71), "{name}: summary.json");
         assert_eq!(html.contains("Reproduction of Lima"), paper, "{name}: the report's first sentence");
+        // the solver actually run, and for a numerical one the settings it ran at
+        let solver = if name == "stribeck" { "rk45 (rtol = 0.000000001, atol = 0.000000001, max_step = 0.0001 s, peak guard on)" } else { "<td class=\"l\">exact</td>" };
+        assert!(html.contains(solver), "{name}: provenance names {solver}");
     }
 }
 
