@@ -495,6 +495,14 @@ fn print_analysis(a: &analysis::Analysis) {
     }
 }
 
+/// Whether `auto` chose a numerical method for a scene without closed forms and the scenario
+/// left `[numerics]` at the paper's ode45 settings (a user's first Stribeck run would otherwise
+/// take hundreds of times longer than needed without a word).
+fn slow_default_numerics(sc: &Scenario) -> bool {
+    use crate::solver::SolverKind;
+    sc.run.solver == SolverKind::Auto && sc.solver() != SolverKind::Exact && sc.numerics == Scenario::paper().numerics
+}
+
 fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     if let Some(s) = args.seed.filter(|&s| s > i64::MAX as u64) {
         return Err(usage(format!("--seed {s}: must be at most {}", i64::MAX)));
@@ -507,6 +515,12 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     let cells = Scenario::resolve_sweep(args.input.scenario.as_deref(), &args.input.sets, over)?;
     let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&args.input))?;
     let progress = !quiet && std::io::stderr().is_terminal();
+    if let Some(sc) = cells.first().map(|c| &c.scenario).filter(|sc| !quiet && slow_default_numerics(sc)) {
+        eprintln!(
+            "note: this scene has no closed form, so `auto` runs {} at the default [numerics], the paper's ode45 settings (rtol = atol = 1e-9, max_step = 1e-4): accurate but slow. `stickslip tradeoff` finds the cheapest setting accurate enough for this scene (pipelines/stribeck.toml shows one)",
+            sc.solver().name()
+        );
+    }
     // A sweep is committed whole: every cell is simulated into a temporary part first, and the
     // parts are renamed into place only when all cells succeeded (a failure leaves the previous
     // sweep, if any, untouched).

@@ -36,6 +36,26 @@ fn simulate_writes_a_dataset_and_reports() {
 }
 
 #[test]
+fn a_scene_left_at_the_slow_default_numerics_gets_a_note() {
+    // `auto` on a Stribeck scene without [numerics]: rk45 at the paper's ode45 settings, said
+    let tmp = tempfile::tempdir().unwrap();
+    let stribeck = ["--set", "model.friction_law=\"stribeck\"", "--set", "model.stribeck_velocity=0.1", "--set", "model.static_friction_coefficient=0.6"];
+    let mut args = vec!["simulate", "--out", "a", "--realizations", "20"];
+    args.extend(stribeck);
+    let o = stickslip(&args, tmp.path());
+    assert!(o.status.success() && stderr(&o).contains("note: this scene has no closed form") && stderr(&o).contains("tradeoff"), "{}", stderr(&o));
+    // not with -q, not with numerics chosen (the shipped scene), not where auto is exact
+    args.push("-q");
+    let o = stickslip(&args, tmp.path());
+    assert!(o.status.success() && o.stderr.is_empty(), "{}", stderr(&o));
+    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("pipelines/stribeck.toml");
+    let o = stickslip(&["simulate", scene.to_str().unwrap(), "--out", "b", "--realizations", "20"], tmp.path());
+    assert!(o.status.success() && !stderr(&o).contains("note:"), "{}", stderr(&o));
+    let o = stickslip(&["simulate", "--out", "c", "--realizations", "20"], tmp.path());
+    assert!(o.status.success() && !stderr(&o).contains("note:"), "{}", stderr(&o));
+}
+
+#[test]
 fn a_scenario_file_and_set_overrides_are_applied() {
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("s.toml"), "[belt]\nswitch_rate = 0.0\n[run]\nrealizations = 50\n").unwrap();
