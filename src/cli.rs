@@ -404,7 +404,7 @@ impl ReproduceLayout {
 
 fn reproduce_command(mut args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     let dir = args.out.clone();
-    crate::outdir::prepare_reproduce(&dir, &scenario_inputs(&args.input))?;
+    let top = crate::outdir::prepare_reproduce(&dir, &scenario_inputs(&args.input))?;
     let layout = ReproduceLayout::new(&dir);
     args.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
     args.out = layout.dataset.clone();
@@ -422,6 +422,7 @@ fn reproduce_command(mut args: SimulateArgs, quiet: bool) -> anyhow::Result<()> 
         };
         report_command(&args, quiet)?;
     }
+    top.keep();
     Ok(())
 }
 

@@ -31,7 +31,7 @@ use parquet::file::metadata::{KeyValue, SortingColumn};
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 use parquet::schema::types::ColumnPath;
 
-use crate::outdir::{Lock, OutDirError, TempFile};
+use crate::outdir::{Created, Lock, OutDirError, TempFile};
 use crate::ensemble::Outcome;
 
 /// Version of the column layout, recorded in every file.
@@ -229,6 +229,8 @@ pub struct PartWriter {
     layout: Layout,
     tmp: Option<TempFile>,
     _lock: Lock,
+    /// a sweep cell's directories this part created, kept on commit
+    created: Created,
 }
 
 impl PartWriter {
@@ -242,7 +244,7 @@ impl PartWriter {
         metadata: Vec<(String, String)>,
     ) -> Result<PartWriter, DatasetError> {
         let out_err = |e: std::io::Error| DatasetError::Write { path: dir.to_owned(), source: Box::new(e) };
-        std::fs::create_dir_all(dir).map_err(out_err)?;
+        let created = Created::dir_all(dir)?;
         let name = part_name(index, count);
         let path = dir.join(&name);
         let lock = Lock::acquire(&path)?;
@@ -264,7 +266,7 @@ impl PartWriter {
         let (tmp, file) = TempFile::create(&path)?;
         let writer = ArrowWriter::try_new(file, schema(&layout), Some(properties(&layout, metadata)))
             .map_err(|e| DatasetError::Write { path: path.clone(), source: Box::new(e) })?;
-        Ok(PartWriter { writer: Some(writer), layout, tmp: Some(tmp), _lock: lock })
+        Ok(PartWriter { writer: Some(writer), layout, tmp: Some(tmp), _lock: lock, created })
     }
 
     fn write_err(&self, e: impl std::error::Error + Send + Sync + 'static) -> DatasetError {
@@ -294,7 +296,7 @@ impl PartWriter {
     pub fn finish(mut self) -> Result<Finished, DatasetError> {
         let writer = self.writer.take().expect("open until finished");
         writer.close().map_err(|e| self.write_err(e))?;
-        Ok(Finished { tmp: self.tmp.take().expect("present until finished"), _lock: self._lock })
+        Ok(Finished { tmp: self.tmp.take().expect("present until finished"), _lock: self._lock, created: std::mem::take(&mut self.created) })
     }
 
     /// Finish the file and move it to its final name.
@@ -308,6 +310,7 @@ impl PartWriter {
 pub struct Finished {
     tmp: TempFile,
     _lock: Lock,
+    created: Created,
 }
 
 impl Finished {
@@ -318,7 +321,9 @@ impl Finished {
 
     /// Rename into place.
     pub fn commit(self) -> Result<PathBuf, DatasetError> {
-        Ok(self.tmp.commit()?)
+        let path = self.tmp.commit()?;
+        self.created.keep();
+        Ok(path)
     }
 }
 

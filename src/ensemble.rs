@@ -63,6 +63,8 @@ pub struct Ensemble {
     solver: Solver,
     /// the scene per unit mass when no key is random (computed once)
     physics: Physics,
+    /// the largest ω = √(k/m) a drawn realization may have, and the rule ([`Scenario::max_omega`])
+    max_omega: (f64, String),
 }
 
 impl Ensemble {
@@ -76,6 +78,7 @@ impl Ensemble {
             store_switch_times: scenario.output.switch_times,
             solver,
             physics: scene.params.per_unit_mass(),
+            max_omega: scenario.max_omega(),
             scene,
         })
     }
@@ -113,10 +116,21 @@ impl Ensemble {
         let (mut physics, mut belt) = (self.physics, self.scene.belt);
         out.params = self.scene.params;
         if !self.scene.random.is_empty() {
-            self.scene.draw(self.seed, |j| params_from.get(j).copied().unwrap_or(index), &mut out.params, &mut belt, &mut out.drawn);
+            if let Err(key) = self.scene.draw(self.seed, |j| params_from.get(j).copied().unwrap_or(index), &mut out.params, &mut belt, &mut out.drawn) {
+                let drawn = format!("{}: 10,000 draws in a row outside its range", key.dotted());
+                return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
+            }
             physics = out.params.per_unit_mass();
             if ![physics.omega2, physics.gamma, physics.kinetic, physics.breakaway].iter().all(|x| x.is_finite()) {
-                let drawn = self.scene.columns().iter().zip(&out.drawn).map(|(k, x)| format!("{k} = {x:e}")).collect::<Vec<_>>().join(", ");
+                let values = self.scene.columns().iter().zip(&out.drawn).map(|(k, x)| format!("{k} = {x:e}")).collect::<Vec<_>>().join(", ");
+                let drawn = format!("{values} give non-finite k/m, c/m or mu n/m");
+                return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
+            }
+            let (max_omega, rule) = &self.max_omega;
+            let omega = physics.omega2.sqrt();
+            if omega > *max_omega {
+                let p = &out.params;
+                let drawn = format!("model.stiffness = {:e} N/m, model.mass = {:e} kg give ω = {omega:e} rad/s, but {rule}", p.stiffness, p.mass);
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }
         }

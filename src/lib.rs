@@ -29,5 +29,6 @@ pub mod sensitivity;
 pub mod simulate;
 pub mod stats;
 pub mod solver;
+pub mod special;
 pub mod tradeoff;
 pub mod trajectory;

@@ -9,7 +9,7 @@
 //!   marker is of the same kind and lists everything in it: a file the tool did not write is never
 //!   deleted. A dataset directory is never replaced, only added to, part file by part file.
 //! - **Exclusive.** One writer at a time per output (a directory, or one part file of a dataset):
-//!   an advisory lock (`flock`) on a hidden `.NAME.lock` beside it, holding the writer's process
+//!   an advisory lock (`flock`) on a hidden `.NAME.stickslip-lock` beside it, holding the writer's process
 //!   id, so a second writer is told at once which process holds it ([`Lock`]).
 //! - **Atomic.** Files are written under unique temporary names created exclusively (`O_EXCL`,
 //!   never through a symlink), synced, then renamed into place; directories are staged beside
@@ -17,6 +17,10 @@
 //!   panic and on SIGINT/SIGTERM ([`crate::interrupt`]); those of a killed process are removed by
 //!   the next writer that takes the same lock (a live writer holds it), and are hidden (`.NAME…`),
 //!   so readers never see them.
+//! - **Deletes only its own.** Stale entries are removed only when their name is exactly one the
+//!   tool makes (`.NAME.stickslip-tmp-PID-N-HEX`, `.NAME.stickslip-old-PID-N-HEX`) and, for a
+//!   directory, it holds the tool's staging tag or marker ([`remove_stale`]); never by prefix.
+//!   Hidden names stay within NAME_MAX however long NAME is ([`hidden`]).
 
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Write};
@@ -233,12 +237,49 @@ fn check_replaceable(target: &Path, kind: Kind, flag: &str) -> Result<(), OutDir
     Ok(())
 }
 
-/// A unique suffix for temporary names: process id and a per-process counter.
+/// A unique token for temporary names: process id, a per-process counter and the clock's
+/// nanoseconds (`PID-N-HEX`, at most 40 bytes).
 fn unique() -> String {
     static NEXT: AtomicU64 = AtomicU64::new(0);
     let nanos = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.subsec_nanos());
     format!("{}-{}-{nanos:x}", std::process::id(), NEXT.fetch_add(1, Ordering::Relaxed))
 }
+
+/// Whether `s` is a token [`unique`] makes: decimal, decimal and hexadecimal fields.
+fn is_token(s: &str) -> bool {
+    let f: Vec<&str> = s.split('-').collect();
+    let digits = |x: &str, hex: bool| !x.is_empty() && x.len() <= 20 && x.chars().all(|c| if hex { c.is_ascii_hexdigit() && !c.is_ascii_uppercase() } else { c.is_ascii_digit() });
+    f.len() == 3 && digits(f[0], false) && digits(f[1], false) && digits(f[2], true)
+}
+
+/// The longest file name the file systems we write to accept (NAME_MAX on Linux and macOS).
+const NAME_MAX: usize = 255;
+
+/// The part of our hidden names that stands for an output named `name`: the name itself, or,
+/// when a hidden name built on it would exceed [`NAME_MAX`], a prefix of it and a 64-bit
+/// FNV-1a hash of the whole name (distinct outputs keep distinct locks).
+fn hidden_base(name: &str) -> String {
+    // room for ".", "." and the longest suffix: "stickslip-tmp-" + a token
+    const ROOM: usize = NAME_MAX - 2 - 14 - 40;
+    if name.len() <= ROOM {
+        return name.to_string();
+    }
+    let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3));
+    let mut cut = ROOM - 17;
+    while !name.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    format!("{}~{hash:016x}", &name[..cut])
+}
+
+/// The hidden name `.BASE.stickslip-SUFFIX` beside the output `name` (within [`NAME_MAX`]).
+fn hidden(name: &str, suffix: &str) -> String {
+    format!(".{}.stickslip-{suffix}", hidden_base(name))
+}
+
+/// The file a staging directory holds from its creation until it is committed: with the
+/// directory's exact name it proves the directory is ours (see [`remove_stale`]).
+const STAGING: &str = ".stickslip-staging";
 
 /// Open a new file exclusively: fails if anything, a symlink included, is at `path`.
 fn create_new(path: &Path) -> std::io::Result<File> {
@@ -269,16 +310,31 @@ fn name_of(path: &Path) -> Result<String, OutDirError> {
     }
 }
 
-/// Remove hidden temporaries `.NAME.tmp…` / `.NAME.old…` in `dir`: call only while holding
-/// NAME's lock (a live writer of NAME would hold it).
+/// Remove what a killed writer of the output `name` left in `dir`: call only while holding
+/// `name`'s lock (a live writer would hold it). Only entries the tool can prove it wrote go: a
+/// name of exactly the form `.BASE.stickslip-tmp-TOKEN` or `.BASE.stickslip-old-TOKEN`
+/// ([`hidden`], [`unique`]), and, for a directory, holding our staging tag ([`STAGING`]) or our
+/// marker. Anything else — a user's `.NAME.old` or `.NAME.tmp-notes` — is left alone.
 fn remove_stale(dir: &Path, name: &str) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let (tmp, old) = (format!(".{name}.tmp"), format!(".{name}.old"));
+    let (tmp, old) = (hidden(name, "tmp-"), hidden(name, "old-"));
     for entry in entries.flatten() {
         let n = entry.file_name().to_string_lossy().into_owned();
-        if n.starts_with(&tmp) || n.starts_with(&old) {
-            let p = entry.path();
-            let _ = if entry.file_type().is_ok_and(|t| t.is_dir()) { std::fs::remove_dir_all(&p) } else { std::fs::remove_file(&p) };
+        let Some(token) = n.strip_prefix(&tmp).or_else(|| n.strip_prefix(&old)) else { continue };
+        if !is_token(token) {
+            continue;
+        }
+        let p = entry.path();
+        match entry.file_type() {
+            Ok(t) if t.is_dir() => {
+                if p.join(STAGING).is_file() || p.join(MARKER).is_file() {
+                    let _ = std::fs::remove_dir_all(&p);
+                }
+            }
+            Ok(t) if t.is_file() => {
+                let _ = std::fs::remove_file(&p);
+            }
+            _ => {}
         }
     }
 }
@@ -295,7 +351,7 @@ impl Lock {
     /// Lock the output `target` (a directory or a file).
     pub fn acquire(target: &Path) -> Result<Lock, OutDirError> {
         let dir = parent_of(target);
-        let path = dir.join(format!(".{}.lock", name_of(target)?));
+        let path = dir.join(hidden(&name_of(target)?, "lock"));
         loop {
             let mut opts = OpenOptions::new();
             opts.read(true).write(true).create(true).truncate(false);
@@ -362,7 +418,7 @@ pub struct TempFile {
 impl TempFile {
     /// Create the temporary file for `path`; the caller holds `path`'s [`Lock`].
     pub fn create(path: &Path) -> Result<(TempFile, File), OutDirError> {
-        let tmp = parent_of(path).join(format!(".{}.tmp-{}", name_of(path)?, unique()));
+        let tmp = parent_of(path).join(hidden(&name_of(path)?, &format!("tmp-{}", unique())));
         interrupt::register(&tmp);
         let file = create_new(&tmp).map_err(|e| {
             interrupt::unregister(&tmp);
@@ -418,12 +474,62 @@ pub fn write_file(path: &Path, bytes: &[u8], ours: impl Fn(&[u8]) -> bool, flag:
     tmp.commit().map(drop)
 }
 
+/// The directories a run created for an output (its missing ancestors, created one by one):
+/// removed again, innermost first and only while empty, when the guard is dropped without
+/// [`Created::keep`] or the run is interrupted ([`crate::interrupt`]).
+#[derive(Debug, Default)]
+pub struct Created {
+    dirs: Vec<PathBuf>,
+    kept: bool,
+}
+
+impl Created {
+    /// Create `dir` and its missing ancestors (a directory a concurrent writer creates first is
+    /// not counted as ours).
+    pub fn dir_all(dir: &Path) -> Result<Created, OutDirError> {
+        let mut missing = Vec::new();
+        let mut p = Some(dir);
+        while let Some(q) = p.filter(|q| !q.as_os_str().is_empty() && std::fs::symlink_metadata(q).is_err()) {
+            missing.push(q.to_owned());
+            p = q.parent();
+        }
+        let mut created = Created::default();
+        for m in missing.iter().rev() {
+            match std::fs::create_dir(m) {
+                Ok(()) => {
+                    interrupt::register_created(m);
+                    created.dirs.push(m.clone());
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && m.is_dir() => {}
+                Err(e) => return Err(fail(m, e)),
+            }
+        }
+        Ok(created)
+    }
+
+    /// Keep the directories.
+    pub fn keep(mut self) {
+        self.kept = true;
+    }
+}
+
+impl Drop for Created {
+    fn drop(&mut self) {
+        for dir in self.dirs.iter().rev() {
+            if !self.kept {
+                let _ = std::fs::remove_dir(dir); // only succeeds if empty
+            }
+            interrupt::unregister_created(dir);
+        }
+    }
+}
+
 /// A dataset directory being written into: it exists (created if needed), it is marked as a
 /// dataset (or lies inside one), and nothing the run created survives a failure.
 #[derive(Debug)]
 pub struct DatasetDir {
     dir: PathBuf,
-    created: Vec<PathBuf>,
+    created: Created,
     marked: bool,
     committed: bool,
 }
@@ -432,25 +538,9 @@ impl DatasetDir {
     /// Prepare `dir` for new part files: refused if it holds anything but a stickslip dataset.
     pub fn prepare(dir: &Path, inputs: &[&Path]) -> Result<DatasetDir, OutDirError> {
         check_separate(dir, "--out", inputs)?;
-        let mut d = DatasetDir { dir: dir.to_owned(), created: Vec::new(), marked: false, committed: false };
+        let mut d = DatasetDir { dir: dir.to_owned(), created: Created::default(), marked: false, committed: false };
         match std::fs::symlink_metadata(dir) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                // create the missing ancestors one by one, remembering them for a clean failure
-                let mut missing = vec![dir.to_owned()];
-                let mut p = dir.parent();
-                while let Some(q) = p.filter(|q| !q.as_os_str().is_empty() && !q.exists()) {
-                    missing.push(q.to_owned());
-                    p = q.parent();
-                }
-                for m in missing.iter().rev() {
-                    match std::fs::create_dir(m) {
-                        Ok(()) => d.created.push(m.clone()),
-                        // a concurrent writer (another shard) created it first
-                        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && m.is_dir() => {}
-                        Err(e) => return Err(fail(m, e)),
-                    }
-                }
-            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => d.created = Created::dir_all(dir)?,
             Err(e) => return Err(fail(dir, e)),
             Ok(m) if !m.is_dir() => return Err(refuse(dir, "--out exists and is not a directory; choose another --out")),
             Ok(_) => {}
@@ -466,7 +556,10 @@ impl DatasetDir {
                 return Err(refuse(dir, format!("--out {why}; simulate adds part files only to a dataset directory: choose another --out")));
             }
             match if is_marked(dir, Kind::Dataset) { Err(fail(dir, std::io::Error::other("marked"))) } else { write_marker(dir, Kind::Dataset, Vec::new()) } {
-                Ok(()) => d.marked = true,
+                Ok(()) => {
+                    d.marked = true;
+                    interrupt::register_marker(&dir.join(MARKER));
+                }
                 // a concurrent shard marked it first
                 Err(_) if is_marked(dir, Kind::Dataset) => {}
                 Err(e) => return Err(e),
@@ -482,21 +575,23 @@ impl DatasetDir {
     /// Keep what was created.
     pub fn commit(mut self) {
         self.committed = true;
+        std::mem::take(&mut self.created).keep();
     }
 }
 
 impl Drop for DatasetDir {
     fn drop(&mut self) {
+        let marker = self.dir.join(MARKER);
+        if self.marked {
+            interrupt::unregister_created(&marker);
+        }
         if self.committed {
             return;
         }
-        // Remove only what this run created, and only while nothing else was put there.
-        let only_marker = files_below(&self.dir).is_ok_and(|f| f.is_empty());
-        if self.marked && only_marker {
-            let _ = std::fs::remove_file(self.dir.join(MARKER));
-        }
-        for dir in self.created.iter().rev() {
-            let _ = std::fs::remove_dir(dir); // only succeeds if empty
+        // Remove only what this run created, and only while nothing else was put there (the
+        // created directories go when `self.created` drops, after this).
+        if self.marked {
+            interrupt::remove_lone_marker(&marker);
         }
     }
 }
@@ -511,6 +606,8 @@ pub struct StagedDir {
     flag: String,
     committed: bool,
     _lock: Lock,
+    /// the target's missing ancestors, kept on commit
+    parents: Created,
 }
 
 impl StagedDir {
@@ -519,16 +616,17 @@ impl StagedDir {
         check_separate(target, flag, inputs)?;
         let name = name_of(target)?;
         let parent = parent_of(target);
-        std::fs::create_dir_all(parent).map_err(|e| fail(parent, e))?;
+        let parents = Created::dir_all(parent)?;
         let lock = Lock::acquire(target)?;
         check_replaceable(target, kind, flag)?;
-        let staging = parent.join(format!(".{name}.tmp-{}", unique()));
+        let staging = parent.join(hidden(&name, &format!("tmp-{}", unique())));
         interrupt::register(&staging);
-        std::fs::create_dir(&staging).map_err(|e| {
+        if let Err(e) = std::fs::create_dir(&staging).and_then(|()| create_new(&staging.join(STAGING)).map(drop)) {
+            let _ = std::fs::remove_dir_all(&staging);
             interrupt::unregister(&staging);
-            fail(target, e)
-        })?;
-        Ok(StagedDir { staging, target: target.to_owned(), kind, flag: flag.into(), committed: false, _lock: lock })
+            return Err(fail(target, e));
+        }
+        Ok(StagedDir { staging, target: target.to_owned(), kind, flag: flag.into(), committed: false, _lock: lock, parents })
     }
 
     /// Where to write.
@@ -544,10 +642,11 @@ impl StagedDir {
     /// Mark the staged directory and swap it in for `target` (checked again: a file put into
     /// `target` meanwhile stops the swap).
     pub fn commit(mut self) -> Result<(), OutDirError> {
+        std::fs::remove_file(self.staging.join(STAGING)).map_err(|e| fail(&self.target, e))?;
         let files = files_below(&self.staging).map_err(|e| fail(&self.target, e))?;
         write_marker(&self.staging, self.kind, files)?;
         check_replaceable(&self.target, self.kind, &self.flag)?;
-        let old = parent_of(&self.target).join(format!(".{}.old-{}", name_of(&self.target)?, unique()));
+        let old = parent_of(&self.target).join(hidden(&name_of(&self.target)?, &format!("old-{}", unique())));
         let had_old = self.target.exists();
         if had_old {
             interrupt::register(&old);
@@ -561,6 +660,7 @@ impl StagedDir {
             return Err(fail(&self.target, e));
         }
         self.committed = true;
+        std::mem::take(&mut self.parents).keep();
         interrupt::unregister(&self.staging);
         sync_dir(parent_of(&self.target));
         if had_old {
@@ -580,21 +680,53 @@ impl Drop for StagedDir {
     }
 }
 
+/// The top directory of `reproduce`, prepared: what the run created there (the directory and its
+/// marker) is removed again if it fails or is interrupted before [`ReproduceDir::keep`].
+#[derive(Debug)]
+pub struct ReproduceDir {
+    created: Created,
+    marker: Option<PathBuf>,
+    kept: bool,
+}
+
+impl ReproduceDir {
+    /// Keep the directory.
+    pub fn keep(mut self) {
+        self.kept = true;
+        std::mem::take(&mut self.created).keep();
+    }
+}
+
+impl Drop for ReproduceDir {
+    fn drop(&mut self) {
+        if let Some(m) = &self.marker {
+            interrupt::unregister_created(m);
+            if !self.kept {
+                interrupt::remove_lone_marker(m);
+            }
+        }
+    }
+}
+
 /// Prepare the top directory of `reproduce`: new, empty, or a previous `reproduce` output.
-pub fn prepare_reproduce(dir: &Path, inputs: &[&Path]) -> Result<(), OutDirError> {
+pub fn prepare_reproduce(dir: &Path, inputs: &[&Path]) -> Result<ReproduceDir, OutDirError> {
     check_separate(dir, "--out", inputs)?;
+    let mut created = Created::default();
     if dir.exists() {
         if !dir.is_dir() {
             return Err(refuse(dir, "--out exists and is not a directory; choose another --out"));
         }
         if is_marked(dir, Kind::Reproduce) {
-            return Ok(());
+            return Ok(ReproduceDir { created, marker: None, kept: false });
         }
         if !is_empty_dir(dir).map_err(|e| fail(dir, e))? {
             return Err(refuse(dir, format!("--out is not empty and is not a stickslip reproduce output (no {MARKER}); choose another --out")));
         }
     } else {
-        std::fs::create_dir_all(dir).map_err(|e| fail(dir, e))?;
+        created = Created::dir_all(dir)?;
     }
-    write_marker(dir, Kind::Reproduce, Vec::new())
+    write_marker(dir, Kind::Reproduce, Vec::new())?;
+    let marker = dir.join(MARKER);
+    interrupt::register_marker(&marker);
+    Ok(ReproduceDir { created, marker: Some(marker), kept: false })
 }

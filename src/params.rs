@@ -8,10 +8,15 @@
 //!
 //! Distributions (rand_distr 0.6, pinned):
 //! - `uniform (low, high)`: `low + (high − low) U`, U a 53-bit uniform on [0, 1);
-//! - `normal (mean, sd)`: truncated to the key's valid range by rejection (the mean must lie in
-//!   the range, so at most half the draws are rejected on average);
+//! - `normal (mean, sd)`: truncated to the key's range ([`Key::range`]) by rejection;
 //! - `lognormal (mean, cv)`: `exp(μ + σ Z)` with `σ² = ln(1 + cv²)`, `μ = ln mean − σ²/2`;
 //! - `gamma (mean, cv)`: shape `1/cv²`, scale `mean·cv²`.
+//!
+//! Every draw lies in the key's range: one outside is drawn again, which samples the law
+//! truncated to the range exactly. The door refuses a law whose share inside the range
+//! ([`Dist::share_in`], computed exactly) is below [`Dist::min_share`] — half for a normal,
+//! 99 % for lognormal and gamma — naming the share: no value the law did not produce is ever
+//! substituted.
 
 use rand::Rng;
 use rand_distr::{Distribution, Gamma, StandardNormal};
@@ -78,11 +83,19 @@ impl Key {
         &d[d.find('.').map_or(0, |i| i + 1)..]
     }
 
-    /// The valid range's lower end and whether it is excluded (every key is unbounded above).
-    pub fn lower_bound(self) -> (f64, bool) {
+    /// The range in which the solvers are proven to work, `[lo, hi]` (`tests/it/extremes.rs`
+    /// runs every solver at both ends of every key): a value, sweep or distribution support
+    /// outside it is refused at the door. Combinations are bounded too (ω·t_a, see
+    /// [`crate::scenario::Limits`]).
+    pub fn range(self) -> (f64, f64) {
         match self {
-            Key::Mass | Key::Speed | Key::ReverseSpeed | Key::StribeckVelocity | Key::StribeckExponent => (0.0, true),
-            _ => (0.0, false),
+            Key::Mass => (1e-9, 1e6),
+            Key::Stiffness | Key::Damping | Key::NormalForce => (0.0, 1e9),
+            Key::Kinetic | Key::Static => (0.0, 1e6),
+            Key::Speed | Key::ReverseSpeed => (1e-9, 1e6),
+            Key::SwitchRate | Key::ReverseSwitchRate => (0.0, 1e6),
+            Key::StribeckVelocity => (1e-9, 1e6),
+            Key::StribeckExponent => (0.3, 20.0),
         }
     }
 
@@ -139,14 +152,50 @@ impl Dist {
         }
     }
 
-    /// Whether the support's lower end is never drawn (lognormal and gamma draw > 0).
-    pub fn open_at_low(&self) -> bool {
-        matches!(self, Dist::Lognormal { .. } | Dist::Gamma { .. })
-    }
-
-    /// Whether it is truncated to the key's range (normal).
+    /// Whether it is truncated to the key's range by design (normal).
     pub fn truncated(&self) -> bool {
         matches!(self, Dist::Normal { .. })
+    }
+
+    /// The least share of the law that must lie in the key's range: a draw outside the range is
+    /// drawn again (exact sampling of the law truncated to the range), which for a normal is its
+    /// documented use (at least half kept), and for lognormal and gamma may only trim tails the
+    /// solvers are not proven on (at least 99 % kept). A law mostly outside is refused, never
+    /// silently replaced.
+    pub fn min_share(&self) -> f64 {
+        if self.truncated() {
+            0.5
+        } else {
+            0.99
+        }
+    }
+
+    /// The probability that one draw lies in `[lo, hi]` (exact: Φ for normal and lognormal,
+    /// the regularized incomplete gamma for gamma).
+    pub fn share_in(&self, (lo, hi): (f64, f64)) -> f64 {
+        use crate::special::{gamma_p, normal_cdf};
+        // Φ(b) − Φ(a), a ≤ b, taken in the tail it lies in (no cancellation above the mean)
+        let between = |a: f64, b: f64| if a > 0.0 { normal_cdf(-a) - normal_cdf(-b) } else { normal_cdf(b) - normal_cdf(a) };
+        let p = match *self {
+            Dist::Uniform { low, high } if high > low => ((hi.min(high) - lo.max(low)) / (high - low)).max(0.0),
+            Dist::Uniform { low, .. } => f64::from(u8::from(low >= lo && low <= hi)),
+            Dist::Normal { mean, sd } => between((lo - mean) / sd, (hi - mean) / sd),
+            Dist::Lognormal { mean, cv } => {
+                // ln X ~ N(μ, σ²), σ² = ln(1 + cv²) (written to stay finite for any finite cv)
+                let s2 = if cv < 1e150 { (cv * cv).ln_1p() } else { 2.0 * cv.ln() };
+                if s2 == 0.0 {
+                    return f64::from(u8::from(mean >= lo && mean <= hi)); // (a point mass, cv < 1e-154)
+                }
+                let mu = mean.ln() - 0.5 * s2;
+                let z = |x: f64| if x > 0.0 { (x.ln() - mu) / s2.sqrt() } else { f64::NEG_INFINITY };
+                between(z(lo), z(hi))
+            }
+            Dist::Gamma { mean, cv } => {
+                let (shape, scale) = (1.0 / (cv * cv), mean * cv * cv);
+                gamma_p(shape, hi / scale) - gamma_p(shape, lo / scale)
+            }
+        };
+        p.clamp(0.0, 1.0)
     }
 
     /// The mean (of the untruncated law).
@@ -157,18 +206,12 @@ impl Dist {
         }
     }
 
-    /// One draw, inside the valid range `(lo, ∞)` (open) or `[lo, ∞)`: a draw outside it (the
-    /// normal's truncation, or a lognormal or gamma draw that underflows to 0 at a huge cv) is
-    /// drawn again.
-    pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R, (lo, open): (f64, bool)) -> f64 {
-        let ok = |x: f64| x.is_finite() && if open { x > lo } else { x >= lo };
-        for _ in 0..10_000 {
-            let x = self.raw(rng);
-            if ok(x) {
-                return x;
-            }
-        }
-        self.mean() // unreachable in practice: the mean lies in the range (checked)
+    /// One draw of the law truncated to `[lo, hi]`, by rejection (exact; the door has checked
+    /// that the range holds at least [`Dist::min_share`] of the law). `None` only if 10,000
+    /// draws in a row fell outside — a probability below 1e-3000 for a law the door accepted;
+    /// never a value the law did not produce.
+    pub fn sample<R: Rng + ?Sized>(&self, rng: &mut R, (lo, hi): (f64, f64)) -> Option<f64> {
+        (0..10_000).map(|_| self.raw(rng)).find(|&x| x >= lo && x <= hi)
     }
 
     fn raw<R: Rng + ?Sized>(&self, rng: &mut R) -> f64 {
@@ -222,12 +265,13 @@ impl Scene {
     /// Draw the random keys into `params`, `belt` (reset to the fixed scene first) and `values`
     /// (in [`Scene::columns`] order): key j from its sub-stream of realization `index(j)` (one
     /// index for all in a plain run; a pick-freeze design mixes them).
-    pub fn draw(&self, seed: u64, index: impl Fn(usize) -> u64, params: &mut Params, belt: &mut Belt, values: &mut Vec<f64>) {
+    /// `Err(key)`: the key's law put 10,000 draws in a row outside its range (see [`Dist::sample`]).
+    pub fn draw(&self, seed: u64, index: impl Fn(usize) -> u64, params: &mut Params, belt: &mut Belt, values: &mut Vec<f64>) -> Result<(), Key> {
         *params = self.params;
         *belt = self.belt;
         values.clear();
         for (j, &(key, dist)) in self.random.iter().enumerate() {
-            let x = dist.sample(&mut substream(seed, index(j), key.purpose()), key.lower_bound());
+            let x = dist.sample(&mut substream(seed, index(j), key.purpose()), key.range()).ok_or(key)?;
             values.push(x);
             match (key, &mut belt.process) {
                 (Key::Mass, _) => params.mass = x,
@@ -252,6 +296,7 @@ impl Scene {
                 (Key::ReverseSpeed | Key::ReverseSwitchRate, Process::Symmetric(_)) => {}
             }
         }
+        Ok(())
     }
 }
 
@@ -270,7 +315,7 @@ mod tests {
             Dist::Normal { mean: 5.0, sd: 0.5 },
         ] {
             let mut r = realization_rng(9, 1);
-            let xs: Vec<f64> = (0..n).map(|_| d.sample(&mut r, (0.0, false))).collect();
+            let xs: Vec<f64> = (0..n).map(|_| d.sample(&mut r, (0.0, 1e9)).unwrap()).collect();
             let m = xs.iter().sum::<f64>() / n as f64;
             let sd = (xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1) as f64).sqrt();
             let (want_m, want_sd) = match d {
@@ -288,6 +333,29 @@ mod tests {
     fn truncated_normal_stays_in_range() {
         let d = Dist::Normal { mean: 0.1, sd: 1.0 };
         let mut r = realization_rng(1, 2);
-        assert!((0..10_000).all(|_| d.sample(&mut r, (0.0, true)) > 0.0));
+        assert!((0..10_000).all(|_| d.sample(&mut r, (1e-6, 1e6)).unwrap() >= 1e-6));
+    }
+
+    #[test]
+    fn share_in_range_against_sampling() {
+        // the exact share of each law in a range, against the fraction of 200,000 raw draws
+        let n = 200_000;
+        for (d, range) in [
+            (Dist::Normal { mean: 0.1, sd: 1.0 }, (0.0, 1e9)),
+            (Dist::Normal { mean: 1.0, sd: 2.0 }, (0.5, 3.0)),
+            (Dist::Lognormal { mean: 1.0, cv: 3.0 }, (0.05, 4.0)),
+            (Dist::Gamma { mean: 1.0, cv: 2.0 }, (1e-3, 2.0)),
+            (Dist::Gamma { mean: 2.0, cv: 0.5 }, (1.0, 3.0)),
+            (Dist::Uniform { low: -1.0, high: 3.0 }, (0.0, 1e9)),
+        ] {
+            let mut r = realization_rng(3, 4);
+            let inside = (0..n).filter(|_| (range.0..=range.1).contains(&d.raw(&mut r))).count() as f64 / n as f64;
+            let p = d.share_in(range);
+            assert!((inside - p).abs() < 5.0 * (p * (1.0 - p) / n as f64).sqrt() + 1e-12, "{d:?} in {range:?}: {inside} vs {p}");
+        }
+        // the laws: almost nothing of them lies in the key's range
+        assert!(Dist::Gamma { mean: 1.0, cv: 1e4 }.share_in(Key::Mass.range()) < 0.5);
+        assert!(Dist::Lognormal { mean: 1.0, cv: 1e200 }.share_in(Key::Mass.range()) < 0.5);
+        assert!(Dist::Gamma { mean: 1.0, cv: 1e5 }.share_in(Key::Speed.range()) < 0.5);
     }
 }

@@ -366,11 +366,13 @@ pub fn run(dataset: &Path, adir: &Path, figdir: &Path, out: &Path) -> Result<[Pa
     }
     let c = content(dataset, adir, figdir)?;
     let (h, m) = (html(&c, figdir)?, markdown(&c, figdir));
-    if let Some(dir) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|source| ReportError::Write { path: out.to_owned(), source })?;
-    }
+    let created = match out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(dir) => crate::outdir::Created::dir_all(dir)?,
+        None => crate::outdir::Created::default(),
+    };
     let contains = |mark: &'static str| move |head: &[u8]| String::from_utf8_lossy(head).contains(mark);
     write_file(out, h.as_bytes(), contains(HTML_MARK), "--out")?;
     write_file(&md_path, m.as_bytes(), contains(MD_MARK), "--out")?;
+    created.keep();
     Ok([out.to_owned(), md_path])
 }

@@ -54,6 +54,9 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
         return None;
     }
     let bw = (0.9 * m.std() * (m.n as f64).powf(-0.2)).max(fine.width());
+    if !(bw.is_finite() && bw > 0.0 && fine.width() > 0.0) {
+        return None; // a spread too wide for f64 (validated data never has one): no mode
+    }
     // No finer than an eighth of the bandwidth: merge neighbouring bins (the estimate's own
     // resolution is the bandwidth; this bounds the work at ~100 kernel terms per grid point).
     let merge = ((bw / fine.width()) / 8.0).floor().max(1.0) as usize;
@@ -67,7 +70,7 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
         fine
     };
     let w = fine.width();
-    let reach = (6.0 * bw / w).ceil() as usize;
+    let reach = ((6.0 * bw / w).ceil() as usize).min(fine.bins());
     // equal-width bins: the kernel between bin centres depends only on their offset
     let kernel: Vec<f64> = (0..=reach).map(|d| (-0.5 * (d as f64 * w / bw).powi(2)).exp()).collect();
     let bins = fine.bins();

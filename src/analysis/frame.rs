@@ -37,6 +37,8 @@ pub struct FilePart<'a> {
     pub rows: u64,
     pub first: u64,
     pub stamp: Stamp,
+    /// the recorded t_a [s]: no event time or duration exceeds it
+    pub horizon: f64,
 }
 
 /// The offsets and values of a list<f64> column, chunk by chunk, refusing nulls (`first`: the
@@ -84,9 +86,9 @@ fn ints(df: &DataFrame, name: &str) -> PolarsResult<Vec<i64>> {
 
 /// Check every value of a slice before anything is folded: realization ids are the declared
 /// consecutive range, counts are non-negative and equal their lists' lengths, event times are
-/// finite and non-negative, starts do not decrease. The error names row, realization and column.
-/// Returns the rows of the list columns it checked, for [`to_batch`].
-fn validate(df: &DataFrame, first: u64, switch_times: bool) -> PolarsResult<Lists<'_>> {
+/// finite, non-negative and at most the horizon t_a, starts do not decrease. The error names row,
+/// realization and column. Returns the rows of the list columns it checked, for [`to_batch`].
+fn validate(df: &DataFrame, first: u64, switch_times: bool, horizon: f64) -> PolarsResult<Lists<'_>> {
     let ids = ints(df, "realization")?;
     let at = |r: usize, col: &str, why: String| polars_err!(ComputeError: "row {} (realization {}), column `{col}`: {why}", first + r as u64, ids[r]);
     for (r, &id) in ids.iter().enumerate() {
@@ -107,8 +109,9 @@ fn validate(df: &DataFrame, first: u64, switch_times: bool) -> PolarsResult<List
                 if n[r] < 0 || row.len() as i64 != n[r] {
                     return Err(at(r, col, format!("{} values, but `{count}` = {}", row.len(), n[r])));
                 }
-                if let Some(x) = row.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
-                    return Err(at(r, col, format!("value {x} (event times and durations are finite and >= 0)")));
+                // (a duration cut at t_a is t_a − start, rounded: a relative 1e-12 of slack)
+                if let Some(x) = row.iter().find(|x| !(**x >= 0.0 && **x <= horizon * (1.0 + 1e-12))) {
+                    return Err(at(r, col, format!("value {x} (event times and durations lie in [0, t_a = {horizon}] s)")));
                 }
                 let is_start = col.ends_with("_start") || col == "switch_times";
                 if is_start && row.windows(2).any(|w| w[1] < w[0]) {
@@ -189,7 +192,7 @@ pub fn stream_file(part: &FilePart, series: &[Series], switch_times: bool, sink:
         if df.height() as u64 != SLICE_ROWS.min(part.rows - offset) {
             polars_bail!(ComputeError: "rows {offset}.. could not be read in full");
         }
-        let lists = validate(&df, part.first + offset, with_switches)?;
+        let lists = validate(&df, part.first + offset, with_switches, part.horizon)?;
         let mut batch = to_batch(&df, series, lists)?;
         batch.first = part.first + offset;
         unchanged()?;

@@ -13,7 +13,7 @@
 
 use rand::Rng;
 
-use super::special::chi2_sf;
+use crate::special::chi2_sf;
 use crate::rng::realization_rng;
 
 /// Results of the three tests.

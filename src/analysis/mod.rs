@@ -22,7 +22,6 @@ pub mod output;
 pub mod paper;
 pub mod series;
 pub mod sketch;
-pub mod special;
 pub mod sweep;
 
 use std::collections::BTreeMap;
@@ -252,7 +251,7 @@ fn pass<S>(data: &Dataset, series: &[Series], progress: bool, mut state: S, step
         indicatif::ProgressStyle::with_template("analyze {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}").expect("valid template"),
     );
     for (i, path) in data.files.iter().enumerate() {
-        let part = frame::FilePart { path, rows: data.file_rows[i], first: data.file_starts[i], stamp: data.file_stamps[i] };
+        let part = frame::FilePart { path, rows: data.file_rows[i], first: data.file_starts[i], stamp: data.file_stamps[i], horizon: data.scenario.run.duration };
         frame::stream_file(&part, series, data.switch_times, &mut |b: &Batch| {
             step(&mut state, series, b);
             bar.inc(b.n_stick.len() as u64);

@@ -12,7 +12,7 @@ pub mod render;
 use std::path::{Path, PathBuf};
 
 use crate::analysis::frame::Table;
-use crate::analysis::special::ln_gamma;
+use crate::special::ln_gamma;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::Scenario;
 

@@ -1,7 +1,7 @@
 //! Validation of a typed scenario — every key in its range, every distribution's support inside
 //! its key's, the combinations — and the scene it describes.
 
-use super::{invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, MAX_EXPECTED_SWITCHES, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES};
+use super::{invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES};
 use crate::belt::{Belt, Process, Symmetric, Telegraph};
 use crate::params::{Key, Scene};
 use crate::physics::{FrictionLaw, Params, Stribeck};
@@ -90,6 +90,20 @@ impl Scenario {
         }
     }
 
+    /// The largest ω = √(k/m) [rad/s] a realization may have, and the rule that sets it:
+    /// ω·t_a ≤ [`MAX_NATURAL_RADIANS`], and for rk4 ω·step ≤ 1 (RK4 loses accuracy past 1 and
+    /// is unstable past 2.8). Checked at the door on the fixed values and the finite ends of
+    /// every distribution, and per draw ([`crate::ensemble`]) for unbounded laws.
+    pub fn max_omega(&self) -> (f64, String) {
+        let horizon = MAX_NATURAL_RADIANS / self.run.duration;
+        let rk4 = if self.solver() == SolverKind::Rk4 { 1.0 / self.numerics.step } else { f64::INFINITY };
+        if rk4 < horizon {
+            (rk4, format!("rk4 needs ω·numerics.step <= 1 (numerics.step = {})", short(self.numerics.step)))
+        } else {
+            (horizon, format!("ω·run.duration must be at most {MAX_NATURAL_RADIANS:e} natural radians (run.duration = {} s)", short(self.run.duration)))
+        }
+    }
+
     /// Every check: each key in its range, each distribution's support inside its key's range,
     /// and the combinations (μ_s ≥ μ_k for every draw, finite ratios, budgets).
     pub fn check(&self) -> Result<(), ScenarioError> {
@@ -124,8 +138,12 @@ impl Scenario {
             ));
         }
         let r = &self.run;
-        if !(r.duration.is_finite() && r.duration > 0.0) {
-            return Err(invalid("run.duration", &short(r.duration), "must be > 0 (s) and finite"));
+        if !(r.duration >= DURATION_RANGE.0 && r.duration <= DURATION_RANGE.1) {
+            return Err(invalid(
+                "run.duration",
+                &short(r.duration),
+                &format!("must be between {} and {} (s), the range the solvers are proven on", bound(DURATION_RANGE.0), bound(DURATION_RANGE.1)),
+            ));
         }
         if r.realizations == 0 || r.realizations > MAX_REALIZATIONS {
             return Err(invalid("run.realizations", &r.realizations.to_string(), &format!("must be between 1 and {MAX_REALIZATIONS}")));
@@ -192,20 +210,20 @@ impl Scenario {
                 ),
             });
         }
-        // Numerical solvers: refuse settings that cannot work, before any realization runs.
+        // ω·t_a and rk4's stability, before any realization runs (unbounded laws: per draw)
         let num = &self.numerics;
         let solver = self.solver();
         let fixed = matches!(solver, SolverKind::Rk4 | SolverKind::Moreau);
         let omega = ratios[0].sqrt();
-        if solver == SolverKind::Rk4 && omega * num.step > 1.0 {
-            return Err(invalid(
-                "numerics.step",
-                &short(num.step),
-                &format!(
-                    "too coarse for rk4 with ω = √(k/m) up to {omega:e} rad/s: ω·step = {:e} must be at most 1 (RK4 loses accuracy, and is unstable past 2.8)",
-                    omega * num.step
-                ),
-            ));
+        let (max_omega, rule) = self.max_omega();
+        if omega > max_omega {
+            let step_rule = solver == SolverKind::Rk4 && max_omega * num.step <= 1.0 + 1e-12;
+            let (key, value) = match (step_rule, self.param(Key::Stiffness)) {
+                (true, _) => ("numerics.step", short(num.step)),
+                (false, Some(p)) => ("model.stiffness", shown_param(p)),
+                (false, None) => ("model.stiffness", short(Params::PAPER.stiffness)),
+            };
+            return Err(invalid(key, &value, &format!("with model.mass, ω = √(k/m) reaches {omega:e} rad/s: {rule}, so ω may be at most {max_omega:e} rad/s")));
         }
         let least_steps = self.run.duration / if fixed { num.step } else { num.max_step };
         if matches!(solver, SolverKind::Rk45 | SolverKind::Rk4 | SolverKind::Moreau) && least_steps > num.step_budget as f64 {
@@ -240,35 +258,66 @@ fn support(p: &Param) -> (f64, f64) {
     }
 }
 
-/// One key's value or distribution against the key's valid range.
+/// One key's value or distribution against the key's range ([`Key::range`]).
 fn check_param(key: Key, p: &Param) -> Result<(), ScenarioError> {
-    let (lo, open) = key.lower_bound();
+    let (lo, hi) = key.range();
     let unit = key.unit();
-    let rel = if open { ">" } else { ">=" };
-    let ok = |x: f64| x.is_finite() && if open { x > lo } else { x >= lo };
+    let ok = |x: f64| x >= lo && x <= hi;
+    let range = format!("between {} and {}{unit}, the range the solvers are proven on", bound(lo), bound(hi));
     match p {
         Param::Value(x) => {
             if !ok(*x) {
-                return Err(invalid(key.dotted(), &short(*x), &if x.is_finite() { format!("must be {rel} {lo}{unit}") } else { "must be finite".into() }));
+                let finite = if x.is_finite() { "" } else { "finite and " };
+                return Err(invalid(key.dotted(), &short(*x), &format!("must be {finite}{range}")));
             }
         }
         Param::Sweep(list) => {
             if let Some(x) = list.iter().find(|x| !ok(**x)) {
-                return Err(invalid(key.dotted(), &shown_list(list), &format!("the value {} must be {rel} {lo}{unit} and finite", short(*x))));
+                return Err(invalid(key.dotted(), &shown_list(list), &format!("the value {} must be {range}", short(*x))));
             }
         }
         Param::Random(d) => {
             d.check().map_err(|reason| invalid(key.dotted(), &shown_param(p), &reason))?;
-            let (s_lo, _) = d.support();
-            let inside = if open { s_lo > lo || (s_lo == lo && d.open_at_low()) } else { s_lo >= lo };
-            if !inside && !d.truncated() {
-                return Err(invalid(key.dotted(), &shown_param(p), &format!("the distribution can draw {}, but the key must be {rel} {lo}{unit}", short(s_lo))));
+            if let crate::params::Dist::Uniform { low, high } = *d {
+                if !(ok(low) && ok(high)) {
+                    return Err(invalid(key.dotted(), &shown_param(p), &format!("the distribution can draw from {} to {}, but the key must be {range}", short(low), short(high))));
+                }
+            } else if d.truncated() && !ok(d.mean()) {
+                return Err(invalid(key.dotted(), &shown_param(p), &format!("a normal is truncated to the key's range; its mean must lie in it ({range})")));
             }
-            if d.truncated() && !ok(d.mean()) {
-                return Err(invalid(key.dotted(), &shown_param(p), &format!("a normal is truncated to the key's range ({rel} {lo}{unit}); its mean must lie in it")));
+            let share = d.share_in((lo, hi));
+            if !(share >= d.min_share()) {
+                return Err(invalid(
+                    key.dotted(),
+                    &shown_param(p),
+                    &format!(
+                        "only {} of this law lies {range} (draws outside are drawn again): at least {} % must; narrow the law",
+                        shown_share(share),
+                        d.min_share() * 100.0
+                    ),
+                ));
             }
         }
     }
     Ok(())
 }
 
+/// A range end for a message: `0`, `0.3`, `1e-6`, `1e9`.
+pub(crate) fn bound(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A probability for a message: `0.13`, `2.1e-9`, `< 1e-300`.
+fn shown_share(p: f64) -> String {
+    if p < 1e-300 {
+        "< 1e-300".into()
+    } else if p < 1e-3 {
+        format!("{p:.1e}")
+    } else {
+        format!("{:.3}", p)
+    }
+}

@@ -34,6 +34,15 @@ pub const PAPER_TOML: &str = include_str!("../../pipelines/paper.toml");
 /// Largest accepted λ·t_a (expected belt switches per realization): their instants are held in memory.
 pub const MAX_EXPECTED_SWITCHES: f64 = 1e7;
 
+/// Largest accepted ω·t_a, the natural radians in the horizon (ω = √(k/m)): the exact solver's
+/// events and a numerical solver's steps grow with it (measured at this limit: about 0.03 s per
+/// realization undamped, 2 s with damping, exact); past it a run is refused at the door, or per
+/// draw naming the realization.
+pub const MAX_NATURAL_RADIANS: f64 = 1e7;
+
+/// The range of `run.duration` [s] the solvers are proven on (tests/it/extremes.rs).
+pub const DURATION_RANGE: (f64, f64) = (1e-9, 1e6);
+
 /// Most realizations one run may ask for.
 pub const MAX_REALIZATIONS: u64 = 1_000_000_000_000;
 
@@ -412,7 +421,7 @@ mod tests {
         let e = Scenario::resolve(None, &["belt.swich_rate=1".into()]).unwrap_err().to_string();
         assert!(e.contains("belt.swich_rate") && e.contains("switch_rate"), "{e}");
         let e = Scenario::resolve(None, &["model.mass=-1".into()]).unwrap_err().to_string();
-        assert!(e.contains("model.mass") && e.contains("> 0"), "{e}");
+        assert!(e.contains("model.mass") && e.contains("between 1e-9 and 1e6 (kg)"), "{e}");
         let e = Scenario::resolve(None, &["model.mass=nan".into()]).unwrap_err().to_string();
         assert!(e.contains("finite"), "{e}");
         let e = Scenario::resolve(None, &["run.realizations=0".into()]).unwrap_err().to_string();

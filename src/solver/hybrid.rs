@@ -91,7 +91,7 @@ impl Hybrid {
             step: num.step,
             peak_guard: num.peak_guard,
             peak_window: p.stribeck.map_or(0.0, |s| s.window()),
-            dopri: Dopri::new(num.rtol, num.atol, num.max_step),
+            dopri: Dopri { budget: num.step_budget, ..Dopri::new(num.rtol, num.atol, num.max_step) },
             steps: 0,
             mode: Mode::Stick { t0: 0.0, x0: 0.0 },
             t: 0.0,
@@ -234,6 +234,10 @@ impl Method for Hybrid {
 
     fn steps(&self) -> u64 {
         self.steps
+    }
+
+    fn non_finite(&self) -> bool {
+        self.dopri.failed || !(self.y[0].is_finite() && self.y[1].is_finite())
     }
 }
 

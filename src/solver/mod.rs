@@ -86,6 +86,10 @@ pub trait Method {
     fn steps(&self) -> u64 {
         0
     }
+    /// Whether the method's state became non-finite (an overflow no step size avoids).
+    fn non_finite(&self) -> bool {
+        false
+    }
 }
 
 /// Why a realization could not be solved.
@@ -95,7 +99,10 @@ pub enum SolveError {
     EventBudget { limit: u64, t: f64 },
     #[error("more than numerics.step_budget = {limit} steps before t = {t} s (loosen the tolerances, raise the step, or raise the budget)")]
     StepBudget { limit: u64, t: f64 },
-    #[error("the drawn parameters ({drawn}) give non-finite k/m, c/m or mu n/m")]
+    #[error("the state became non-finite at t = {t} s (an overflow no step size avoids: the scene lies outside the range the solvers are proven on)")]
+    NonFinite { t: f64 },
+    /// A random key's draw cannot run; `drawn` says which and why.
+    #[error("drawn parameters: {drawn}")]
     Drawn { drawn: String },
 }
 
@@ -128,6 +135,9 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
             }
             if stops > EVENT_LIMIT {
                 return Err(SolveError::EventBudget { limit: EVENT_LIMIT, t: method.time() });
+            }
+            if method.non_finite() {
+                return Err(SolveError::NonFinite { t: method.time() });
             }
             if method.steps() > step_budget {
                 return Err(SolveError::StepBudget { limit: step_budget, t: method.time() });

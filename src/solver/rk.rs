@@ -218,11 +218,21 @@ pub struct Dopri {
     pub max_step: f64,
     /// the step to try next
     pub h: f64,
+    /// attempted steps allowed (`numerics.step_budget`): past it a step gives up
+    pub budget: u64,
+    /// the error estimate or the state stayed non-finite down to the smallest step
+    pub failed: bool,
 }
 
 impl Dopri {
     pub fn new(rtol: f64, atol: f64, max_step: f64) -> Dopri {
-        Dopri { rtol, atol, max_step, h: max_step.min(1e-3) }
+        Dopri { rtol, atol, max_step, h: max_step.min(1e-3), budget: u64::MAX, failed: false }
+    }
+
+    /// No step: what [`Dopri::step_from`] returns when it gives up (over the budget, or
+    /// [`Dopri::failed`]); the driver then stops the realization with the reason.
+    fn null(t0: f64, y0: State, f0: State) -> Step {
+        Step { t0, h: 0.0, y0, f0, y1: y0, f1: f0, d: [0.0, 0.0] }
     }
 
     /// The step the next trial takes when nothing shorter is asked for.
@@ -241,6 +251,9 @@ impl Dopri {
     pub fn step_from(&mut self, a: &impl Fn(State) -> f64, t0: f64, y0: State, k1: State, limit: f64, trials: &mut u64) -> Step {
         loop {
             *trials += 1;
+            if *trials > self.budget {
+                return Dopri::null(t0, y0, k1);
+            }
             let h = self.next().min(limit);
             let k2 = deriv(a, axpy(y0, h, &[(1.0 / 5.0, k1)]));
             let k3 = deriv(a, axpy(y0, h, &[(3.0 / 40.0, k1), (9.0 / 40.0, k2)]));
@@ -267,7 +280,18 @@ impl Dopri {
             // taken only where it changes the step (most steps are cut short by a belt switch or
             // the Stribeck guard with a tiny error, and keep the controller's step)
             let factor = || if err > 1.8e-4 { (0.9 * err.powf(-0.2)).clamp(0.2, 5.0) } else { 5.0 };
-            if err <= 1.0 || h <= 1e-14 * t0.abs().max(1.0) {
+            let floor = h <= 1e-14 * t0.abs().max(1.0);
+            if !(err.is_finite() && y1[0].is_finite() && y1[1].is_finite()) {
+                // an overflow inside the step: shrink as far as the floor, then give up (never
+                // accept a non-finite state, never grow the step on a NaN estimate)
+                if floor {
+                    self.failed = true;
+                    return Dopri::null(t0, y0, k1);
+                }
+                self.h = h * 0.2;
+                continue;
+            }
+            if err <= 1.0 || floor {
                 if h >= self.next() * 0.999 {
                     self.h = (h * factor()).min(self.max_step);
                 } else if err > 0.59 {
@@ -369,5 +393,24 @@ mod tests {
         assert!((theta - expected).abs() < 2e-3, "{theta} vs {expected}");
         // a shallower function stays positive: no zero
         assert_eq!(step.first_zero(|y| y[0] + 1.001, true), None);
+    }
+
+    #[test]
+    fn a_non_finite_estimate_shrinks_then_gives_up_and_the_budget_counts_trials() {
+        // a right-hand side that overflows for every step: never accepted, never grown
+        let mut dp = Dopri::new(1e-6, 1e-6, 1.0);
+        let mut trials = 0;
+        let s = dp.step(&|_: State| f64::NAN, 0.0, [1.0, 0.0], 1.0, &mut trials);
+        assert!(dp.failed && s.h == 0.0 && trials < 100, "{trials} trials");
+        // overflow only for steps above 1e-3: shrinks past it and is accepted there
+        let mut dp = Dopri::new(1e-6, 1e-6, 1.0);
+        let a = |y: State| if y[0] > 1.0 + 1e-4 || y[0] < 1.0 - 1e-3 { f64::INFINITY } else { -y[0] };
+        let s = dp.step(&a, 0.0, [1.0, 0.0], 1.0, &mut 0);
+        assert!(!dp.failed && s.h > 0.0 && s.y1.iter().all(|v| v.is_finite()), "{:?}", s.y1);
+        // rejected trials count against the budget of attempted steps, inside one step
+        let mut dp = Dopri { budget: 5, ..Dopri::new(1e-6, 1e-6, 1.0) };
+        let mut trials = 0;
+        let s = dp.step(&|_: State| f64::NAN, 0.0, [1.0, 0.0], 1.0, &mut trials);
+        assert!(trials == 6 && s.h == 0.0 && !dp.failed, "{trials} trials, h = {}", s.h);
     }
 }

@@ -42,7 +42,7 @@ impl Smooth {
             p: *p,
             epsilon: num.epsilon,
             delta: num.stick_velocity,
-            dopri: Dopri::new(num.rtol, num.atol, num.max_step),
+            dopri: Dopri { budget: num.step_budget, ..Dopri::new(num.rtol, num.atol, num.max_step) },
             steps: 0,
             stuck: false,
             t: 0.0,
@@ -129,5 +129,9 @@ impl Method for Smooth {
 
     fn steps(&self) -> u64 {
         self.steps
+    }
+
+    fn non_finite(&self) -> bool {
+        self.dopri.failed || !(self.y[0].is_finite() && self.y[1].is_finite())
     }
 }

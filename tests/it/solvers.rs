@@ -152,7 +152,7 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
     // settings that cannot work are refused before any realization runs
     let tmp = tempfile::tempdir().unwrap();
     for (sets, culprit) in [
-        (&["run.solver=rk4", "model.stiffness=1e10"][..], "numerics.step"),
+        (&["run.solver=rk4", "model.stiffness=1e9"][..], "numerics.step"),
         (&["run.solver=rk4", "run.duration=1e6", "numerics.step=1e-3"][..], "numerics.step_budget"),
         (&["run.solver=rk45", "run.duration=1e6"][..], "numerics.max_step"),
         (&["run.solver=moreau", "run.duration=1e6"][..], "numerics.step_budget"),

@@ -1,4 +1,5 @@
-//! Special functions for p-values: the χ² survival function.
+//! Special functions: the χ² survival function (p-values), the normal and gamma laws' tails
+//! (the probability a random key's distribution lands in the key's range).
 //!
 //! `P(χ²_ν > x) = Q(ν/2, x/2)`, the regularized upper incomplete gamma function, evaluated by its
 //! series for `x < a + 1` and by Lentz's continued fraction otherwise (Press et al., *Numerical
@@ -78,6 +79,28 @@ pub fn gamma_q(a: f64, x: f64) -> f64 {
     }
 }
 
+/// Regularized lower incomplete gamma P(a, x) = 1 − Q(a, x): the gamma law's CDF at x / scale.
+pub fn gamma_p(a: f64, x: f64) -> f64 {
+    1.0 - gamma_q(a, x)
+}
+
+/// The standard normal CDF Φ(z) = ½ erfc(−z/√2), with erfc(y) = Q(½, y²) for y ≥ 0 (accurate in
+/// both tails: Φ(−40) ≈ 3.7e-350 underflows to 0, Φ(−8) = 6.2e-16 keeps its digits).
+pub fn normal_cdf(z: f64) -> f64 {
+    if z.is_nan() {
+        return f64::NAN;
+    }
+    if z.is_infinite() {
+        return if z > 0.0 { 1.0 } else { 0.0 };
+    }
+    let y = z / std::f64::consts::SQRT_2;
+    if y <= 0.0 {
+        0.5 * gamma_q(0.5, y * y)
+    } else {
+        1.0 - 0.5 * gamma_q(0.5, y * y)
+    }
+}
+
 /// P(χ²_df > x).
 pub fn chi2_sf(x: f64, df: f64) -> f64 {
     gamma_q(0.5 * df, 0.5 * x)
@@ -93,6 +116,21 @@ mod tests {
         for &(x, df, p) in &[(3.841_458_820_694_124, 1.0, 0.05), (18.307_038_053_275_146, 10.0, 0.05), (6.634_896_601_021_214, 1.0, 0.01), (124.342, 100.0, 0.05), (2.0, 2.0, (-1.0f64).exp()), (30.0, 2.0, (-15.0f64).exp()), (7.0, 4.0, (-3.5f64).exp() * 4.5)] {
             let got = chi2_sf(x, df);
             assert!((got - p).abs() < 1e-4 * p, "x = {x}, df = {df}: {got} vs {p}");
+        }
+    }
+
+    #[test]
+    fn normal_and_gamma_tails_from_tables() {
+        // Φ at 0, ±1.959963984540054 (0.975), −8 (6.22096057427178e-16, Abramowitz–Stegun 26.2)
+        assert_eq!(normal_cdf(0.0), 0.5);
+        assert!((normal_cdf(1.959_963_984_540_054) - 0.975).abs() < 1e-14);
+        assert!((normal_cdf(-1.959_963_984_540_054) - 0.025).abs() < 1e-15);
+        assert!((normal_cdf(-8.0) / 6.220_960_574_271_78e-16 - 1.0).abs() < 1e-10);
+        assert_eq!(normal_cdf(-40.0), 0.0);
+        assert_eq!((normal_cdf(f64::NEG_INFINITY), normal_cdf(f64::INFINITY)), (0.0, 1.0));
+        // exponential law (a = 1): P(1, x) = 1 − e^{−x}
+        for x in [1e-3, 0.5, 2.0, 20.0] {
+            assert!((gamma_p(1.0, x) - (-(-x as f64).exp_m1())).abs() < 1e-14, "{x}");
         }
     }
 
