@@ -542,3 +542,70 @@ fn schema_v1_datasets_still_analyse() {
         assert_eq!(format!("{:?}", a.columns), format!("{:?}", b.columns), "{table}: v1 and v2 analyses differ");
     }
 }
+
+/// Issue 20, item 1: stale-entry cleanup removes only entries the tool can prove it wrote.
+#[test]
+fn only_entries_the_tool_provably_wrote_are_ever_deleted() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "200", "-q"], t));
+    ok(&stickslip(&["analyze", "d", "--out", "uan", "-q"], t));
+    ok(&stickslip(&["figures", "uan", "--out", "fig", "-q"], t));
+    // the user's entries with names like the tool's hidden ones
+    let users = [".uan.old-backup/keep.txt", ".uan.tmp-notes", ".uan.stickslip-tmp-notes", ".rep.html.old", "d/.part-00000-of-00001.parquet.old", "d/.part-00000-of-00001.parquet.tmp"];
+    for u in users {
+        let p = t.join(u);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(&p, "mine").unwrap();
+    }
+    // a directory with the tool's exact temporary name but none of its tags: not provably ours
+    std::fs::create_dir(t.join(".uan.stickslip-tmp-1-2-ab")).unwrap();
+    std::fs::write(t.join(".uan.stickslip-tmp-1-2-ab/mine.txt"), "mine").unwrap();
+    // what a SIGKILLed analyze leaves: a staging directory with its tag, and an old copy with its marker
+    for (dir, tag) in [(".uan.stickslip-tmp-7-0-1f", ".stickslip-staging"), (".uan.stickslip-old-7-1-2e", ".stickslip-output")] {
+        std::fs::create_dir(t.join(dir)).unwrap();
+        std::fs::write(t.join(dir).join(tag), "").unwrap();
+        std::fs::write(t.join(dir).join("moments.parquet"), "").unwrap();
+    }
+    std::fs::write(t.join("d/.part-00000-of-00001.parquet.stickslip-tmp-7-2-3d"), "stale").unwrap();
+    ok(&stickslip(&["analyze", "d", "--out", "uan", "-q"], t));
+    ok(&stickslip(&["report", "d", "uan", "fig", "--out", "rep.html", "-q"], t));
+    ok(&stickslip(&["report", "d", "uan", "fig", "--out", "rep.html", "-q"], t));
+    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "200", "-q"], t));
+    for u in users {
+        assert_eq!(std::fs::read_to_string(t.join(u)).unwrap(), "mine", "{u} was touched");
+    }
+    assert!(t.join(".uan.stickslip-tmp-1-2-ab/mine.txt").is_file());
+    for gone in [".uan.stickslip-tmp-7-0-1f", ".uan.stickslip-old-7-1-2e", "d/.part-00000-of-00001.parquet.stickslip-tmp-7-2-3d"] {
+        assert!(!t.join(gone).exists(), "the stale {gone} stays");
+    }
+}
+
+/// Issue 20, item 22: an output name near NAME_MAX works (hidden names are shortened, distinct).
+#[test]
+fn an_output_name_near_name_max_works() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "100", "-q"], t));
+    let (a, b) = ("a".repeat(240), format!("{}b", "a".repeat(239)));
+    ok(&stickslip(&["analyze", "d", "--out", &a, "-q"], t));
+    ok(&stickslip(&["analyze", "d", "--out", &b, "-q"], t));
+    ok(&stickslip(&["analyze", "d", "--out", &a, "-q"], t));
+    assert!(t.join(&a).join("summary.json").is_file() && t.join(&b).join("summary.json").is_file());
+    assert!(hidden_leftovers(t).is_empty(), "{:?}", hidden_leftovers(t));
+}
+
+/// Issue 20, item 22: an interrupted run removes the directories it created (and its lone marker).
+#[test]
+fn an_interrupted_run_removes_the_directories_it_created() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    for signal in [libc::SIGINT, libc::SIGTERM] {
+        let o = interrupt(&["simulate", "--out", "new/deeper/d", "--realizations", "3000000", "--threads", "1", "-q"], t, t, signal);
+        assert_eq!(o.status.code(), Some(128 + signal), "{}", err(&o));
+        assert!(!t.join("new").exists(), "left {:?}", names_below(t));
+        let o = interrupt(&["reproduce", "--out", "top/r", "--realizations", "3000000", "--threads", "1", "-q"], t, t, signal);
+        assert_eq!(o.status.code(), Some(128 + signal), "{}", err(&o));
+        assert!(!t.join("top").exists(), "left {:?}", names_below(t));
+    }
+}
