@@ -45,7 +45,7 @@ pub enum Command {
     /// The whole reproduction in one go: simulate into DIR/dataset, then DIR/analysis,
     /// DIR/figures and DIR/report.html (+ .md; a sweep: DIR/reports/CELL/report.html). Takes the same scenario options as `simulate`; stores the switch
     /// times and samples 3 trajectories (Figs 6 and 4 need them) unless --set says otherwise.
-    Reproduce(SimulateArgs),
+    Reproduce(ReproduceArgs),
     /// Measure the speed/accuracy trade: the same realizations through every solver over a ladder
     /// of tolerances and steps, against `exact`; writes DIR/tradeoff.parquet and a work-precision plot.
     Tradeoff(TradeoffArgs),
@@ -264,21 +264,38 @@ pub struct AnalyzeArgs {
 
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
-    #[command(flatten)]
-    pub input: ScenarioArgs,
     /// Output dataset directory (created if needed); the part file is replaced atomically.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
+    /// Run only shard I of N (0-based): a contiguous block of realization indices. The parts of
+    /// all N shards written into one DIR form the same dataset as an unsharded run.
+    #[arg(long, value_name = "I/N", default_value = "0/1")]
+    pub shard: Shard,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ReproduceArgs {
+    /// Output directory of the whole study: DIR/dataset, DIR/analysis, DIR/figures and
+    /// DIR/report.html (created if needed; a previous reproduce output is updated in place).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// The options `simulate` and `reproduce` share.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub input: ScenarioArgs,
     /// Number of realizations (overrides run.realizations).
     #[arg(long, value_name = "N")]
     pub realizations: Option<u64>,
     /// Random seed (overrides run.seed).
     #[arg(long, value_name = "S")]
     pub seed: Option<u64>,
-    /// Run only shard I of N (0-based): a contiguous block of realization indices. The parts of
-    /// all N shards written into one DIR form the same dataset as an unsharded run.
-    #[arg(long, value_name = "I/N", default_value = "0/1")]
-    pub shard: Shard,
     /// Stop when the standard error of the mean of VAR is at most SE (repeatable; all must be
     /// met). VAR: S_T, S_L, T_k, D_k, L_k, H_k (k >= 1) or stick_fraction. Checked after every
     /// chunk of realizations in index order, so the dataset is the first N rows of a fixed-N run;
@@ -341,20 +358,27 @@ fn tradeoff_command(args: TradeoffArgs, quiet: bool) -> anyhow::Result<()> {
     }
     check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
+    scenario.refuse_sweep("tradeoff")?;
     let rows = crate::tradeoff::run(&scenario, args.realizations, args.bias_fraction, &args.out).context("tradeoff")?;
     if !quiet {
-        println!("| solver | setting | CPU s/realization | RMS error [s] | max error [s] | missed | spurious | bias E[S_T] | bias E[H] | max bias/SE |\n|---|---|---|---|---|---|---|---|---|---|");
+        println!("| solver | setting | evaluations/realization | CPU s/realization | RMS error [s] | max error [s] | missed | spurious | bias E[S_T] | bias E[H] | max bias/SE |\n|---|---|---|---|---|---|---|---|---|---|---|");
+        let score = |r: &crate::tradeoff::Row| r.max_bias_over_se.map_or("–".into(), |b| format!("{b:.3}"));
         for r in &rows {
             println!(
-                "| {} | {} | {:.2e} | {:.1e} | {:.1e} | {} | {} | {:+.3} | {:+.4} | {:.3} |",
-                r.solver, r.setting, r.seconds_per_realization, r.error_rms, r.error_max, r.missed_sticks, r.spurious_sticks, r.bias_st, r.bias_h, r.max_bias_over_se
+                "| {} | {} | {:.0} | {:.2e} | {:.1e} | {:.1e} | {} | {} | {:+.3} | {:+.4} | {} |",
+                r.solver, r.setting, r.evaluations_per_realization, r.seconds_per_realization, r.error_rms, r.error_max, r.missed_sticks, r.spurious_sticks, r.bias_st, r.bias_h, score(r)
             );
         }
         let n = scenario.run.realizations;
         match rows.iter().find(|r| r.recommended) {
             Some(r) => println!(
-                "\nrecommended at run.realizations = {n}: {} {} ({:.2e} CPU s per realization; every Table 1 bias below {} of its standard error, worst {:.3})",
-                r.solver, r.setting, r.seconds_per_realization, args.bias_fraction, r.max_bias_over_se
+                "\nrecommended at run.realizations = {n}: {} {} ({:.0} right-hand-side evaluations and {:.2e} CPU s per realization; every Table 1 bias below {} of its standard error, worst {})",
+                r.solver, r.setting, r.evaluations_per_realization, r.seconds_per_realization, args.bias_fraction, score(r)
+            ),
+            None if args.realizations < crate::tradeoff::MIN_REALIZATIONS => println!(
+                "\n{} realizations are too few to estimate a standard error (at least {}): no recommendation; run with --realizations 200 or more",
+                args.realizations,
+                crate::tradeoff::MIN_REALIZATIONS
             ),
             None => println!("\nno setting keeps every Table 1 bias below {} of its standard error at run.realizations = {n}", args.bias_fraction),
         }
@@ -370,6 +394,7 @@ fn sensitivity_command(args: SensitivityArgs, quiet: bool) -> anyhow::Result<()>
     let mut scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     Overrides { realizations: None, seed: args.seed }.apply(&mut scenario);
     scenario.check()?;
+    scenario.refuse_sweep("sensitivity")?;
     let rows = crate::sensitivity::run(&scenario, args.realizations, &args.out).context("sensitivity")?;
     if !quiet {
         print!("{}", crate::sensitivity::markdown(&rows, args.realizations));
@@ -402,13 +427,13 @@ impl ReproduceLayout {
     }
 }
 
-fn reproduce_command(mut args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
+fn reproduce_command(args: ReproduceArgs, quiet: bool) -> anyhow::Result<()> {
     let dir = args.out.clone();
-    let top = crate::outdir::prepare_reproduce(&dir, &scenario_inputs(&args.input))?;
+    let top = crate::outdir::prepare_reproduce(&dir, &scenario_inputs(&args.run.input))?;
     let layout = ReproduceLayout::new(&dir);
-    args.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
-    args.out = layout.dataset.clone();
-    simulate_command(args, quiet)?;
+    let mut run = args.run;
+    run.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
+    simulate_command(SimulateArgs { out: layout.dataset.clone(), shard: Shard { index: 0, count: 1 }, run }, quiet)?;
     let opts = analysis::Options { progress: !quiet && std::io::stderr().is_terminal(), ..Default::default() };
     let cells = analyze_and_print(&layout.dataset, &layout.analysis, &opts, quiet)?;
     figures_command(&layout.analysis, &layout.figures, quiet)?;
@@ -427,6 +452,10 @@ fn reproduce_command(mut args: SimulateArgs, quiet: bool) -> anyhow::Result<()> 
 }
 
 fn analyze_command(args: AnalyzeArgs, quiet: bool) -> anyhow::Result<()> {
+    if crate::outdir::is_marked(&args.dataset, crate::outdir::Kind::Reproduce) {
+        let d = args.dataset.join("dataset");
+        return Err(usage(format!("{} is a `reproduce` output, not a dataset: did you mean {}?", args.dataset.display(), d.display())));
+    }
     let mut opts = analysis::Options {
         max_index: args.max_index,
         bins: args.bins,
@@ -505,16 +534,17 @@ fn slow_default_numerics(sc: &Scenario) -> bool {
 }
 
 fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
-    if let Some(s) = args.seed.filter(|&s| s > i64::MAX as u64) {
+    let run = &args.run;
+    if let Some(s) = run.seed.filter(|&s| s > i64::MAX as u64) {
         return Err(usage(format!("--seed {s}: must be at most {}", i64::MAX)));
     }
-    if let Some(n) = args.realizations.filter(|&n| n == 0 || n > crate::scenario::MAX_REALIZATIONS) {
+    if let Some(n) = run.realizations.filter(|&n| n == 0 || n > crate::scenario::MAX_REALIZATIONS) {
         return Err(usage(format!("--realizations {n} (run.realizations): must be between 1 and {}", crate::scenario::MAX_REALIZATIONS)));
     }
-    simulate::worker_threads(args.threads)?;
-    let over = Overrides { realizations: args.realizations, seed: args.seed };
-    let cells = Scenario::resolve_sweep(args.input.scenario.as_deref(), &args.input.sets, over)?;
-    let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&args.input))?;
+    simulate::worker_threads(run.threads)?;
+    let over = Overrides { realizations: run.realizations, seed: run.seed };
+    let cells = Scenario::resolve_sweep(run.input.scenario.as_deref(), &run.input.sets, over)?;
+    let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&run.input))?;
     let progress = !quiet && std::io::stderr().is_terminal();
     if let Some(sc) = cells.first().map(|c| &c.scenario).filter(|sc| !quiet && slow_default_numerics(sc)) {
         eprintln!(
@@ -526,18 +556,13 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     // parts are renamed into place only when all cells succeeded (a failure leaves the previous
     // sweep, if any, untouched).
     let mut pending = Vec::with_capacity(cells.len());
-    let mut new_dirs = Vec::new();
     for cell in &cells {
         let out = if cell.path.is_empty() { args.out.clone() } else { args.out.join(&cell.path) };
-        if !out.exists() {
-            new_dirs.push(out.clone());
-        }
-        let opts = simulate::Options { out, shard: args.shard, threads: args.threads, progress };
-        match simulate::compute_until(&cell.scenario, &opts, &args.target_se) {
+        let opts = simulate::Options { out, shard: args.shard, threads: run.threads, progress };
+        match simulate::compute_until(&cell.scenario, &opts, &run.target_se) {
             Ok(p) => pending.push(p),
             Err(e) => {
-                drop(pending);
-                remove_empty_dirs(&new_dirs, &args.out);
+                drop(pending); // (each part's temporary and the cell directories it created go)
                 let cell = if cell.path.is_empty() { String::new() } else { format!(" (sweep cell {})", cell.path) };
                 return Err(anyhow::Error::new(e).context(format!("simulate{cell}")));
             }
@@ -570,15 +595,3 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Undo the directories a failed sweep created below `top` (each only if empty, innermost first).
-fn remove_empty_dirs(dirs: &[PathBuf], top: &Path) {
-    for d in dirs.iter().rev() {
-        let mut dir = Some(d.as_path());
-        while let Some(p) = dir.filter(|p| p.starts_with(top) && *p != top) {
-            if std::fs::remove_dir(p).is_err() {
-                break;
-            }
-            dir = p.parent();
-        }
-    }
-}

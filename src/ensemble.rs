@@ -36,6 +36,8 @@ pub struct Outcome {
     pub drawn: Vec<f64>,
     /// The oscillator of this realization (the fixed scene with the drawn values).
     pub params: Params,
+    /// Integration steps the solver attempted (0 for `exact`).
+    pub steps: u64,
     switches: Vec<f64>,
     velocities: Vec<f64>,
 }
@@ -138,7 +140,8 @@ impl Ensemble {
         out.belt.segments(belt.speeds(), &mut out.switches, &mut out.velocities);
         let drive = Drive { velocities: &out.velocities, switches: &out.switches, t_end: belt.duration };
         out.record.clear();
-        self.solver
+        out.steps = self
+            .solver
             .solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);

@@ -23,7 +23,13 @@
 //! over the same realizations, and SE_s = sd_reference / √(N · p_s) the standard error of the
 //! mean at the scenario's `run.realizations` N (p_s: the fraction of realizations that have the
 //! k-th interval). The setting's score is max_s |bias_s| / SE_s; the recommendation is the
-//! cheapest setting (CPU per realization) scoring below `--bias-fraction` (default 0.1).
+//! cheapest setting scoring below `--bias-fraction` (default 0.1). "Cheapest" is counted, not
+//! timed, so that the same inputs give the same answer on a loaded machine: `exact` first where
+//! the scene has it (no integration at all), then the fewest right-hand-side evaluations per
+//! realization ([`SolverKind::evaluations_per_step`] × attempted steps), ties in ladder order.
+//! The measured CPU time is reported beside it. With fewer than [`MIN_REALIZATIONS`]
+//! realizations no standard error can be estimated: the score is empty and nothing is
+//! recommended.
 //!
 //! Output: `DIR/tradeoff.parquet`, one row per (solver, setting) with `max_bias_over_se` and
 //! `recommended`, and the work-precision plot `DIR/work_precision.{png,svg}` (log10 RMS
@@ -121,6 +127,10 @@ pub enum TradeoffError {
     Reference { realization: u64, detail: String },
 }
 
+/// Fewest realizations whose spread estimates a standard error (below it: no score, no
+/// recommendation).
+pub const MIN_REALIZATIONS: u64 = 10;
+
 /// One measured setting.
 #[derive(Debug, Clone)]
 pub struct Row {
@@ -128,6 +138,8 @@ pub struct Row {
     pub setting: String,
     pub parameter: f64,
     pub seconds_per_realization: f64,
+    /// right-hand-side evaluations per realization, counted (the ranking's cost)
+    pub evaluations_per_realization: f64,
     pub error_max: f64,
     pub error_rms: f64,
     pub matched: u64,
@@ -137,25 +149,35 @@ pub struct Row {
     pub bias_d: f64,
     pub bias_h: f64,
     pub bias_st: f64,
-    /// max over the Table 1 statistics of |bias| / (Monte Carlo SE at run.realizations)
-    pub max_bias_over_se: f64,
+    /// max over the Table 1 statistics of |bias| / (Monte Carlo SE at run.realizations); None
+    /// with fewer than [`MIN_REALIZATIONS`]
+    pub max_bias_over_se: Option<f64>,
     pub recommended: bool,
 }
 
-/// The records of realizations 0..n and the CPU seconds per realization of solving them alone
-/// (keeping the records for the comparison is not timed).
-fn run_all(sc: &Scenario, n: u64) -> Result<(Vec<Record>, f64), TradeoffError> {
+/// What running one setting gave: the records of realizations 0..n, the CPU seconds per
+/// realization of solving them alone (keeping the records is not timed) and the counted
+/// right-hand-side evaluations per realization.
+struct Measured {
+    records: Vec<Record>,
+    seconds: f64,
+    evaluations: f64,
+}
+
+fn run_all(sc: &Scenario, n: u64) -> Result<Measured, TradeoffError> {
     let ens = Ensemble::new(sc)?;
     let mut out = Outcome::default();
-    let mut seconds = 0.0;
+    let (mut seconds, mut steps) = (0.0, 0u64);
     let mut records = Vec::with_capacity(n as usize);
     for i in 0..n {
         let start = Instant::now();
         ens.realization(i, &mut out).map_err(|source| TradeoffError::Run { solver: sc.solver().name().into(), setting: String::new(), source })?;
         seconds += start.elapsed().as_secs_f64();
+        steps += out.steps;
         records.push(out.record.clone());
     }
-    Ok((records, seconds / n.max(1) as f64))
+    let per = |x: f64| x / n.max(1) as f64;
+    Ok(Measured { records, seconds: per(seconds), evaluations: per((steps * sc.solver().evaluations_per_step()) as f64) })
 }
 
 /// Mean of the k-th elements (k < 6) of the lists picked by `f`, pooled.
@@ -205,13 +227,12 @@ fn bias_over_se(records: &[Record], reference: &[Record], n_run: u64) -> f64 {
 }
 
 /// The reference records: exact, or rk45 at 1e-12 shown converged against 1e-10.
-fn reference(base: &Scenario, n: u64) -> Result<(Setting, Vec<Record>, f64), TradeoffError> {
+fn reference(base: &Scenario, n: u64) -> Result<(Setting, Measured), TradeoffError> {
     if base.has_closed_forms() {
         let exact = ladder(base.run.duration).into_iter().next().expect("exact is the first rung");
         let mut sc = base.clone();
         sc.run.solver = exact.solver;
-        let (records, secs) = run_all(&sc, n)?;
-        return Ok((exact, records, secs));
+        return Ok((exact, run_all(&sc, n)?));
     }
     let tight = |tol: f64| {
         let max_step = 1e-2_f64.min(base.run.duration);
@@ -222,7 +243,7 @@ fn reference(base: &Scenario, n: u64) -> Result<(Setting, Vec<Record>, f64), Tra
             apply: Box::new(move |n: &mut Numerics| (n.rtol, n.atol, n.max_step, n.peak_guard) = (tol, tol, max_step, true)),
         }
     };
-    let run = |s: &Setting| -> Result<(Vec<Record>, f64), TradeoffError> {
+    let run = |s: &Setting| -> Result<Measured, TradeoffError> {
         let mut sc = base.clone();
         sc.run.solver = s.solver;
         (s.apply)(&mut sc.numerics);
@@ -230,9 +251,9 @@ fn reference(base: &Scenario, n: u64) -> Result<(Setting, Vec<Record>, f64), Tra
         run_all(&sc, n)
     };
     let (check, fine) = (tight(1e-13), tight(1e-14));
-    let (a, _) = run(&check)?;
-    let (b, secs) = run(&fine)?;
-    for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+    let a = run(&check)?.records;
+    let b = run(&fine)?;
+    for (i, (x, y)) in a.iter().zip(&b.records).enumerate() {
         let detail = if (x.n_stick(), x.n_slip()) != (y.n_stick(), y.n_slip()) {
             Some(format!("S_T {} vs {}, S_L {} vs {}", x.n_stick(), y.n_stick(), x.n_slip(), y.n_slip()))
         } else {
@@ -243,18 +264,19 @@ fn reference(base: &Scenario, n: u64) -> Result<(Setting, Vec<Record>, f64), Tra
             return Err(TradeoffError::Reference { realization: i as u64, detail });
         }
     }
-    Ok((fine, b, secs))
+    Ok((fine, b))
 }
 
 /// Measure every setting of the ladder on realizations 0..n of `base`, against the reference;
 /// mark the cheapest setting whose [`bias_over_se`] is below `bias_fraction`.
 pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, TradeoffError> {
-    let (reference_setting, reference, reference_secs) = reference(base, n)?;
+    let (reference_setting, measured) = reference(base, n)?;
+    let reference = measured.records.clone();
     let mut rows = Vec::new();
-    let mut settings: Vec<(Setting, Option<(Vec<Record>, f64)>)> = vec![(reference_setting, Some((reference.clone(), reference_secs)))];
+    let mut settings: Vec<(Setting, Option<Measured>)> = vec![(reference_setting, Some(measured))];
     settings.extend(ladder(base.run.duration).into_iter().filter(|s| s.solver != SolverKind::Exact).map(|s| (s, None)));
     for (Setting { solver, label: setting, parameter, apply }, done) in settings {
-        let (records, secs) = match done {
+        let Measured { records, seconds: secs, evaluations } = match done {
             Some(d) => d,
             None => {
                 let mut sc = base.clone();
@@ -283,6 +305,7 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
             setting,
             parameter,
             seconds_per_realization: secs,
+            evaluations_per_realization: evaluations,
             error_max: errors.iter().fold(0.0, |m, e| m.max(e.abs())),
             error_rms: rms,
             matched: errors.len() as u64,
@@ -292,15 +315,17 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
             bias_d: pooled(&records, |r| &r.stick_duration) - pooled(exact, |r| &r.stick_duration),
             bias_h: pooled(&records, |r| &r.slip_duration) - pooled(exact, |r| &r.slip_duration),
             bias_st: count(&records) - count(exact),
-            max_bias_over_se: bias_over_se(&records, exact, base.run.realizations),
+            max_bias_over_se: (n >= MIN_REALIZATIONS).then(|| bias_over_se(&records, exact, base.run.realizations)),
             recommended: false,
         });
     }
+    // counted cost: exact (no integration) first, then the fewest evaluations; `min_by` keeps
+    // the first of equals, so ties go to the earlier rung
     let cheapest = rows
         .iter()
         .enumerate()
-        .filter(|(_, r)| r.max_bias_over_se < bias_fraction)
-        .min_by(|a, b| a.1.seconds_per_realization.total_cmp(&b.1.seconds_per_realization))
+        .filter(|(_, r)| r.max_bias_over_se.is_some_and(|b| b < bias_fraction))
+        .min_by(|a, b| (a.1.solver != "exact", a.1.evaluations_per_realization).partial_cmp(&(b.1.solver != "exact", b.1.evaluations_per_realization)).unwrap_or(std::cmp::Ordering::Equal))
         .map(|(i, _)| i);
     if let Some(i) = cheapest {
         rows[i].recommended = true;
@@ -318,6 +343,7 @@ pub fn table(rows: &[Row], n: u64) -> Table {
         .push("parameter", f(&|r| r.parameter))
         .push("realizations", i(&|_| n))
         .push("cpu_seconds_per_realization", f(&|r| r.seconds_per_realization))
+        .push("evaluations_per_realization", f(&|r| r.evaluations_per_realization))
         .push("event_time_error_max", f(&|r| r.error_max))
         .push("event_time_error_rms", f(&|r| r.error_rms))
         .push("matched_events", i(&|r| r.matched))
@@ -327,7 +353,7 @@ pub fn table(rows: &[Row], n: u64) -> Table {
         .push("bias_mean_D", f(&|r| r.bias_d))
         .push("bias_mean_H", f(&|r| r.bias_h))
         .push("bias_mean_S_T", f(&|r| r.bias_st))
-        .push("max_bias_over_se", f(&|r| r.max_bias_over_se))
+        .push("max_bias_over_se", f(&|r| r.max_bias_over_se.unwrap_or(f64::NAN)))
         .push("recommended", i(&|r| r.recommended as u64));
     t
 }

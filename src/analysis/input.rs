@@ -239,7 +239,10 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
     let (toml, switch_times, total, first) = (p0.scenario.clone(), p0.switch_times, p0.total, first.clone());
     parts.sort_by_key(|(f, p)| (p.range.start, p.range.end, f.clone()));
     let mut missing = Vec::new();
-    let mut next = 0u64;
+    // `next`: the end of the parts so far; `intended`: where the previous part's block ends (a
+    // shard that met its own --target-se stopped inside its block: the rest of the block was
+    // never meant to be simulated, and only what lies past it is missing)
+    let (mut next, mut intended) = (0u64, 0u64);
     for (i, (f, p)) in parts.iter().enumerate() {
         if p.range.start < next {
             let (g, q) = &parts[i - 1];
@@ -251,17 +254,16 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
                 ),
             ));
         }
-        // a shard that met its own target stopped inside its block: the rest of the block was
-        // never meant to be simulated
-        let stopped_at = |end: u64| parts[..i].iter().any(|(_, q)| q.range.end == next && q.block.as_ref().is_some_and(|b| b.end == end));
-        if p.range.start > next && !stopped_at(p.range.start) {
-            missing.push(next..p.range.start);
+        let from = next.max(intended);
+        if p.range.start > from {
+            missing.push(from..p.range.start);
         }
         next = p.range.end;
+        intended = p.block.as_ref().map_or(next, |b| b.end);
     }
-    let last_stopped = parts.last().is_some_and(|(_, q)| q.range.end == next && q.block.as_ref().is_some_and(|b| b.end == total));
-    if next < total && !last_stopped {
-        missing.push(next..total);
+    let from = next.max(intended);
+    if total > from {
+        missing.push(from..total);
     }
     if !missing.is_empty() && !allow_partial {
         let gaps: Vec<String> = missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect();

@@ -158,6 +158,21 @@ impl Scenario {
         Ok(sc)
     }
 
+    /// Refuse a swept key (a list) for `stage`, which runs one scene: the first swept key named.
+    pub fn refuse_sweep(&self, stage: &str) -> Result<(), ScenarioError> {
+        match Key::ALL.into_iter().find_map(|k| match self.param(k) {
+            Some(Param::Sweep(list)) => Some((k, list)),
+            _ => None,
+        }) {
+            Some((key, list)) => Err(invalid(
+                key.dotted(),
+                &shown_list(list),
+                &format!("{stage} runs one scene, not a sweep: give one value (run {stage} once per value)"),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Resolve a scenario whose `[model]`/`[belt]` keys may be lists (a sweep) into its cells: the
     /// Cartesian product of the lists, keys in the order of their dotted names (`belt.*` before
     /// `model.*`; the hive path nests them in that order). Each cell's `run.seed` is derived from the

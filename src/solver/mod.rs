@@ -111,8 +111,9 @@ pub enum SolveError {
 pub const EVENT_LIMIT: u64 = 200_000_000;
 
 /// The one driver: run `method` over the segments of `drive` from `(x₀, ẋ₀)`, reporting every
-/// change of mode to `obs` (and grid samples, when `obs` asks for them).
-pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64, xdot0: f64, step_budget: u64, obs: &mut O) -> Result<(), SolveError> {
+/// change of mode to `obs` (and grid samples, when `obs` asks for them). Returns the
+/// integration steps the method attempted ([`Method::steps`], 0 for `exact`).
+pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64, xdot0: f64, step_budget: u64, obs: &mut O) -> Result<u64, SolveError> {
     let grid = obs.sample_step();
     if grid.is_some() {
         method.keep_pieces();
@@ -150,7 +151,7 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
             v = v_new;
         }
     }
-    Ok(())
+    Ok(method.steps())
 }
 
 #[inline]
@@ -217,6 +218,18 @@ impl SolverKind {
     pub fn name(self) -> &'static str {
         Self::NAMES[self as usize]
     }
+
+    /// Right-hand-side evaluations per attempted step: Dormand–Prince 6 (FSAL), RK4 4, one
+    /// projection per Moreau step; 0 for the event-driven `exact` (the deterministic work measure
+    /// `tradeoff` ranks settings by).
+    pub fn evaluations_per_step(self) -> u64 {
+        match self {
+            SolverKind::Rk45 | SolverKind::Smooth => 6,
+            SolverKind::Rk4 => 4,
+            SolverKind::Moreau => 1,
+            SolverKind::Auto | SolverKind::Exact => 0,
+        }
+    }
 }
 
 /// A solver ready to run one realization of given parameters.
@@ -235,8 +248,9 @@ impl Solver {
         Solver { kind, numerics, damped }
     }
 
-    /// Solve one realization of the oscillator `p` (per unit mass, [`crate::physics::Params::per_unit_mass`]).
-    pub fn solve<O: Observer>(&self, p: &Physics, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<(), SolveError> {
+    /// Solve one realization of the oscillator `p` (per unit mass, [`crate::physics::Params::per_unit_mass`]);
+    /// returns the integration steps attempted (see [`drive`]).
+    pub fn solve<O: Observer>(&self, p: &Physics, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<u64, SolveError> {
         let (p, num, budget) = (*p, &self.numerics, self.numerics.step_budget);
         match self.kind {
             SolverKind::Exact | SolverKind::Auto if self.damped || p.gamma != 0.0 => {

@@ -175,7 +175,7 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
 #[test]
 fn tradeoff_writes_one_row_per_setting() {
     let tmp = tempfile::tempdir().unwrap();
-    let rows = tradeoff::run(&scenario(&["run.duration=2"]), 3, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
+    let rows = tradeoff::run(&scenario(&["run.duration=2"]), 10, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
     let t = stickslip::analysis::frame::Table::read_parquet(&tmp.path().join("t/tradeoff.parquet")).unwrap();
     assert_eq!(t.height(), tradeoff::ladder(2.0).len());
     assert_eq!(rows.len(), t.height());
@@ -191,8 +191,29 @@ fn tradeoff_writes_one_row_per_setting() {
     let rec: Vec<&tradeoff::Row> = rows.iter().filter(|r| r.recommended).collect();
     assert_eq!(rec.len(), 1);
     assert_eq!(t.ints("recommended").unwrap().iter().map(|x| x.unwrap()).sum::<i64>(), 1);
-    let cheapest = rows.iter().filter(|r| r.max_bias_over_se < tradeoff::BIAS_FRACTION).map(|r| r.seconds_per_realization).fold(f64::INFINITY, f64::min);
-    assert_eq!(rec[0].seconds_per_realization, cheapest);
+    // exact, where the scene has it, is first: it integrates nothing
+    assert_eq!(rec[0].solver, "exact");
+    assert!(rows.iter().filter(|r| r.solver == "rk45").all(|r| r.evaluations_per_realization > 0.0));
+}
+
+#[test]
+fn tradeoff_recommends_nothing_without_a_standard_error_and_the_same_thing_every_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sc = scenario(&["run.duration=2", "model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"]);
+    let one = tradeoff::run(&sc, 1, tradeoff::BIAS_FRACTION, &tmp.path().join("one")).unwrap();
+    assert!(one.iter().all(|r| r.max_bias_over_se.is_none() && !r.recommended));
+    let t = stickslip::analysis::frame::Table::read_parquet(&tmp.path().join("one/tradeoff.parquet")).unwrap();
+    assert!(t.floats("max_bias_over_se").unwrap().iter().all(Option::is_none), "no score is written as a number");
+    // the ranking is counted, not timed: two runs recommend the same setting, and it is the
+    // eligible one with the fewest right-hand-side evaluations (counts are deterministic)
+    let a = tradeoff::run(&sc, 12, tradeoff::BIAS_FRACTION, &tmp.path().join("a")).unwrap();
+    let b = tradeoff::run(&sc, 12, tradeoff::BIAS_FRACTION, &tmp.path().join("b")).unwrap();
+    let pick = |rows: &[tradeoff::Row]| rows.iter().find(|r| r.recommended).map(|r| (r.solver, r.setting.clone()));
+    assert_eq!(pick(&a), pick(&b));
+    let evals = |rows: &[tradeoff::Row]| rows.iter().map(|r| r.evaluations_per_realization).collect::<Vec<_>>();
+    assert_eq!(evals(&a), evals(&b));
+    let least = a.iter().filter(|r| r.max_bias_over_se.is_some_and(|x| x < tradeoff::BIAS_FRACTION)).map(|r| r.evaluations_per_realization).fold(f64::INFINITY, f64::min);
+    assert_eq!(a.iter().find(|r| r.recommended).map(|r| r.evaluations_per_realization), Some(least));
 }
 
 #[test]
@@ -201,14 +222,14 @@ fn without_closed_forms_the_reference_is_tight_rk45_and_the_answer_is_numerical(
     // 1e-13, else this fails), and the recommendation is the cheapest setting under the fraction
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["run.duration=3", "model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"]);
-    let rows = tradeoff::run(&sc, 6, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
+    let rows = tradeoff::run(&sc, 10, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
     assert_eq!((rows[0].solver, rows[0].error_max), ("rk45", 0.0));
     assert!(rows[0].setting.contains("1e-14"), "{}", rows[0].setting);
     assert!(rows.iter().all(|r| r.solver != "exact"));
-    let cheapest = rows.iter().filter(|r| r.max_bias_over_se < tradeoff::BIAS_FRACTION).map(|r| r.seconds_per_realization).fold(f64::INFINITY, f64::min);
+    let cheapest = rows.iter().filter(|r| r.max_bias_over_se.is_some_and(|b| b < tradeoff::BIAS_FRACTION)).map(|r| r.evaluations_per_realization).fold(f64::INFINITY, f64::min);
     let rec: Vec<&tradeoff::Row> = rows.iter().filter(|r| r.recommended).collect();
     assert_eq!(rec.len(), 1);
-    assert_eq!(rec[0].seconds_per_realization, cheapest);
+    assert_eq!(rec[0].evaluations_per_realization, cheapest);
 }
 
 #[test]
