@@ -143,7 +143,7 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
     if let Some(s) = e.downcast_ref::<crate::sensitivity::SensitivityError>() {
         use crate::sensitivity::SensitivityError as S;
         return match s {
-            S::Scenario(_) | S::NoRandomKey => true,
+            S::Scenario(_) | S::NoRandomKey | S::TooLarge { .. } => true,
             S::Out(o) => out(o),
             S::Run(_) | S::Write { .. } => false,
         };
@@ -151,12 +151,14 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
     false
 }
 
-/// The error and its causes on one line, each cause once (a cause whose text is already shown,
-/// as when a message quotes its `source`, is not repeated).
+/// The error and its causes on one printable line, each cause once (a cause whose text is
+/// already shown, as when a message quotes its `source`, is not repeated). Whatever a cause
+/// quotes — a user's 100,000-character `--set` value, a file's control bytes — is made
+/// printable and shortened ([`printable`]).
 pub fn message(e: &anyhow::Error) -> String {
     let mut out = String::new();
     for cause in e.chain() {
-        let text = cause.to_string();
+        let text = printable(&cause.to_string());
         if out.contains(&text) {
             continue;
         }
@@ -166,6 +168,25 @@ pub fn message(e: &anyhow::Error) -> String {
         out += &text;
     }
     out
+}
+
+/// `text` on one line: control characters (newlines included) become spaces, runs of spaces
+/// one, and a run of more than 200 characters without a space keeps its first 80 and says how
+/// long it was.
+pub fn printable(text: &str) -> String {
+    let clean: String = text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+    let words: Vec<String> = clean
+        .split_whitespace()
+        .map(|w| {
+            let n = w.chars().count();
+            if n > 200 {
+                format!("{}… ({n} characters)", w.chars().take(80).collect::<String>())
+            } else {
+                w.to_string()
+            }
+        })
+        .collect();
+    words.join(" ")
 }
 
 /// Where a scenario comes from: a file and `--set` overrides.

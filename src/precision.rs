@@ -64,7 +64,12 @@ impl FromStr for Target {
             "stick_fraction" => (Quantity::StickFraction, "stick_fraction", 0),
             _ => {
                 let (v, k) = var.split_once('_').ok_or_else(|| bad("unknown VAR"))?;
-                let k: usize = k.parse().ok().filter(|&k| (1..=1000).contains(&k)).ok_or_else(|| bad("k must be an integer from 1 to 1000"))?;
+                // digits only: `parse` would also take `+1`
+                let k: usize = Some(k)
+                    .filter(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+                    .and_then(|k| k.parse().ok())
+                    .filter(|&k| (1..=1000).contains(&k))
+                    .ok_or_else(|| bad("k must be an integer from 1 to 1000, written in digits"))?;
                 match v {
                     "T" => (Quantity::StickStart(k), "T", k),
                     "D" => (Quantity::StickDuration(k), "D", k),

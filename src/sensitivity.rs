@@ -53,6 +53,16 @@ pub enum SensitivityError {
     Write { path: std::path::PathBuf, message: String },
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
+    #[error("--realizations {n}: the {d} random keys' N·(d+3) outputs are held in memory, about {gib:.1} GiB; at most {MAX_MEMORY_GIB} GiB: use N <= {most}")]
+    TooLarge { n: u64, d: usize, gib: f64, most: u64 },
+}
+
+/// Most memory the samples' outputs may take [GiB] (they are held for the bootstrap).
+pub const MAX_MEMORY_GIB: f64 = 4.0;
+
+/// Bytes one pick-freeze sample holds: its vector (header and allocation) and d + 3 output rows.
+fn sample_bytes(d: usize) -> f64 {
+    (24 + 16 + (d + 3) * std::mem::size_of::<[f64; 4]>()) as f64
 }
 
 /// One row of `sobol.parquet`.
@@ -115,6 +125,11 @@ pub fn compute(scenario: &Scenario, n: u64) -> Result<Vec<Index>, SensitivityErr
         return Err(SensitivityError::NoRandomKey);
     }
     let d = keys.len();
+    let gib = n as f64 * sample_bytes(d) / f64::from(1u32 << 30);
+    if gib > MAX_MEMORY_GIB {
+        let most = (MAX_MEMORY_GIB * f64::from(1u32 << 30) / sample_bytes(d)) as u64;
+        return Err(SensitivityError::TooLarge { n, d, gib, most });
+    }
     let duration = scenario.run.duration;
     // per sample j: f(A), f(B), f(AB⁽ⁱ⁾) for each key i, then for the intrinsic input
     let samples: Vec<Vec<[f64; 4]>> = (0..n)

@@ -234,11 +234,12 @@ impl Scenario {
                 &format!("run.duration needs at least {least_steps:e} steps, over numerics.step_budget = {}", num.step_budget),
             ));
         }
-        let rate = hi(Key::SwitchRate).max(hi(Key::ReverseSwitchRate));
+        let (forward, reverse) = (hi(Key::SwitchRate), hi(Key::ReverseSwitchRate));
+        let (key, rate) = if reverse > forward { ("belt.reverse_switch_rate", reverse) } else { ("belt.switch_rate", forward) };
         let expected = rate * self.run.duration;
         if !(expected <= MAX_EXPECTED_SWITCHES) {
             return Err(invalid(
-                "belt.switch_rate",
+                key,
                 &short(rate),
                 &format!("switch rate × run.duration = {expected:e} expected belt switches per realization; at most {MAX_EXPECTED_SWITCHES:e} are supported"),
             ));

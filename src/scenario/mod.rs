@@ -100,7 +100,7 @@ pub enum ScenarioError {
     #[error("--set {arg:?}: {reason}")]
     BadSetValue { arg: String, reason: String },
     #[error("scenario file {}: {reason}", path.display())]
-    TooBig { path: PathBuf, reason: String },
+    Unreadable { path: PathBuf, reason: String },
 }
 
 /// The known keys next to an unknown one, for the error message.
@@ -302,12 +302,32 @@ fn read(file: Option<&Path>) -> Result<Option<String>, ScenarioError> {
     use std::io::Read as _;
     let Some(path) = file else { return Ok(None) };
     let err = |source| ScenarioError::Read { path: path.to_owned(), source };
+    // a regular file only: a FIFO or a device would block or never end
+    let meta = std::fs::metadata(path).map_err(err)?;
+    if !meta.is_file() {
+        return Err(ScenarioError::Unreadable { path: path.to_owned(), reason: "is not a regular file (a scenario is a TOML file)".into() });
+    }
     let mut bytes = Vec::new();
     std::fs::File::open(path).and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)).map_err(err)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(ScenarioError::TooBig { path: path.to_owned(), reason: format!("larger than {MAX_FILE_BYTES} bytes; a scenario is a small TOML file") });
+        return Err(ScenarioError::Unreadable { path: path.to_owned(), reason: format!("larger than {MAX_FILE_BYTES} bytes; a scenario is a small TOML file") });
     }
-    String::from_utf8(bytes).map(Some).map_err(|_| ScenarioError::TooBig { path: path.to_owned(), reason: "is not UTF-8 text".into() })
+    String::from_utf8(bytes).map(Some).map_err(|_| ScenarioError::Unreadable { path: path.to_owned(), reason: "is not UTF-8 text".into() })
+}
+
+/// A TOML error on one line: `line L, column C: what` (the parser's own text spans several
+/// lines and quotes the offending line, control bytes included).
+fn syntax_message(text: &str, e: &toml::de::Error) -> String {
+    let what = e.message().split_whitespace().collect::<Vec<_>>().join(" ");
+    match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            format!("line {line}, column {column}: {what}")
+        }
+        None => what,
+    }
 }
 
 /// Signed zeros become +0 everywhere (a `-0.0` passes `>= 0` but divides to −∞).
@@ -327,10 +347,7 @@ fn positive_zeros(table: &mut Table) {
 fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, ScenarioError> {
     let mut table: Table = PAPER_TOML.parse().expect("embedded scenario parses");
     if let Some(text) = text {
-        let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax {
-            path: origin.to_owned(),
-            message: e.to_string().trim_end().to_owned(),
-        })?;
+        let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax { path: origin.to_owned(), message: syntax_message(text, &e) })?;
         merge(&mut table, user, "")?;
     }
     for arg in sets {

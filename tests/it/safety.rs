@@ -533,13 +533,32 @@ fn schema_v1_datasets_still_analyse() {
     let file = t.join("v1/part-00000-of-00001.parquet");
     let schema = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap()).unwrap().schema().clone();
     assert_eq!(schema.field_with_name("n_stick").unwrap().data_type(), &DataType::Int32);
-    for d in ["v2", "v1"] {
+    // the same v1 part as another Parquet writer leaves it: no embedded Arrow schema (DuckDB,
+    // parquet-mr), the counts plain INT32 (issue 20, item 22)
+    std::fs::create_dir(t.join("v1-plain")).unwrap();
+    std::fs::copy(t.join("v1/.stickslip-output"), t.join("v1-plain/.stickslip-output")).unwrap();
+    {
+        let builder = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap()).unwrap();
+        let kv = builder.metadata().file_metadata().key_value_metadata().cloned();
+        let kv: Option<Vec<_>> = kv.map(|kv| kv.into_iter().filter(|e| e.key.starts_with("stickslip.")).collect());
+        let schema = builder.schema().clone();
+        let props = WriterProperties::builder().set_key_value_metadata(kv).build();
+        let options = parquet::arrow::arrow_writer::ArrowWriterOptions::new().with_properties(props).with_skip_arrow_metadata(true);
+        let out = std::fs::File::create(t.join("v1-plain/part-00000-of-00001.parquet")).unwrap();
+        let mut w = ArrowWriter::try_new_with_options(out, schema, options).unwrap();
+        for b in builder.build().unwrap() {
+            w.write(&b.unwrap()).unwrap();
+        }
+        w.close().unwrap();
+    }
+    for d in ["v2", "v1", "v1-plain"] {
         ok(&stickslip(&["analyze", d, "--out", &format!("{d}-a"), "-q"], t));
     }
     for table in ["moments", "histograms", "growth"] {
         let read = |d: &str| stickslip::analysis::frame::Table::read_parquet(&t.join(format!("{d}-a/{table}.parquet"))).unwrap();
-        let (a, b) = (read("v1"), read("v2"));
+        let (a, b, c) = (read("v1"), read("v2"), read("v1-plain"));
         assert_eq!(format!("{:?}", a.columns), format!("{:?}", b.columns), "{table}: v1 and v2 analyses differ");
+        assert_eq!(format!("{:?}", c.columns), format!("{:?}", b.columns), "{table}: v1 without an Arrow schema and v2 analyses differ");
     }
 }
 
