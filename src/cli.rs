@@ -53,6 +53,9 @@ pub enum Command {
     /// mean stick and slip durations with respect to each random scene key and to the intrinsic
     /// randomness (pick-freeze, N·(d+3) realizations); writes DIR/sobol.parquet, sobol.png, sobol.md.
     Sensitivity(SensitivityArgs),
+    /// List the scenario files shipped in the binary (the paper scenario and the example
+    /// scenes), print one, or write it to a file to edit: `stickslip scenes damped --out my.toml`.
+    Scenes(ScenesArgs),
     /// Print a shell completion script, e.g. `stickslip completions bash > /etc/bash_completion.d/stickslip`.
     Completions {
         /// The shell: bash, zsh, fish, elvish or powershell.
@@ -192,9 +195,9 @@ pub fn printable(text: &str) -> String {
 /// Where a scenario comes from: a file and `--set` overrides.
 #[derive(Debug, clap::Args)]
 pub struct ScenarioArgs {
-    /// Scenario file (TOML); keys it omits keep the paper values. See pipelines/paper.toml; for
-    /// damping, static friction, an asymmetric belt and random parameters, pipelines/scenes/; for
-    /// velocity-weakening (Stribeck) friction, pipelines/stribeck.toml.
+    /// Scenario file (TOML); keys it omits keep the paper values. `stickslip scenes` lists the
+    /// shipped ones (the paper scenario; damping, static friction, an asymmetric belt, random
+    /// parameters, Stribeck friction) and writes one out to edit.
     pub scenario: Option<PathBuf>,
     /// Override a scenario key by its dotted name, e.g. --set belt.switch_rate=1.0 (repeatable). The
     /// value is TOML: a list is a sweep (--set 'model.damping=[0, 0.5, 1]'), an inline table a
@@ -233,6 +236,15 @@ pub struct TradeoffArgs {
     /// fraction of its Monte Carlo standard error at the scenario's run.realizations.
     #[arg(long, value_name = "F", default_value_t = crate::tradeoff::BIAS_FRACTION)]
     pub bias_fraction: f64,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ScenesArgs {
+    /// The scene to print or write (without it: the list).
+    pub name: Option<String>,
+    /// Write the scene to this file (a new file: an existing one is never replaced).
+    #[arg(long, value_name = "FILE", requires = "name")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -341,11 +353,30 @@ pub fn main() -> anyhow::Result<()> {
         Command::Reproduce(args) => reproduce_command(args, quiet),
         Command::Tradeoff(args) => tradeoff_command(args, quiet),
         Command::Sensitivity(args) => sensitivity_command(args, quiet),
+        Command::Scenes(args) => scenes_command(&args),
         Command::Completions { shell } => {
             clap_complete::generate(shell, &mut <Cli as clap::CommandFactory>::command(), "stickslip", &mut std::io::stdout());
             Ok(())
         }
     }
+}
+
+fn scenes_command(args: &ScenesArgs) -> anyhow::Result<()> {
+    use crate::scenes::{find, SHIPPED};
+    let Some(name) = &args.name else {
+        for s in &SHIPPED {
+            println!("{:<20} {}", s.name, s.summary());
+        }
+        println!("\n`stickslip scenes NAME` prints one; `stickslip scenes NAME --out FILE` writes it to edit; run it with `stickslip simulate FILE --out DIR`.");
+        return Ok(());
+    };
+    let names: Vec<&str> = SHIPPED.iter().map(|s| s.name).collect();
+    let scene = find(name).ok_or_else(|| usage(format!("no scene {name:?}; the scenes are {}", names.join(", "))))?;
+    match &args.out {
+        None => print!("{}", scene.text),
+        Some(path) => crate::outdir::write_new_file(path, scene.text.as_bytes(), "--out")?,
+    }
+    Ok(())
 }
 
 fn figures_command(adir: &Path, out: &Path, quiet: bool) -> anyhow::Result<()> {
@@ -569,7 +600,7 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     let progress = !quiet && std::io::stderr().is_terminal();
     if let Some(sc) = cells.first().map(|c| &c.scenario).filter(|sc| !quiet && slow_default_numerics(sc)) {
         eprintln!(
-            "note: this scene has no closed form, so `auto` runs {} at the default [numerics], the paper's ode45 settings (rtol = atol = 1e-9, max_step = 1e-4): accurate but slow. `stickslip tradeoff` finds the cheapest setting accurate enough for this scene (pipelines/stribeck.toml shows one)",
+            "note: this scene has no closed form, so `auto` runs {} at the default [numerics], the paper's ode45 settings (rtol = atol = 1e-9, max_step = 1e-4): accurate but slow. `stickslip tradeoff` finds the cheapest setting accurate enough for this scene (`stickslip scenes stribeck` shows one)",
             sc.solver().name()
         );
     }

@@ -25,6 +25,7 @@ pub mod precision;
 pub mod report;
 pub mod rng;
 pub mod scenario;
+pub mod scenes;
 pub mod sensitivity;
 pub mod simulate;
 pub mod stats;

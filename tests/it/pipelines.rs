@@ -51,38 +51,61 @@ fn sweep_maps_show_the_expected_trends() {
     assert_ne!(x0("switch_rate=1/friction_coefficient=0.3"), x0("switch_rate=5/friction_coefficient=0.3"));
 }
 
+/// `make paper` as a user runs it: the binary found through CARGO_TARGET_DIR (as `.ci/run` sets
+/// it), `scenario` in a fresh OUT; returns make's stdout.
+fn make_paper(jobs: &str, scenario: &Path, out: &Path) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let target = Path::new(env!("CARGO_BIN_EXE_stickslip")).parent().and_then(Path::parent).expect("<target>/release/stickslip");
+    let o = Command::new("make")
+        .current_dir(root)
+        .env("CARGO_TARGET_DIR", target)
+        .args([jobs, "-f", "pipelines/Makefile", "paper"])
+        .arg(format!("SCENARIO={}", scenario.display()))
+        .arg(format!("OUT={}", out.display()))
+        .output()
+        .expect("make runs");
+    ok(&o);
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
 #[test]
 fn make_paper_is_incremental() {
     let tmp = tempfile::tempdir().unwrap();
     let scenario = tmp.path().join("small.toml");
     std::fs::write(&scenario, "[run]\nrealizations = 400\n").unwrap();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let make = |jobs: &str| {
-        let o = Command::new("make")
-            .current_dir(root)
-            .args([jobs, "-f", "pipelines/Makefile", "paper"])
-            .arg(format!("BIN={}", env!("CARGO_BIN_EXE_stickslip")))
-            .arg(format!("SCENARIO={}", scenario.display()))
-            .arg(format!("OUT={}", tmp.path().join("paper").display()))
-            .output()
-            .expect("make runs");
-        ok(&o);
-        String::from_utf8_lossy(&o.stdout).into_owned()
-    };
-    let first = make("-j2");
+    let out = tmp.path().join("paper");
+    let first = make_paper("-j2", &scenario, &out);
     for stage in [" simulate ", " analyze ", " figures ", " report "] {
         assert!(first.contains(stage), "first run misses{stage}: {first}");
     }
-    assert!(tmp.path().join("paper/report.html").is_file() && tmp.path().join("paper/figures/fig04_trajectories.png").is_file());
-    let second = make("-j2");
+    assert!(out.join("report.html").is_file() && out.join("figures/fig04_trajectories.png").is_file());
+    let second = make_paper("-j2", &scenario, &out);
     assert!(second.contains("Nothing to be done"), "second run: {second}");
-    // touching the scenario re-runs everything
+    // editing the scenario re-runs the four stages, and compiles nothing
     std::thread::sleep(std::time::Duration::from_millis(1100));
-    std::fs::write(&scenario, "[run]\nrealizations = 400\n").unwrap();
-    let third = make("-j1");
+    std::fs::write(&scenario, "[run]\nrealizations = 500\n").unwrap();
+    let third = make_paper("-j1", &scenario, &out);
     for stage in [" simulate ", " analyze ", " figures ", " report "] {
-        assert!(third.contains(stage), "after touching the scenario, no{stage}: {third}");
+        assert!(third.contains(stage), "after editing the scenario, no{stage}: {third}");
     }
+    assert!(!third.contains("cargo build"), "editing a scenario recompiled: {third}");
+    // the dataset directory holds part files only
+    let names: Vec<String> = std::fs::read_dir(out.join("dataset")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(names.iter().all(|n| n.starts_with('.') || (n.starts_with("part-") && n.ends_with(".parquet"))), "{names:?}");
+}
+
+#[test]
+fn make_paper_runs_a_sweep_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenario = tmp.path().join("sweep.toml");
+    std::fs::write(&scenario, "[belt]\nswitch_rate = [2.5, 5]\n[run]\nrealizations = 300\n").unwrap();
+    let out = tmp.path().join("sweep");
+    let first = make_paper("-j2", &scenario, &out);
+    for cell in ["switch_rate=2.5", "switch_rate=5"] {
+        assert!(out.join("reports").join(cell).join("report.html").is_file(), "no report for {cell}: {first}");
+    }
+    let second = make_paper("-j2", &scenario, &out);
+    assert!(second.contains("Nothing to be done"), "a sweep is simulated again: {second}");
 }
 
 /// Run a Python script (polars and duckdb must be installed: `.ci/run` does it) and parse
