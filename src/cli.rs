@@ -559,12 +559,17 @@ fn analyze_and_print(dataset: &Path, out: &Path, opts: &analysis::Options, quiet
 }
 
 fn print_analysis(a: &analysis::Analysis) {
+    // `= 0.548`, `< 1e-300`
+    let p_is = |p: f64| {
+        let s = crate::stats::p_value(p);
+        if s.starts_with('<') { s } else { format!("= {s}") }
+    };
     println!("{}", analysis::output::table1_markdown(a));
     for j in &a.joints {
         if let Some(t) = &j.test {
             println!(
-                "{} vs {}: chi2 = {:.1} (df {}), p = {:.3}; G p = {:.3}; MI = {:.2e} nats, permutation p = {:.3} -> {}",
-                j.pair.0, j.pair.1, t.chi2, t.df, t.chi2_p_value, t.g_p_value, t.mutual_information, t.mi_p_value,
+                "{} vs {}: chi2 = {:.1} (df {}), p {}; G p {}; MI = {:.2e} nats, permutation p {} -> {}",
+                j.pair.0, j.pair.1, t.chi2, t.df, p_is(t.chi2_p_value), p_is(t.g_p_value), t.mutual_information, p_is(t.mi_p_value),
                 analysis::output::verdict(t.chi2_p_value)
             );
         }

@@ -124,9 +124,11 @@ impl SeriesStats {
         jackknife::interval(stat(&self.moments), &self.loo_moments.iter().map(&stat).collect::<Vec<_>>())
     }
 
-    /// The 95 % jackknife interval of the mode.
+    /// The 95 % jackknife interval of the mode; for a count (whose mode is an integer) rounded
+    /// outward to integers.
     pub fn mode_interval(&self) -> Option<jackknife::Interval> {
-        jackknife::interval(self.mode, &self.loo_mode)
+        let i = jackknife::interval(self.mode, &self.loo_mode)?;
+        Some(if self.series.var.is_count() { (i.0.floor(), i.1.ceil()) } else { i })
     }
 }
 

@@ -302,7 +302,8 @@ pub fn table1_markdown(a: &Analysis) -> String {
     };
     let mut row = |s: &super::SeriesStats, p: Option<[f64; 5]>| {
         let c = cells(s, p);
-        out += &format!("| {} | {} | {} | {} | {} | {} | {} |\n", s.series, s.moments.n, c[0].shown(3), c[1].shown(3), c[2].shown(3), c[3].shown(2), c[4].shown(2));
+        let mode_digits = if s.series.var.is_count() { 0 } else { 3 };
+        out += &format!("| {} | {} | {} | {} | {} | {} | {} |\n", s.series, s.moments.n, c[0].shown(3), c[1].shown(3), c[2].shown(mode_digits), c[3].shown(2), c[4].shown(2));
     };
     for var in [Variable::T, Variable::L, Variable::D, Variable::H] {
         for k in 1..=a.options.max_index.min(6) {

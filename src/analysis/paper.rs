@@ -81,12 +81,14 @@ impl Cell {
     /// `ours [lo – hi] (paper) mark`, as both renderings show a cell.
     pub fn shown(&self, digits: usize) -> String {
         let paper = self.paper.map_or(String::new(), |p| format!(" ({p})"));
-        format!("{}{paper} {}", self.text(digits), self.mark())
+        format!("{}{paper} {}", self.text(digits), self.mark()).trim_end().to_string()
     }
 
     pub fn mark(&self) -> String {
         match (self.consistent(), self.ours, self.paper) {
             (Some(true), _, _) => "✓".into(),
+            // a relative difference to a value at the boundary 0 (a mode of T_1, D_k, H_k) means nothing
+            (Some(false), Some(o), Some(_)) if o == 0.0 => "✗ (ours at the boundary 0)".into(),
             (Some(false), Some(o), Some(p)) => format!("✗ {:+.1} %", 100.0 * (o / p - 1.0)),
             _ => String::new(),
         }

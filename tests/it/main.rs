@@ -14,6 +14,7 @@ mod fingerprint;
 mod invariants;
 mod pipelines;
 mod precision;
+mod readme;
 mod reference;
 mod safety;
 mod scenes;
