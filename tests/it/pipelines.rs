@@ -13,7 +13,7 @@ fn ok(o: &std::process::Output) {
 
 /// Simulate and analyse a 3 × 2 sweep of (λ, μ) into `tmp/sweep`, `tmp/sweep-a`.
 fn sweep(tmp: &Path) -> Table {
-    let args = ["simulate", "--out", "sweep", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[1, 5, 20]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
+    let args = ["simulate", "--out", "sweep", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[2.5, 10, 20.5]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
     ok(&stickslip(&args, tmp));
     ok(&stickslip(&["analyze", "sweep", "--out", "sweep-a", "--quiet"], tmp));
     Table::read_parquet(&tmp.join("sweep-a/sweep.parquet")).unwrap()
@@ -26,29 +26,29 @@ fn sweep_maps_show_the_expected_trends() {
     assert_eq!(t.height(), 6);
     let (lam, mu) = (t.floats("switch_rate").unwrap(), t.floats("friction_coefficient").unwrap());
     let (d, frac) = (t.floats("mean_D").unwrap(), t.floats("stick_fraction").unwrap());
-    // cells in numeric order (by text, "switch_rate=20" would come before "switch_rate=5")
+    // cells in numeric order (by text, "switch_rate=10" would come before "switch_rate=2.5")
     let order: Vec<(f64, f64)> = (0..t.height()).map(|r| (lam[r].unwrap(), mu[r].unwrap())).collect();
-    assert_eq!(order, [(1.0, 0.3), (1.0, 1.0), (5.0, 0.3), (5.0, 1.0), (20.0, 0.3), (20.0, 1.0)]);
+    assert_eq!(order, [(2.5, 0.3), (2.5, 1.0), (10.0, 0.3), (10.0, 1.0), (20.5, 0.3), (20.5, 1.0)]);
     let at = |l: f64, m: f64, v: &[Option<f64>]| (0..t.height()).find(|&r| lam[r] == Some(l) && mu[r] == Some(m)).and_then(|r| v[r]).unwrap();
     for m in [0.3, 1.0] {
         // more switches → shorter sticks
-        assert!(at(1.0, m, d) > at(5.0, m, d) && at(5.0, m, d) > at(20.0, m, d), "E[D] at μ = {m}");
+        assert!(at(2.5, m, d) > at(10.0, m, d) && at(10.0, m, d) > at(20.5, m, d), "E[D] at μ = {m}");
     }
-    for l in [1.0, 5.0, 20.0] {
+    for l in [2.5, 10.0, 20.5] {
         // more friction → more time in stick
         assert!(at(l, 1.0, frac) > at(l, 0.3, frac), "stick fraction at λ = {l}");
     }
     // each cell is a complete analysis, and has its own, reproducible stream
-    assert!(tmp.path().join("sweep-a/switch_rate=5/friction_coefficient=1/moments.parquet").is_file());
-    let part = |dir: &str| std::fs::read(tmp.path().join(dir).join("switch_rate=5/friction_coefficient=0.3/part-00000-of-00001.parquet")).unwrap();
-    let args = ["simulate", "--out", "again", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[5, 1, 20]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
+    assert!(tmp.path().join("sweep-a/switch_rate=10/friction_coefficient=1/moments.parquet").is_file());
+    let part = |dir: &str| std::fs::read(tmp.path().join(dir).join("switch_rate=10/friction_coefficient=0.3/part-00000-of-00001.parquet")).unwrap();
+    let args = ["simulate", "--out", "again", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[10, 2.5, 20.5]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
     ok(&stickslip(&args, tmp.path()));
     assert!(part("sweep") == part("again"), "a cell's output must not depend on the grid's order");
     let x0 = |cell: &str| {
         let df = crate::dataset::read_dir(&tmp.path().join("sweep").join(cell));
         df.column("x0").unwrap().f64().unwrap().get(0).unwrap()
     };
-    assert_ne!(x0("switch_rate=1/friction_coefficient=0.3"), x0("switch_rate=5/friction_coefficient=0.3"));
+    assert_ne!(x0("switch_rate=2.5/friction_coefficient=0.3"), x0("switch_rate=10/friction_coefficient=0.3"));
 }
 
 /// `make paper` as a user runs it: the binary found through CARGO_TARGET_DIR (as `.ci/run` sets
@@ -168,29 +168,50 @@ print("duckdb_bigint_counts", float(all(t == "BIGINT" for t in types)))
     }
 }
 
+/// The README's code block that contains `marker`.
+fn readme_block(marker: &str) -> String {
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let at = readme.find(marker).unwrap_or_else(|| panic!("the README has no block with {marker:?}"));
+    let start = readme[..at].rfind("```").and_then(|i| readme[i..].find('\n').map(|j| i + j + 1)).unwrap();
+    let end = at + readme[at..].find("```").unwrap();
+    readme[start..end].to_string()
+}
+
 #[test]
 fn clients_read_a_hive_partitioned_sweep() {
+    // the README's DuckDB and polars sweep queries, as written, on a sweep of non-integer keys:
+    // typed keys in numeric order, values as analyze's (issue 20, item 15)
     let tmp = tempfile::tempdir().unwrap();
     let t = sweep(tmp.path());
+    let dir = tmp.path().join("sweep");
+    let sql = readme_block("FROM read_parquet('data/sweep/").replace("data/sweep/", &format!("{}/", dir.display()));
+    let polars = readme_block("pl.scan_parquet(\"data/sweep/").replace("data/sweep/", &format!("{}/", dir.display()));
     let script = format!(
         r#"
-import polars as pl, duckdb
-g = "{d}/**/*.parquet"
-df = pl.scan_parquet(g, hive_partitioning=True).group_by("switch_rate", "friction_coefficient").agg(pl.col("n_stick").mean()).collect()
-for r in df.iter_rows(named=True):
-    print(f"polars {{float(r['switch_rate'])}}/{{float(r['friction_coefficient'])}}", r["n_stick"])
-rows = duckdb.sql(f"SELECT switch_rate, friction_coefficient, avg(n_stick), avg(coalesce(list_sum(stick_duration), 0)) / 10 FROM read_parquet('{{g}}', hive_partitioning = true) GROUP BY ALL").fetchall()
-for a, b, c, f in rows:
-    print(f"duckdb {{float(a)}}/{{float(b)}}", c)
-    print(f"fraction {{float(a)}}/{{float(b)}}", f)
-"#,
-        d = tmp.path().join("sweep").display()
+import duckdb
+{polars}
+assert all(cells.schema[k] == pl.Float64 for k in keys), cells.schema
+for r in cells.iter_rows(named=True):
+    print(f"polars {{r['switch_rate']}}/{{r['friction_coefficient']}}", r["mean_S_T"])
+print("polars_order", float(cells["switch_rate"].to_list() == sorted(cells["switch_rate"].to_list())))
+rel = duckdb.sql("""{sql}""".rstrip().rstrip(";"))
+assert [str(t) for t in rel.types[:2]] == ["DOUBLE", "DOUBLE"], rel.types
+rows = rel.fetchall()
+print("duckdb_order", float([r[0] for r in rows] == sorted(r[0] for r in rows)))
+for a, b, n, st, v, f in rows:
+    print(f"duckdb {{a}}/{{b}}", st)
+    print(f"fraction {{a}}/{{b}}", f)
+"#
     );
     let got = python(&script);
-    assert_eq!(got.len(), 18, "{got:?}");
+    assert_eq!(got.len(), 20, "{got:?}");
     let (lam, mu) = (t.floats("switch_rate").unwrap(), t.floats("friction_coefficient").unwrap());
     let (st, frac) = (t.floats("mean_S_T").unwrap(), t.floats("stick_fraction").unwrap());
     for (name, value) in &got {
+        if name.ends_with("_order") {
+            assert_eq!(*value, 1.0, "{name}: keys not in numeric order");
+            continue;
+        }
         let (client, cell) = name.split_once(' ').unwrap();
         let (l, m) = cell.split_once('/').unwrap();
         let (l, m): (f64, f64) = (l.parse().unwrap(), m.parse().unwrap());
