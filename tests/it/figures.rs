@@ -33,21 +33,22 @@ fn hand_made(dir: &Path) {
         .push("density", float(&[1.2, 0.8, 0.6, 0.4]));
     h.write_parquet(&dir.join("histograms.parquet")).unwrap();
     let mut j = Table::default();
-    j.push("x", strs(&["T_1", "T_1"]))
-        .push("y", strs(&["T_2", "T_2"]))
-        .push("x_lo", float(&[0.0, 0.5]))
-        .push("x_hi", float(&[0.5, 1.0]))
-        .push("y_lo", float(&[1.0, 1.0]))
-        .push("y_hi", float(&[2.0, 2.0]))
-        .push("density", float(&[1.5, 0.5]))
-        .push("product_density", float(&[1.0, 1.0]));
+    // two pairs whose densities differ 20-fold (as (T_1, T_2) and (D_1, D_2) do about 7-fold)
+    j.push("x", strs(&["T_1", "T_1", "D_1", "D_1"]))
+        .push("y", strs(&["T_2", "T_2", "D_2", "D_2"]))
+        .push("x_lo", float(&[0.0, 0.5, 0.0, 0.1]))
+        .push("x_hi", float(&[0.5, 1.0, 0.1, 0.2]))
+        .push("y_lo", float(&[1.0, 1.0, 0.0, 0.0]))
+        .push("y_hi", float(&[2.0, 2.0, 0.1, 0.1]))
+        .push("density", float(&[1.5, 0.5, 30.0, 20.0]))
+        .push("product_density", float(&[1.0, 1.0, 25.0, 25.0]));
     j.write_parquet(&dir.join("joint_histograms.parquet")).unwrap();
     let mut i = Table::default();
     i.push("x", strs(&["T_1"]))
         .push("y", strs(&["T_2"]))
         .push("chi2_p_value", float(&[0.01]))
-        .push("g_p_value", float(&[0.02]))
-        .push("mi_p_value", float(&[0.03]))
+        .push("g_p_value", float(&[0.0]))
+        .push("mi_p_value", float(&[0.0004]))
         .push("verdict", strs(&["dependent"]));
     i.write_parquet(&dir.join("independence.parquet")).unwrap();
     let mut g = Table::default();
@@ -77,7 +78,9 @@ fn figures_draw_exactly_the_analysis_tables() {
     assert_eq!(j.panels[0].heat, [[0.0, 0.5, 1.0, 2.0, 1.5], [0.5, 1.0, 1.0, 2.0, 0.5]]);
     assert_eq!(j.panels[1].heat.len(), 2);
     assert!(!j.panels[0].heat_label.is_empty(), "a heat map has a labelled colour bar");
-    assert!(j.title.contains("0.010") && j.title.contains("dependent"), "{}", j.title);
+    assert!(j.title.contains("dependent"), "{}", j.title);
+    // p-values: 3 significant digits, or a bound below 0.001 and below 1e-300 (never "0.000")
+    assert!(j.title.contains("χ² p = 0.0100") && j.title.contains("G p < 1e-300") && j.title.contains("MI permutation p < 0.001"), "{}", j.title);
     let q = figures::q_figure(&inp).unwrap();
     // a PMF is drawn as stems at the integers, not as bars or a line
     assert!(q.panels[0].bars.is_empty() && q.panels[0].lines.is_empty());
@@ -269,4 +272,32 @@ fn the_trajectory_figure_draws_the_belt_at_its_own_two_speeds() {
     let f = figures::trajectory_figure(&inp).unwrap();
     let belt = &f.panels[0].lines[1].points;
     assert_eq!(belt, &[(0.0, 1.0), (0.3, 1.0), (0.3, -0.5), (0.6, -0.5), (0.6, 1.0), (0.9, 1.0)]);
+}
+
+#[test]
+fn each_joint_figure_has_its_own_colour_scale() {
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let inp = Inputs::load(tmp.path()).unwrap();
+    // with 4 non-empty cells the 99.5th percentile is the largest cell: each figure's top is its
+    // own largest density (1.5 and 30), in both of its panels
+    for (x, y, name, largest) in [("T_1", "T_2", "fig11_t1_t2", 1.5), ("D_1", "D_2", "fig13_d1_d2", 30.0)] {
+        let f = figures::joint_figure(&inp, x, y, name).unwrap();
+        for p in &f.panels {
+            assert_eq!(p.heat_max, Some(largest), "{name}: {}", p.title);
+            assert!(!p.heat_label.contains("above"), "{name}: nothing saturates, so the bar says nothing does: {}", p.heat_label);
+        }
+    }
+}
+
+#[test]
+fn a_clipped_colour_scale_says_how_many_cells_it_saturates() {
+    // 1000 cells at 1 and 3 spikes at 100: the top is at the 99.5th percentile (1), and the bar
+    // says that the 3 spikes of the 1003 non-empty cells (0.3 %) lie above it
+    let mut cells: Vec<[f64; 5]> = (0..1000).map(|i| [i as f64, i as f64 + 1.0, 0.0, 1.0, 1.0]).collect();
+    cells.extend((0..3).map(|i| [-(i as f64) - 1.0, -(i as f64), 0.0, 1.0, 100.0]));
+    let empty = [[0.0, 1.0, 1.0, 2.0, 0.0]];
+    let (top, above) = figures::colour_top(&[&cells, &empty]);
+    assert_eq!(top, 1.0);
+    assert!((above - 3.0 / 1003.0).abs() < 1e-15, "{above}");
 }
