@@ -395,7 +395,10 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
             _ => {}
         }
     }
-    let t_end = mass.last()?.0;
+    // the window ends at t_a, which the last sample may fall short of (samples at 0, dt, …)
+    let last = mass.last()?.0;
+    let t_a = inp.scenario.run.duration;
+    let t_end = if t_a.is_finite() && t_a >= last { t_a } else { last };
     // The belt as an exact step function through its flips (few, truly vertical segments),
     // alternating between its two velocities as sampled (+v_f and −v_r on an asymmetric belt;
     // −v0 when no sample shows the other state).
@@ -413,6 +416,12 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
     let mark = |ts: &[f64], at: &dyn Fn(f64) -> f64| ts.iter().map(|&t| (t, at(t))).collect::<Vec<_>>();
     let panel = |title: &str, until: f64| {
         let keep = |v: &[(f64, f64)]| v.iter().copied().filter(|p| p.0 <= until).collect::<Vec<_>>();
+        // the belt up to the window's end: its corners inside, then its level on to `until`
+        // (dropping the corners beyond would end the line at the last flip inside)
+        let mut belt_shown = keep(&step);
+        if belt_shown.last().is_some_and(|p| p.0 < until) {
+            belt_shown.push((until, after(until)));
+        }
         // about one sample per pixel column of a 1200-pixel figure
         let shown = keep(&mass);
         let stride = shown.len().div_ceil(1000).max(1);
@@ -422,7 +431,7 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
             y_label: "velocity [m/s]".into(),
             lines: vec![
                 Series { label: "mass".into(), color: 0, points: shown.iter().copied().step_by(stride).collect(), ..Default::default() },
-                Series { label: "belt".into(), color: 1, points: keep(&step), ..Default::default() },
+                Series { label: "belt".into(), color: 1, points: belt_shown, ..Default::default() },
             ],
             points: vec![
                 Series { label: "stick starts".into(), color: 6, points: keep(&mark(&starts, &after)), ..Default::default() },

@@ -271,7 +271,9 @@ fn the_trajectory_figure_draws_the_belt_at_its_own_two_speeds() {
     inp.trajectories = Some(csv);
     let f = figures::trajectory_figure(&inp).unwrap();
     let belt = &f.panels[0].lines[1].points;
-    assert_eq!(belt, &[(0.0, 1.0), (0.3, 1.0), (0.3, -0.5), (0.6, -0.5), (0.6, 1.0), (0.9, 1.0)]);
+    // on to the end of the window, t_a (the samples stop at 0.9 s)
+    let t_a = inp.scenario.run.duration;
+    assert_eq!(belt, &[(0.0, 1.0), (0.3, 1.0), (0.3, -0.5), (0.6, -0.5), (0.6, 1.0), (t_a, 1.0)]);
 }
 
 #[test]
@@ -300,4 +302,29 @@ fn a_clipped_colour_scale_says_how_many_cells_it_saturates() {
     let (top, above) = figures::colour_top(&[&cells, &empty]);
     assert_eq!(top, 1.0);
     assert!((above - 3.0 / 1003.0).abs() < 1e-15, "{above}");
+}
+
+#[test]
+fn the_belt_trace_reaches_the_end_of_each_window() {
+    // flips at 0.3, 0.6, 1.8 and 2.2 s: the first-2-s panel must carry the belt on from its last
+    // flip (1.8) to 2 s, and the whole-window panel to t_a, though the samples stop at 2.9 s
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let mut inp = Inputs::load(tmp.path()).unwrap();
+    let t_a = inp.scenario.run.duration;
+    assert!(t_a > 3.0, "the paper's scene runs for {t_a} s");
+    let level = |t: f64| if (0.3..0.6).contains(&t) || (1.8..2.2).contains(&t) { -0.5 } else { 1.0 };
+    let mut csv = String::from("realization,kind,t,x,xdot,belt_velocity\n");
+    for i in 0..30 {
+        let t = i as f64 * 0.1;
+        csv.push_str(&format!("0,sample,{t},0,0,{}\n", level(t)));
+    }
+    csv.push_str("0,switch,0.3,,,\n0,switch,0.6,,,\n0,switch,1.8,,,\n0,switch,2.2,,,\n");
+    inp.trajectories = Some(csv);
+    let f = figures::trajectory_figure(&inp).unwrap();
+    let (whole, first) = (&f.panels[0], &f.panels[1]);
+    assert_eq!(first.lines[1].points.last(), Some(&(2.0, -0.5)), "{:?}", first.lines[1].points);
+    assert_eq!(first.x_range, Some((0.0, 2.0)));
+    assert_eq!(whole.lines[1].points.last(), Some(&(t_a, 1.0)), "{:?}", whole.lines[1].points);
+    assert_eq!(whole.x_range, Some((0.0, t_a)));
 }
