@@ -516,6 +516,32 @@ pub const SWEEP_METRICS: [(&str, &str); 6] = [
     ("mean_T_slope", "mean cycle E[D] + E[H] [s]"),
 ];
 
+/// A swept key (a sweep table's column: the last component of the key) as an axis title: the
+/// key as written with its unit, e.g. `belt.switch_rate [1/s]`.
+pub fn key_axis_label(column: &str) -> String {
+    if column == "duration" {
+        return "run.duration [s]".into();
+    }
+    match crate::params::Key::ALL.iter().find(|k| k.name() == column) {
+        Some(k) => {
+            // Key::unit reads " (kg)" for messages; friction coefficients and the Stribeck
+            // exponent have none
+            let unit = k.unit().trim().trim_start_matches('(').trim_end_matches(')');
+            if unit.is_empty() {
+                format!("{} (dimensionless)", k.dotted())
+            } else {
+                format!("{} [{unit}]", k.dotted())
+            }
+        }
+        None => column.to_string(),
+    }
+}
+
+/// Ticks at a sweep's grid values, labelled as typed.
+fn grid_ticks(values: &[f64]) -> Vec<(f64, String)> {
+    values.iter().map(|&v| (v, format::grid_value(v))).collect()
+}
+
 /// Whether a swept key's values span a factor of 10 or more (then its axis is logarithmic).
 fn wide(values: &[f64]) -> bool {
     let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
@@ -571,8 +597,10 @@ pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
                 let missing = heat.iter().any(|c| c[4].is_nan());
                 (!heat.is_empty()).then(|| Panel {
                     title: if missing { format!("{title} (grey: no value)") } else { title.into() },
-                    x_label: x.into(),
-                    y_label: y.into(),
+                    x_label: key_axis_label(x),
+                    y_label: key_axis_label(y),
+                    x_ticks: grid_ticks(&x_values),
+                    y_ticks: grid_ticks(&y_values),
                     heat,
                     heat_label: title.into(),
                     heat_values: x_values.len() * y_values.len() <= 64,
@@ -611,7 +639,7 @@ pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
                 .collect();
             let points = lines.iter().map(|l: &Series| Series { label: String::new(), errors: Vec::new(), ..l.clone() }).collect();
             let title = if se.is_some() { format!("{title} (± 1.96 se)") } else { title.to_string() };
-            Some(Panel { title, x_label: x.into(), y_label: String::new(), points, lines, x_log, ..Default::default() })
+            Some(Panel { title, x_label: key_axis_label(x), y_label: String::new(), points, lines, x_log, ..Default::default() })
         })
         .collect::<Vec<_>>();
     Some(Figure { name: "sweep_maps".into(), title: format!("Sweep over {}", keys.join(" × ")), rows: 2, cols: 3, size: (1400, 820), panels })

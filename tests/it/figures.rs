@@ -253,6 +253,28 @@ fn sweep_maps_have_error_bars_log_axes_and_heat_maps_for_two_keys() {
     let want = [0.5, 1.5, -0.05, 0.65];
     assert!(p.heat[0][..4].iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", p.heat[0]);
     assert!(!p.heat_label.is_empty());
+    // ticks at the grid values, as typed, and the keys with their units
+    let labels = |t: &[(f64, String)]| t.iter().map(|(v, l)| (*v, l.clone())).collect::<Vec<_>>();
+    assert_eq!(labels(&p.x_ticks), [(1.0, "1".to_string()), (2.0, "2".to_string())]);
+    assert_eq!(labels(&p.y_ticks), [(0.3, "0.3".to_string()), (1.0, "1".to_string())]);
+    assert_eq!(p.x_label, "belt.switch_rate [1/s]");
+    assert_eq!(p.y_label, "model.friction_coefficient (dimensionless)");
+}
+
+#[test]
+fn swept_keys_are_labelled_with_their_units() {
+    for (column, label) in [
+        ("mass", "model.mass [kg]"),
+        ("stiffness", "model.stiffness [N/m]"),
+        ("damping", "model.damping [N·s/m]"),
+        ("normal_force", "model.normal_force [N]"),
+        ("static_friction_coefficient", "model.static_friction_coefficient (dimensionless)"),
+        ("speed", "belt.speed [m/s]"),
+        ("switch_rate", "belt.switch_rate [1/s]"),
+        ("duration", "run.duration [s]"),
+    ] {
+        assert_eq!(figures::key_axis_label(column), label);
+    }
 }
 
 #[test]
