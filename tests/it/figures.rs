@@ -350,3 +350,24 @@ fn the_belt_trace_reaches_the_end_of_each_window() {
     assert_eq!(whole.lines[1].points.last(), Some(&(t_a, 1.0)), "{:?}", whole.lines[1].points);
     assert_eq!(whole.x_range, Some((0.0, t_a)));
 }
+
+#[test]
+fn a_panel_with_its_own_ticks_is_drawn_with_their_labels() {
+    // categories (as the Sobol plot's parameters) at 0, 1, 2: each name is written once, as a tick
+    let tmp = tempfile::tempdir().unwrap();
+    let names = ["friction_coefficient", "switch_rate", "intrinsic"];
+    let panel = figures::Panel {
+        x_label: "input".into(),
+        y_label: "Sobol index".into(),
+        points: vec![figures::Series { label: "first order".into(), points: vec![(0.0, 0.2), (1.0, 0.5), (2.0, 0.1)], ..Default::default() }],
+        x_ticks: names.iter().enumerate().map(|(i, n)| (i as f64, n.to_string())).collect(),
+        x_range: Some((-0.5, 2.5)),
+        ..Default::default()
+    };
+    let f = figures::Figure { name: "ticks".into(), title: String::new(), rows: 1, cols: 1, size: (700, 400), panels: vec![panel] };
+    let [_, svg] = figures::render::save(&f, tmp.path()).unwrap();
+    let svg = std::fs::read_to_string(svg).unwrap();
+    for n in names {
+        assert_eq!(svg.lines().filter(|l| l.trim() == n).count(), 1, "{n}");
+    }
+}
