@@ -41,6 +41,39 @@ pub struct Row {
     pub label: String,
     pub n: i64,
     pub cells: [Cell; 5],
+    /// a count (S_T, S_L): its mode is an integer, and so are the bounds of its interval
+    pub count: bool,
+}
+
+impl Row {
+    /// Cell `i` as shown (`ours [lo – hi] (paper) mark`) and whether it agrees with the paper's
+    /// (`None`: nothing to judge, or nothing a reader should be alarmed by).
+    ///
+    /// Two cells read differently from [`Cell::shown`]: a count's mode prints as the integer it
+    /// is (`16 [13 – 19]`, not `16.000 [13.263 – 18.737]`); and a mode at the boundary of the
+    /// support (0: the densities of T_1, D_1, H_1 peak there and the KDE, reflected at 0, reports
+    /// 0) shows no relative difference to the paper's, which would always read −100 % and mean
+    /// nothing — the paper's mode of a density peaking at its edge is the centre of its first
+    /// histogram bin.
+    pub fn shown(&self, i: usize, digits: usize) -> (String, Option<bool>) {
+        let c = &self.cells[i];
+        let mode = i == 2;
+        if mode && self.count {
+            let whole = |x: f64| crate::figures::format::integer(x).unwrap_or_else(|| format!("{x:.digits$}"));
+            let text = match (c.ours, c.interval) {
+                (Some(o), Some((lo, hi))) => format!("{} [{} – {}]", whole(o), whole(lo), whole(hi)),
+                (Some(o), None) => whole(o),
+                _ => "–".into(),
+            };
+            let paper = c.paper.map_or(String::new(), |p| format!(" ({p})"));
+            return (format!("{text}{paper} {}", c.mark()).trim_end().to_string(), c.consistent());
+        }
+        if mode && c.ours == Some(0.0) && c.consistent() == Some(false) {
+            let paper = c.paper.map_or(String::new(), |p| format!(" ({p})"));
+            return (format!("{}{paper} boundary", c.text(digits)), None);
+        }
+        (c.shown(digits).trim_end().to_string(), c.consistent())
+    }
 }
 
 /// Table 1 from the analysis' `moments.parquet`, beside the paper's values when `compare` (the
@@ -58,20 +91,30 @@ pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
         paper::COUNTS.iter().map(|(v, m, s2)| (*v, None, Some([*m, *s2, f64::NAN, f64::NAN, f64::NAN]))),
     );
     for (v, k, p) in wanted {
-        let Some(r) = (0..vars.len()).find(|&r| vars[r] == v.name() && idx[r] == k.map(i64::from)) else { continue };
+        let Some(r) = (0..vars.len()).find(|&r| vars[r] == v.name() && idx.get(r).copied().flatten() == k.map(i64::from)) else { continue };
         let pv = |i: usize| p.filter(|_| compare).map(|p| p[i]).filter(|x| x.is_finite());
         let interval = |i: usize| iv[i].0.get(r).copied().flatten().zip(iv[i].1.get(r).copied().flatten());
         let cell = |ours: Option<f64>, se: Option<f64>, i: usize| Cell { ours, se, interval: interval(i), paper: pv(i) };
+        // a column the table lacks reads as no value, never as an index out of bounds
+        let at = |c: &[Option<f64>]| c.get(r).copied().flatten();
+        // a count's mode is a most frequent integer: its interval's bounds are rounded outward to
+        // integers too (the jackknife's are not)
+        let count = v.is_count();
+        let mut mode_cell = cell(at(mode), None, 2);
+        if count {
+            mode_cell.interval = mode_cell.interval.map(|(lo, hi)| (lo.floor(), hi.ceil()));
+        }
         rows.push(Row {
             label: k.map_or(v.name().to_string(), |k| format!("{}_{k}", v.name())),
-            n: n[r].unwrap_or(0),
+            n: n.get(r).copied().flatten().unwrap_or(0),
             cells: [
-                cell(mean[r], mse[r], 0),
-                cell(var[r], vse[r], 1),
-                cell(mode[r], None, 2),
-                cell(skew[r], None, 3),
-                cell(kurt[r], None, 4),
+                cell(at(mean), at(mse), 0),
+                cell(at(var), at(vse), 1),
+                mode_cell,
+                cell(at(skew), None, 3),
+                cell(at(kurt), None, 4),
             ],
+            count,
         });
     }
     rows
@@ -94,8 +137,19 @@ pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&#39;")
 }
 
+/// A number of `summary.json`: an integer as written (`16`, not `16.0000`), else 4 decimals
+/// (exponent notation far from 1).
 fn num(v: &Value) -> String {
+    // degrees of freedom and counts are integers even when written as 81.0
+    if let Some(i) = v.as_i64().map(|i| i.to_string()).or_else(|| v.as_f64().filter(|x| x.abs() >= 1.0).and_then(crate::figures::format::integer)) {
+        return i;
+    }
     v.as_f64().map_or("–".into(), |x| if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) { format!("{x:.3e}") } else { format!("{x:.4}") })
+}
+
+/// A p-value of `summary.json`, as the figures print it ([`crate::figures::format::p_value`]).
+fn p_value(v: &Value) -> String {
+    crate::figures::format::p_value(v.as_f64().unwrap_or(f64::NAN))
 }
 
 /// The report's sections as (heading, markdown-ish rows) — rendered to HTML and Markdown alike.
@@ -185,11 +239,11 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
             [
                 format!("({}, {})", t["x"].as_str().unwrap_or(""), t["y"].as_str().unwrap_or("")),
                 t["n"].to_string(),
-                format!("{} on {}", num(&t["chi2"]), t["df"]),
-                num(&t["chi2_p_value"]),
-                num(&t["g_p_value"]),
+                format!("{} on {}", num(&t["chi2"]), num(&t["df"])),
+                p_value(&t["chi2_p_value"]),
+                p_value(&t["g_p_value"]),
                 num(&t["mutual_information"]),
-                num(&t["mi_p_value"]),
+                p_value(&t["mi_p_value"]),
                 t["verdict"].as_str().unwrap_or("").to_string(),
             ]
         })
@@ -245,7 +299,7 @@ fn table1_heading(paper: bool) -> &'static str {
 
 fn table1_legend(paper: bool) -> &'static str {
     if paper {
-        "Ours with its 95 % interval (delete-a-group jackknife) in brackets, the paper's value in parentheses. ✓: the paper's value lies inside our interval (widened by the paper's rounding); ✗: outside, with the relative difference."
+        "Ours with its 95 % interval (delete-a-group jackknife) in brackets, the paper's value in parentheses. ✓: the paper's value lies inside our interval (widened by the paper's rounding); ✗: outside, with the relative difference. boundary: our mode lies at the boundary of the support (0, where the density peaks), where a relative difference means nothing."
     } else {
         "Ours with its 95 % interval (delete-a-group jackknife) in brackets."
     }
@@ -256,7 +310,7 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
     let _ = write!(
         h,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n{HTML_MARK}\n<title>stickslip report</title>\n<style>\n\
-         body {{ font-family: sans-serif; max-width: 1300px; margin: 2em auto; color: #222; }}\n\
+         body {{ font-family: sans-serif; max-width: 1200px; margin: 2em auto; padding: 0 2em; color: #222; }}\n\
          table {{ border-collapse: collapse; margin: 1em 0; }}\n\
          td, th {{ border: 1px solid #ccc; padding: 3px 8px; text-align: right; }}\n\
          th {{ background: #f3f3f3; }} td.l {{ text-align: left; }}\n\
@@ -281,13 +335,13 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
     );
     for r in &c.table1 {
         let cell = |i: usize, digits: usize| {
-            let x = &r.cells[i];
-            let class = match x.consistent() {
+            let (text, consistent) = r.shown(i, digits);
+            let class = match consistent {
                 Some(true) => " class=\"ok\"",
                 Some(false) => " class=\"off\"",
                 None => "",
             };
-            format!("<td{class}>{}</td>", escape(&x.shown(digits)))
+            format!("<td{class}>{}</td>", escape(&text))
         };
         let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}{}{}</tr>", escape(&r.label), r.n, cell(0, 3), cell(1, 3), cell(2, 3), cell(3, 2), cell(4, 2));
     }
@@ -332,7 +386,8 @@ fn markdown(c: &Content, figdir: &Path) -> String {
         "---|".repeat(TABLE1_HEAD.len())
     );
     for r in &c.table1 {
-        let _ = writeln!(m, "| {} | {} | {} | {} | {} | {} | {} |", r.label, r.n, r.cells[0].shown(3), r.cells[1].shown(3), r.cells[2].shown(3), r.cells[3].shown(2), r.cells[4].shown(2));
+        let c = |i: usize, digits: usize| r.shown(i, digits).0;
+        let _ = writeln!(m, "| {} | {} | {} | {} | {} | {} | {} |", r.label, r.n, c(0, 3), c(1, 3), c(2, 3), c(3, 2), c(4, 2));
     }
     m += "\n## Growth and renewal check\n\n| fit | slope | slope se | intercept | R² |\n|---|---|---|---|---|\n";
     for g in &c.growth {
@@ -375,4 +430,68 @@ pub fn run(dataset: &Path, adir: &Path, figdir: &Path, out: &Path) -> Result<[Pa
     write_file(&md_path, m.as_bytes(), contains(MD_MARK), "--out")?;
     created.keep();
     Ok([out.to_owned(), md_path])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::frame::Col;
+
+    fn floats(v: &[f64]) -> Col {
+        Col::Float(v.iter().map(|&x| Some(x)).collect())
+    }
+
+    /// Table 1 rows for T_1 (its KDE mode at the boundary 0) and S_T (a count whose jackknife
+    /// interval of the mode is not integral), compared with the paper's.
+    fn rows() -> Vec<Row> {
+        let mut m = Table::default();
+        m.push("variable", Col::Str(vec!["T".into(), "S_T".into()]))
+            .push("index", Col::Int(vec![Some(1), None]))
+            .push("n", Col::Int(vec![Some(100), Some(100)]))
+            .push("mean", floats(&[0.36, 16.5]))
+            .push("mean_lo", floats(&[0.35, 16.4]))
+            .push("mean_hi", floats(&[0.37, 16.6]))
+            .push("variance", floats(&[0.13, 7.6]))
+            .push("mode", floats(&[0.0, 16.0]))
+            .push("mode_lo", floats(&[0.0, 13.263]))
+            .push("mode_hi", floats(&[0.0, 18.737]))
+            .push("skewness", floats(&[2.1, 0.15]))
+            .push("kurtosis", floats(&[9.7, 3.1]));
+        table1(&m, true)
+    }
+
+    #[test]
+    fn a_boundary_mode_shows_no_relative_difference() {
+        let rows = rows();
+        let t1 = rows.iter().find(|r| r.label == "T_1").unwrap();
+        // the paper's T_1 mode is 0.16, outside our [0, 0]: a mismatch, but not "−100 %"
+        assert_eq!(t1.cells[2].consistent(), Some(false));
+        let (text, judged) = t1.shown(2, 3);
+        assert!(!text.contains('%') && !text.contains('✗') && text.contains("boundary"), "{text}");
+        assert_eq!(judged, None, "not marked in red");
+        // other cells keep their marks
+        assert!(t1.shown(0, 3).0.ends_with('✓'), "{}", t1.shown(0, 3).0);
+    }
+
+    #[test]
+    fn a_counts_mode_and_its_interval_are_integers() {
+        let rows = rows();
+        let st = rows.iter().find(|r| r.label == "S_T").unwrap();
+        assert!(st.count);
+        // 16 with its interval rounded outward: floor(13.263), ceil(18.737)
+        assert_eq!(st.shown(2, 3).0, "16 [13 – 19]");
+        // the mean of a count is not an integer and keeps its decimals
+        assert!(st.shown(0, 3).0.starts_with("16.500 ["), "{}", st.shown(0, 3).0);
+    }
+
+    #[test]
+    fn summary_numbers_print_integers_as_integers_and_p_values_by_the_rule() {
+        assert_eq!(num(&serde_json::json!(81.0)), "81");
+        assert_eq!(num(&serde_json::json!(18000)), "18000");
+        assert_eq!(num(&serde_json::json!(0.2624)), "0.2624");
+        assert_eq!(p_value(&serde_json::json!(0.0)), "< 1e-300");
+        assert_eq!(p_value(&serde_json::json!(0.0004)), "< 0.001");
+        assert_eq!(p_value(&serde_json::json!(0.54812)), "0.548");
+        assert_eq!(p_value(&serde_json::Value::Null), "–");
+    }
 }

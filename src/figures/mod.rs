@@ -7,6 +7,7 @@
 //! `fig10_l`, `fig11_t1_t2`, `fig12_d`, `fig13_d1_d2`, `fig14_h`.
 
 pub mod contour;
+pub mod format;
 pub mod render;
 
 use std::path::{Path, PathBuf};
@@ -59,6 +60,10 @@ pub struct Panel {
     pub vlines: Vec<f64>,
     pub x_range: Option<(f64, f64)>,
     pub y_range: Option<(f64, f64)>,
+    /// ticks at these data values with these labels (a sweep's grid values, a category's name)
+    /// instead of round numbers chosen by the axis (empty: round numbers)
+    pub x_ticks: Vec<(f64, String)>,
+    pub y_ticks: Vec<(f64, String)>,
 }
 
 /// A figure: panels on a `rows × cols` grid.
@@ -311,34 +316,37 @@ pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure
     let test = (0..it.height())
         .find(|&r| it.strings("x").is_some_and(|v| v[r] == x) && it.strings("y").is_some_and(|v| v[r] == y))
         .map(|r| {
-            let f = |c: &str| it.floats(c).and_then(|v| v[r]).unwrap_or(f64::NAN);
+            let p = |c: &str| format::p_relation(it.floats(c).and_then(|v| v[r]).unwrap_or(f64::NAN));
             let verdict = it.strings("verdict").map_or("", |v| v[r].as_str()).to_string();
-            format!(": χ² p = {:.3}, G p = {:.3}, MI permutation p = {:.3} → {verdict}", f("chi2_p_value"), f("g_p_value"), f("mi_p_value"))
+            format!(": χ² p {}, G p {}, MI permutation p {} → {verdict}", p("chi2_p_value"), p("g_p_value"), p("mi_p_value"))
         })
         .unwrap_or_default();
-    // one colour scale for both panels, so that they compare cell by cell
-    // the colour scale tops out at the 99.5th percentile of the positive cells, so that a few
-    // spike cells (e.g. T_1 ≈ 0) do not wash the rest out; cells above it saturate
-    let mut positive: Vec<f64> = dens.iter().chain(prod.iter()).flatten().copied().filter(|v| *v > 0.0 && v.is_finite()).collect();
-    positive.sort_by(f64::total_cmp);
-    let top = positive.get(((positive.len() as f64 * 0.995) as usize).min(positive.len().saturating_sub(1))).copied().unwrap_or(1.0);
+    // one colour scale for both panels, so that they compare cell by cell, taken from this
+    // pair's cells alone: the pairs' densities differ by an order of magnitude (T_1, T_2 peak
+    // near 2 /s², D_1, D_2 near 13 /s²), so a scale shared across figures washes one out and
+    // saturates the other
+    let (joint, product) = (cells(dens), cells(prod));
+    let (top, above) = colour_top(&[&joint, &product]);
+    let heat_label = if above > 0.0 {
+        let share = if above < 0.001 { "< 0.1".to_string() } else { format!("{:.1}", 100.0 * above) };
+        format!("density [1/s²] ({share} % of non-empty cells above the top)")
+    } else {
+        "density [1/s²]".to_string()
+    };
     // contours at the same levels in both panels, of the lightly smoothed field (as the paper's
     // Fig. 11); the cells themselves are drawn unsmoothed
-    let grids = [dens, prod].map(|v| contour::Grid::from_cells(&cells(v)).smoothed());
+    let grids = [&joint, &product].map(|c| contour::Grid::from_cells(c).smoothed());
     let smax = grids.iter().flat_map(|g| g.z.iter().flatten()).copied().fold(0.0, f64::max);
     let levels = [0.05, 0.15, 0.3, 0.5, 0.75].map(|f| f * smax);
-    let panel = |title: &str, v, grid: &contour::Grid| {
-        let heat = cells(v);
-        Panel {
-            title: title.into(),
-            x_label: format!("{x} [s]"),
-            y_label: format!("{y} [s]"),
-            contours: levels.iter().flat_map(|&l| grid.contour(l)).collect(),
-            heat,
-            heat_max: Some(top),
-            heat_label: "density [1/s²] (top 0.5 % of cells saturate)".into(),
-            ..Default::default()
-        }
+    let panel = |title: &str, heat: Vec<[f64; 5]>, grid: &contour::Grid| Panel {
+        title: title.into(),
+        x_label: format!("{x} [s]"),
+        y_label: format!("{y} [s]"),
+        contours: levels.iter().flat_map(|&l| grid.contour(l)).collect(),
+        heat,
+        heat_max: Some(top),
+        heat_label: heat_label.clone(),
+        ..Default::default()
     };
     Some(Figure {
         name: name.into(),
@@ -346,8 +354,22 @@ pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure
         rows: 1,
         cols: 2,
         size: (1300, 600),
-        panels: vec![panel("(a) joint density", dens, &grids[0]), panel("(b) product of the marginals", prod, &grids[1])],
+        panels: vec![panel("(a) joint density", joint, &grids[0]), panel("(b) product of the marginals", product, &grids[1])],
     })
+}
+
+/// The top of a joint figure's colour scale, from its own cells: the 99.5th percentile of the
+/// non-empty cells, so that a few spike cells (e.g. at T_1 ≈ 0) do not wash the rest out, and
+/// the share of those cells above it (drawn in the top colour; 0 when the top is the largest).
+pub fn colour_top(panels: &[&[[f64; 5]]]) -> (f64, f64) {
+    let mut positive: Vec<f64> = panels.iter().flat_map(|p| p.iter().map(|c| c[4])).filter(|v| *v > 0.0 && v.is_finite()).collect();
+    if positive.is_empty() {
+        return (1.0, 0.0);
+    }
+    positive.sort_by(f64::total_cmp);
+    let top = positive[((positive.len() as f64 * 0.995) as usize).min(positive.len() - 1)];
+    let above = positive.iter().filter(|&&v| v > top).count();
+    (top, above as f64 / positive.len() as f64)
 }
 
 /// Fig 4: mass and belt velocity of the first sampled realization, whole window and first 2 s,
@@ -373,7 +395,10 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
             _ => {}
         }
     }
-    let t_end = mass.last()?.0;
+    // the window ends at t_a, which the last sample may fall short of (samples at 0, dt, …)
+    let last = mass.last()?.0;
+    let t_a = inp.scenario.run.duration;
+    let t_end = if t_a.is_finite() && t_a >= last { t_a } else { last };
     // The belt as an exact step function through its flips (few, truly vertical segments),
     // alternating between its two velocities as sampled (+v_f and −v_r on an asymmetric belt;
     // −v0 when no sample shows the other state).
@@ -391,6 +416,12 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
     let mark = |ts: &[f64], at: &dyn Fn(f64) -> f64| ts.iter().map(|&t| (t, at(t))).collect::<Vec<_>>();
     let panel = |title: &str, until: f64| {
         let keep = |v: &[(f64, f64)]| v.iter().copied().filter(|p| p.0 <= until).collect::<Vec<_>>();
+        // the belt up to the window's end: its corners inside, then its level on to `until`
+        // (dropping the corners beyond would end the line at the last flip inside)
+        let mut belt_shown = keep(&step);
+        if belt_shown.last().is_some_and(|p| p.0 < until) {
+            belt_shown.push((until, after(until)));
+        }
         // about one sample per pixel column of a 1200-pixel figure
         let shown = keep(&mass);
         let stride = shown.len().div_ceil(1000).max(1);
@@ -400,7 +431,7 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
             y_label: "velocity [m/s]".into(),
             lines: vec![
                 Series { label: "mass".into(), color: 0, points: shown.iter().copied().step_by(stride).collect(), ..Default::default() },
-                Series { label: "belt".into(), color: 1, points: keep(&step), ..Default::default() },
+                Series { label: "belt".into(), color: 1, points: belt_shown, ..Default::default() },
             ],
             points: vec![
                 Series { label: "stick starts".into(), color: 6, points: keep(&mark(&starts, &after)), ..Default::default() },
@@ -485,6 +516,32 @@ pub const SWEEP_METRICS: [(&str, &str); 6] = [
     ("mean_T_slope", "mean cycle E[D] + E[H] [s]"),
 ];
 
+/// A swept key (a sweep table's column: the last component of the key) as an axis title: the
+/// key as written with its unit, e.g. `belt.switch_rate [1/s]`.
+pub fn key_axis_label(column: &str) -> String {
+    if column == "duration" {
+        return "run.duration [s]".into();
+    }
+    match crate::params::Key::ALL.iter().find(|k| k.name() == column) {
+        Some(k) => {
+            // Key::unit reads " (kg)" for messages; friction coefficients and the Stribeck
+            // exponent have none
+            let unit = k.unit().trim().trim_start_matches('(').trim_end_matches(')');
+            if unit.is_empty() {
+                format!("{} (dimensionless)", k.dotted())
+            } else {
+                format!("{} [{unit}]", k.dotted())
+            }
+        }
+        None => column.to_string(),
+    }
+}
+
+/// Ticks at a sweep's grid values, labelled as typed.
+fn grid_ticks(values: &[f64]) -> Vec<(f64, String)> {
+    values.iter().map(|&v| (v, format::grid_value(v))).collect()
+}
+
 /// Whether a swept key's values span a factor of 10 or more (then its axis is logarithmic).
 fn wide(values: &[f64]) -> bool {
     let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
@@ -540,8 +597,10 @@ pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
                 let missing = heat.iter().any(|c| c[4].is_nan());
                 (!heat.is_empty()).then(|| Panel {
                     title: if missing { format!("{title} (grey: no value)") } else { title.into() },
-                    x_label: x.into(),
-                    y_label: y.into(),
+                    x_label: key_axis_label(x),
+                    y_label: key_axis_label(y),
+                    x_ticks: grid_ticks(&x_values),
+                    y_ticks: grid_ticks(&y_values),
                     heat,
                     heat_label: title.into(),
                     heat_values: x_values.len() * y_values.len() <= 64,
@@ -580,7 +639,7 @@ pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
                 .collect();
             let points = lines.iter().map(|l: &Series| Series { label: String::new(), errors: Vec::new(), ..l.clone() }).collect();
             let title = if se.is_some() { format!("{title} (± 1.96 se)") } else { title.to_string() };
-            Some(Panel { title, x_label: x.into(), y_label: String::new(), points, lines, x_log, ..Default::default() })
+            Some(Panel { title, x_label: key_axis_label(x), y_label: String::new(), points, lines, x_log, ..Default::default() })
         })
         .collect::<Vec<_>>();
     Some(Figure { name: "sweep_maps".into(), title: format!("Sweep over {}", keys.join(" × ")), rows: 2, cols: 3, size: (1400, 820), panels })

@@ -6,6 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -123,6 +125,64 @@ fn tick(log: bool) -> impl Fn(&f64) -> String {
     }
 }
 
+/// A linear axis whose ticks are given (plotters' own `WithKeyPoints` cannot take a label
+/// formatter); the labels come from the chart's formatter.
+struct Ticked {
+    inner: RangedCoordf64,
+    ticks: Vec<f64>,
+}
+
+impl Ticked {
+    fn new(range: (f64, f64), ticks: Vec<f64>) -> Ticked {
+        Ticked { inner: RangedCoordf64::from(range.0..range.1), ticks }
+    }
+}
+
+impl Ranged for Ticked {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.inner.map(value, limit)
+    }
+
+    fn key_points<Hint: KeyPointHint>(&self, hint: Hint) -> Vec<f64> {
+        // no minor ticks
+        if hint.weight().allow_light_points() {
+            Vec::new()
+        } else {
+            self.ticks.clone()
+        }
+    }
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.inner.range()
+    }
+}
+
+/// Where an axis puts its ticks, in drawing coordinates: at the panel's own tick values when it
+/// has them (those inside the range), else at round numbers (about six).
+fn key_points(ticks: &[(f64, String)], log: bool, (lo, hi): (f64, f64)) -> Vec<f64> {
+    if ticks.is_empty() {
+        return RangedCoordf64::from(lo..hi).key_points(6);
+    }
+    let f = axis(log);
+    let (a, b) = (lo.min(hi), lo.max(hi));
+    ticks.iter().map(|t| f(t.0)).filter(|v| v.is_finite() && (a..=b).contains(v)).collect()
+}
+
+/// The label of the tick at drawing coordinate `v`: the panel's own label for it when the panel
+/// has its own ticks, else the value in short form.
+fn tick_label(ticks: &[(f64, String)], log: bool) -> impl Fn(&f64) -> String + '_ {
+    let (f, plain) = (axis(log), tick(log));
+    move |v: &f64| {
+        ticks
+            .iter()
+            .min_by(|a, b| (f(a.0) - v).abs().total_cmp(&(f(b.0) - v).abs()))
+            .map_or_else(|| plain(v), |t| t.1.clone())
+    }
+}
+
 /// The corner of the plot where the legend covers the fewest data points.
 fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> SeriesLabelPosition {
     let (fx, fy) = (axis(p.x_log), axis(p.y_log));
@@ -143,8 +203,10 @@ fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> Serie
     .map_or(SeriesLabelPosition::UpperRight, |(pos, _)| pos)
 }
 
-/// Pixels of the colour bar strip beside a heat map.
-const COLOUR_BAR: u32 = 96;
+/// Pixels of the colour bar strip beside a heat map, and of the room left of the bar for its
+/// tick labels (up to `≥ -0.0512`) and its title: enough that neither is clipped.
+const COLOUR_BAR: u32 = 132;
+const COLOUR_BAR_LABELS: u32 = 96;
 
 fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> Result<(), String> {
     let ((x0, x1), (y0, y1)) = ranges(p);
@@ -161,9 +223,12 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(52)
-        .build_cartesian_2d(x0..x1, y0..y1)
+        .build_cartesian_2d(
+            Ticked::new((x0, x1), key_points(&p.x_ticks, p.x_log, (x0, x1))),
+            Ticked::new((y0, y1), key_points(&p.y_ticks, p.y_log, (y0, y1))),
+        )
         .map_err(err)?;
-    let (tx, ty) = (tick(p.x_log), tick(p.y_log));
+    let (tx, ty) = (tick_label(&p.x_ticks, p.x_log), tick_label(&p.y_ticks, p.y_log));
     chart
         .configure_mesh()
         .disable_mesh()
@@ -268,7 +333,9 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
             .map_err(err)?;
     }
     if let Some(bar) = bar_area {
-        colour_bar(&bar, scale, &p.heat_label)?;
+        // cells beyond the top of a density scale are drawn in the top colour: its tick says so
+        let clipped = !p.heat_linear && finite().any(|v| v > scale.hi);
+        colour_bar(&bar, scale, &p.heat_label, clipped)?;
     }
     Ok(())
 }
@@ -292,22 +359,34 @@ impl HeatScale {
     }
 }
 
-/// The colour bar of a heat map: its scale from `lo` to `hi`, labelled.
-fn colour_bar<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, scale: HeatScale, label: &str) -> Result<(), String> {
+/// The colour bar of a heat map: its scale from `lo` to `hi`, labelled, with round ticks and
+/// both ends labelled by their values (3 significant digits; the top `≥ …` when `clipped`), so
+/// that the bar says what its top colour means.
+fn colour_bar<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, scale: HeatScale, label: &str, clipped: bool) -> Result<(), String> {
     let (lo, hi) = (scale.lo, scale.hi);
+    // round ticks not crowding the ends, then the ends
+    let near = 0.08 * (hi - lo);
+    let mut ticks: Vec<(f64, String)> = RangedCoordf64::from(lo..hi)
+        .key_points(5)
+        .into_iter()
+        .filter(|&v| v > lo + near && v < hi - near)
+        .map(|v| (v, tick(false)(&v)))
+        .collect();
+    ticks.push((lo, super::format::significant(lo, 3)));
+    ticks.push((hi, format!("{}{}", if clipped { "≥ " } else { "" }, super::format::significant(hi, 3))));
     let mut chart = ChartBuilder::on(area)
         .margin_top(34)
         .margin_bottom(44)
         .margin_right(6)
-        .y_label_area_size(56)
-        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .y_label_area_size(COLOUR_BAR_LABELS)
+        .build_cartesian_2d(0.0..1.0, Ticked::new((lo, hi), ticks.iter().map(|t| t.0).collect()))
         .map_err(err)?;
-    let ty = tick(false);
+    let ty = tick_label(&ticks, false);
     chart
         .configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_labels(6)
+        .y_labels(ticks.len())
         .y_label_formatter(&ty)
         .y_desc(label)
         .label_style(("sans-serif", 12))

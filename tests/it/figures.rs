@@ -33,21 +33,22 @@ fn hand_made(dir: &Path) {
         .push("density", float(&[1.2, 0.8, 0.6, 0.4]));
     h.write_parquet(&dir.join("histograms.parquet")).unwrap();
     let mut j = Table::default();
-    j.push("x", strs(&["T_1", "T_1"]))
-        .push("y", strs(&["T_2", "T_2"]))
-        .push("x_lo", float(&[0.0, 0.5]))
-        .push("x_hi", float(&[0.5, 1.0]))
-        .push("y_lo", float(&[1.0, 1.0]))
-        .push("y_hi", float(&[2.0, 2.0]))
-        .push("density", float(&[1.5, 0.5]))
-        .push("product_density", float(&[1.0, 1.0]));
+    // two pairs whose densities differ 20-fold (as (T_1, T_2) and (D_1, D_2) do about 7-fold)
+    j.push("x", strs(&["T_1", "T_1", "D_1", "D_1"]))
+        .push("y", strs(&["T_2", "T_2", "D_2", "D_2"]))
+        .push("x_lo", float(&[0.0, 0.5, 0.0, 0.1]))
+        .push("x_hi", float(&[0.5, 1.0, 0.1, 0.2]))
+        .push("y_lo", float(&[1.0, 1.0, 0.0, 0.0]))
+        .push("y_hi", float(&[2.0, 2.0, 0.1, 0.1]))
+        .push("density", float(&[1.5, 0.5, 30.0, 20.0]))
+        .push("product_density", float(&[1.0, 1.0, 25.0, 25.0]));
     j.write_parquet(&dir.join("joint_histograms.parquet")).unwrap();
     let mut i = Table::default();
     i.push("x", strs(&["T_1"]))
         .push("y", strs(&["T_2"]))
         .push("chi2_p_value", float(&[0.01]))
-        .push("g_p_value", float(&[0.02]))
-        .push("mi_p_value", float(&[0.03]))
+        .push("g_p_value", float(&[0.0]))
+        .push("mi_p_value", float(&[0.0004]))
         .push("verdict", strs(&["dependent"]));
     i.write_parquet(&dir.join("independence.parquet")).unwrap();
     let mut g = Table::default();
@@ -77,7 +78,9 @@ fn figures_draw_exactly_the_analysis_tables() {
     assert_eq!(j.panels[0].heat, [[0.0, 0.5, 1.0, 2.0, 1.5], [0.5, 1.0, 1.0, 2.0, 0.5]]);
     assert_eq!(j.panels[1].heat.len(), 2);
     assert!(!j.panels[0].heat_label.is_empty(), "a heat map has a labelled colour bar");
-    assert!(j.title.contains("0.010") && j.title.contains("dependent"), "{}", j.title);
+    assert!(j.title.contains("dependent"), "{}", j.title);
+    // p-values: 3 significant digits, or a bound below 0.001 and below 1e-300 (never "0.000")
+    assert!(j.title.contains("χ² p = 0.0100") && j.title.contains("G p < 1e-300") && j.title.contains("MI permutation p < 0.001"), "{}", j.title);
     let q = figures::q_figure(&inp).unwrap();
     // a PMF is drawn as stems at the integers, not as bars or a line
     assert!(q.panels[0].bars.is_empty() && q.panels[0].lines.is_empty());
@@ -250,6 +253,28 @@ fn sweep_maps_have_error_bars_log_axes_and_heat_maps_for_two_keys() {
     let want = [0.5, 1.5, -0.05, 0.65];
     assert!(p.heat[0][..4].iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-12), "{:?}", p.heat[0]);
     assert!(!p.heat_label.is_empty());
+    // ticks at the grid values, as typed, and the keys with their units
+    let labels = |t: &[(f64, String)]| t.iter().map(|(v, l)| (*v, l.clone())).collect::<Vec<_>>();
+    assert_eq!(labels(&p.x_ticks), [(1.0, "1".to_string()), (2.0, "2".to_string())]);
+    assert_eq!(labels(&p.y_ticks), [(0.3, "0.3".to_string()), (1.0, "1".to_string())]);
+    assert_eq!(p.x_label, "belt.switch_rate [1/s]");
+    assert_eq!(p.y_label, "model.friction_coefficient (dimensionless)");
+}
+
+#[test]
+fn swept_keys_are_labelled_with_their_units() {
+    for (column, label) in [
+        ("mass", "model.mass [kg]"),
+        ("stiffness", "model.stiffness [N/m]"),
+        ("damping", "model.damping [N·s/m]"),
+        ("normal_force", "model.normal_force [N]"),
+        ("static_friction_coefficient", "model.static_friction_coefficient (dimensionless)"),
+        ("speed", "belt.speed [m/s]"),
+        ("switch_rate", "belt.switch_rate [1/s]"),
+        ("duration", "run.duration [s]"),
+    ] {
+        assert_eq!(figures::key_axis_label(column), label);
+    }
 }
 
 #[test]
@@ -268,5 +293,81 @@ fn the_trajectory_figure_draws_the_belt_at_its_own_two_speeds() {
     inp.trajectories = Some(csv);
     let f = figures::trajectory_figure(&inp).unwrap();
     let belt = &f.panels[0].lines[1].points;
-    assert_eq!(belt, &[(0.0, 1.0), (0.3, 1.0), (0.3, -0.5), (0.6, -0.5), (0.6, 1.0), (0.9, 1.0)]);
+    // on to the end of the window, t_a (the samples stop at 0.9 s)
+    let t_a = inp.scenario.run.duration;
+    assert_eq!(belt, &[(0.0, 1.0), (0.3, 1.0), (0.3, -0.5), (0.6, -0.5), (0.6, 1.0), (t_a, 1.0)]);
+}
+
+#[test]
+fn each_joint_figure_has_its_own_colour_scale() {
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let inp = Inputs::load(tmp.path()).unwrap();
+    // with 4 non-empty cells the 99.5th percentile is the largest cell: each figure's top is its
+    // own largest density (1.5 and 30), in both of its panels
+    for (x, y, name, largest) in [("T_1", "T_2", "fig11_t1_t2", 1.5), ("D_1", "D_2", "fig13_d1_d2", 30.0)] {
+        let f = figures::joint_figure(&inp, x, y, name).unwrap();
+        for p in &f.panels {
+            assert_eq!(p.heat_max, Some(largest), "{name}: {}", p.title);
+            assert!(!p.heat_label.contains("above"), "{name}: nothing saturates, so the bar says nothing does: {}", p.heat_label);
+        }
+    }
+}
+
+#[test]
+fn a_clipped_colour_scale_says_how_many_cells_it_saturates() {
+    // 1000 cells at 1 and 3 spikes at 100: the top is at the 99.5th percentile (1), and the bar
+    // says that the 3 spikes of the 1003 non-empty cells (0.3 %) lie above it
+    let mut cells: Vec<[f64; 5]> = (0..1000).map(|i| [i as f64, i as f64 + 1.0, 0.0, 1.0, 1.0]).collect();
+    cells.extend((0..3).map(|i| [-(i as f64) - 1.0, -(i as f64), 0.0, 1.0, 100.0]));
+    let empty = [[0.0, 1.0, 1.0, 2.0, 0.0]];
+    let (top, above) = figures::colour_top(&[&cells, &empty]);
+    assert_eq!(top, 1.0);
+    assert!((above - 3.0 / 1003.0).abs() < 1e-15, "{above}");
+}
+
+#[test]
+fn the_belt_trace_reaches_the_end_of_each_window() {
+    // flips at 0.3, 0.6, 1.8 and 2.2 s: the first-2-s panel must carry the belt on from its last
+    // flip (1.8) to 2 s, and the whole-window panel to t_a, though the samples stop at 2.9 s
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let mut inp = Inputs::load(tmp.path()).unwrap();
+    let t_a = inp.scenario.run.duration;
+    assert!(t_a > 3.0, "the paper's scene runs for {t_a} s");
+    let level = |t: f64| if (0.3..0.6).contains(&t) || (1.8..2.2).contains(&t) { -0.5 } else { 1.0 };
+    let mut csv = String::from("realization,kind,t,x,xdot,belt_velocity\n");
+    for i in 0..30 {
+        let t = i as f64 * 0.1;
+        csv.push_str(&format!("0,sample,{t},0,0,{}\n", level(t)));
+    }
+    csv.push_str("0,switch,0.3,,,\n0,switch,0.6,,,\n0,switch,1.8,,,\n0,switch,2.2,,,\n");
+    inp.trajectories = Some(csv);
+    let f = figures::trajectory_figure(&inp).unwrap();
+    let (whole, first) = (&f.panels[0], &f.panels[1]);
+    assert_eq!(first.lines[1].points.last(), Some(&(2.0, -0.5)), "{:?}", first.lines[1].points);
+    assert_eq!(first.x_range, Some((0.0, 2.0)));
+    assert_eq!(whole.lines[1].points.last(), Some(&(t_a, 1.0)), "{:?}", whole.lines[1].points);
+    assert_eq!(whole.x_range, Some((0.0, t_a)));
+}
+
+#[test]
+fn a_panel_with_its_own_ticks_is_drawn_with_their_labels() {
+    // categories (as the Sobol plot's parameters) at 0, 1, 2: each name is written once, as a tick
+    let tmp = tempfile::tempdir().unwrap();
+    let names = ["friction_coefficient", "switch_rate", "intrinsic"];
+    let panel = figures::Panel {
+        x_label: "input".into(),
+        y_label: "Sobol index".into(),
+        points: vec![figures::Series { label: "first order".into(), points: vec![(0.0, 0.2), (1.0, 0.5), (2.0, 0.1)], ..Default::default() }],
+        x_ticks: names.iter().enumerate().map(|(i, n)| (i as f64, n.to_string())).collect(),
+        x_range: Some((-0.5, 2.5)),
+        ..Default::default()
+    };
+    let f = figures::Figure { name: "ticks".into(), title: String::new(), rows: 1, cols: 1, size: (700, 400), panels: vec![panel] };
+    let [_, svg] = figures::render::save(&f, tmp.path()).unwrap();
+    let svg = std::fs::read_to_string(svg).unwrap();
+    for n in names {
+        assert_eq!(svg.lines().filter(|l| l.trim() == n).count(), 1, "{n}");
+    }
 }
