@@ -559,11 +559,7 @@ fn analyze_and_print(dataset: &Path, out: &Path, opts: &analysis::Options, quiet
 }
 
 fn print_analysis(a: &analysis::Analysis) {
-    // `= 0.548`, `< 1e-300`
-    let p_is = |p: f64| {
-        let s = crate::stats::p_value(p);
-        if s.starts_with('<') { s } else { format!("= {s}") }
-    };
+    let p_is = crate::figures::format::p_relation;
     println!("{}", analysis::output::table1_markdown(a));
     for j in &a.joints {
         if let Some(t) = &j.test {

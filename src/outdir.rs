@@ -29,8 +29,14 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::interrupt;
 
-/// The marker file in every directory the tool writes.
+/// The marker file in every directory the tool writes (JSON: kind and files), but a dataset's.
 pub const MARKER: &str = ".stickslip-output";
+
+/// A dataset directory's marker: an empty file, because polars' `read_parquet(DIR)` refuses a
+/// directory holding any non-empty file that is not Parquet, hidden or not (pyarrow and DuckDB
+/// skip hidden files); a dataset is replaced part by part, never whole, so its marker lists no
+/// files. Datasets of earlier versions carry the JSON [`MARKER`] of kind `dataset`, still read.
+pub const DATASET_MARKER: &str = ".stickslip-dataset";
 
 /// What an output directory holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -141,6 +147,9 @@ struct Marker {
 }
 
 fn read_marker(dir: &Path) -> Option<Marker> {
+    if dir.join(DATASET_MARKER).is_file() {
+        return Some(Marker { kind: Kind::Dataset.name().into(), stickslip: String::new(), files: Vec::new() });
+    }
     let mut text = String::new();
     File::open(dir.join(MARKER)).ok()?.take(16 << 20).read_to_string(&mut text).ok()?;
     serde_json::from_str(&text).ok()
@@ -150,6 +159,11 @@ fn read_marker(dir: &Path) -> Option<Marker> {
 /// then hard-linked into place (a link fails if the marker exists, and is atomic), so that a
 /// concurrent reader never sees a partial marker.
 fn write_marker(dir: &Path, kind: Kind, files: Vec<String>) -> Result<(), OutDirError> {
+    if kind == Kind::Dataset {
+        // empty, created exclusively: fails if a concurrent writer marked it first
+        let path = dir.join(DATASET_MARKER);
+        return create_new(&path).map(drop).map_err(|e| fail(&path, e));
+    }
     let m = Marker { kind: kind.name().into(), stickslip: env!("CARGO_PKG_VERSION").into(), files };
     let text = serde_json::to_string_pretty(&m).expect("a marker serializes") + "\n";
     let path = dir.join(MARKER);
@@ -177,7 +191,7 @@ fn files_below(dir: &Path) -> std::io::Result<Vec<String>> {
                 walk(root, &path, out)?;
             } else {
                 let rel = path.strip_prefix(root).unwrap_or(&path).to_string_lossy().replace('\\', "/");
-                if rel != MARKER {
+                if rel != MARKER && rel != DATASET_MARKER {
                     out.push(rel);
                 }
             }
@@ -582,7 +596,7 @@ impl DatasetDir {
             match if is_marked(dir, Kind::Dataset) { Err(fail(dir, std::io::Error::other("marked"))) } else { write_marker(dir, Kind::Dataset, Vec::new()) } {
                 Ok(()) => {
                     d.marked = true;
-                    interrupt::register_marker(&dir.join(MARKER));
+                    interrupt::register_marker(&dir.join(DATASET_MARKER));
                 }
                 // a concurrent shard marked it first
                 Err(_) if is_marked(dir, Kind::Dataset) => {}
@@ -605,7 +619,7 @@ impl DatasetDir {
 
 impl Drop for DatasetDir {
     fn drop(&mut self) {
-        let marker = self.dir.join(MARKER);
+        let marker = self.dir.join(DATASET_MARKER);
         if self.marked {
             interrupt::unregister_created(&marker);
         }

@@ -49,30 +49,12 @@ impl Row {
     /// Cell `i` as shown (`ours [lo – hi] (paper) mark`) and whether it agrees with the paper's
     /// (`None`: nothing to judge, or nothing a reader should be alarmed by).
     ///
-    /// Two cells read differently from [`Cell::shown`]: a count's mode prints as the integer it
-    /// is (`16 [13 – 19]`, not `16.000 [13.263 – 18.737]`); and a mode at the boundary of the
-    /// support (0: the densities of T_1, D_1, H_1 peak there and the KDE, reflected at 0, reports
-    /// 0) shows no relative difference to the paper's, which would always read −100 % and mean
-    /// nothing — the paper's mode of a density peaking at its edge is the centre of its first
-    /// histogram bin.
+    /// A count's mode prints as the integer it is (`16 [13 – 19]`); a mode at the boundary 0 is
+    /// shown, not judged ([`Cell::at_boundary`]).
     pub fn shown(&self, i: usize, digits: usize) -> (String, Option<bool>) {
         let c = &self.cells[i];
-        let mode = i == 2;
-        if mode && self.count {
-            let whole = |x: f64| crate::figures::format::integer(x).unwrap_or_else(|| format!("{x:.digits$}"));
-            let text = match (c.ours, c.interval) {
-                (Some(o), Some((lo, hi))) => format!("{} [{} – {}]", whole(o), whole(lo), whole(hi)),
-                (Some(o), None) => whole(o),
-                _ => "–".into(),
-            };
-            let paper = c.paper.map_or(String::new(), |p| format!(" ({p})"));
-            return (format!("{text}{paper} {}", c.mark()).trim_end().to_string(), c.consistent());
-        }
-        if mode && c.ours == Some(0.0) && c.consistent() == Some(false) {
-            let paper = c.paper.map_or(String::new(), |p| format!(" ({p})"));
-            return (format!("{}{paper} boundary", c.text(digits)), None);
-        }
-        (c.shown(digits).trim_end().to_string(), c.consistent())
+        let digits = if i == 2 && self.count { 0 } else { digits };
+        (c.shown(digits), c.consistent())
     }
 }
 
@@ -97,13 +79,9 @@ pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
         let cell = |ours: Option<f64>, se: Option<f64>, i: usize| Cell { ours, se, interval: interval(i), paper: pv(i) };
         // a column the table lacks reads as no value, never as an index out of bounds
         let at = |c: &[Option<f64>]| c.get(r).copied().flatten();
-        // a count's mode is a most frequent integer: its interval's bounds are rounded outward to
-        // integers too (the jackknife's are not)
+        // (a count's mode interval is stored rounded outward to integers, `SeriesStats::mode_interval`)
         let count = v.is_count();
-        let mut mode_cell = cell(at(mode), None, 2);
-        if count {
-            mode_cell.interval = mode_cell.interval.map(|(lo, hi)| (lo.floor(), hi.ceil()));
-        }
+        let mode_cell = cell(at(mode), None, 2);
         rows.push(Row {
             label: k.map_or(v.name().to_string(), |k| format!("{}_{k}", v.name())),
             n: n.get(r).copied().flatten().unwrap_or(0),
@@ -453,8 +431,8 @@ mod tests {
             .push("mean_hi", floats(&[0.37, 16.6]))
             .push("variance", floats(&[0.13, 7.6]))
             .push("mode", floats(&[0.0, 16.0]))
-            .push("mode_lo", floats(&[0.0, 13.263]))
-            .push("mode_hi", floats(&[0.0, 18.737]))
+            .push("mode_lo", floats(&[0.0, 13.0]))
+            .push("mode_hi", floats(&[0.0, 19.0]))
             .push("skewness", floats(&[2.1, 0.15]))
             .push("kurtosis", floats(&[9.7, 3.1]));
         table1(&m, true)
@@ -464,8 +442,8 @@ mod tests {
     fn a_boundary_mode_shows_no_relative_difference() {
         let rows = rows();
         let t1 = rows.iter().find(|r| r.label == "T_1").unwrap();
-        // the paper's T_1 mode is 0.16, outside our [0, 0]: a mismatch, but not "−100 %"
-        assert_eq!(t1.cells[2].consistent(), Some(false));
+        // the paper's T_1 mode is 0.16, ours the boundary 0: shown, not "−100 %"
+        assert!(t1.cells[2].at_boundary());
         let (text, judged) = t1.shown(2, 3);
         assert!(!text.contains('%') && !text.contains('✗') && text.contains("boundary"), "{text}");
         assert_eq!(judged, None, "not marked in red");
@@ -478,7 +456,7 @@ mod tests {
         let rows = rows();
         let st = rows.iter().find(|r| r.label == "S_T").unwrap();
         assert!(st.count);
-        // 16 with its interval rounded outward: floor(13.263), ceil(18.737)
+        // 16 and its (integer, see `SeriesStats::mode_interval`) interval without decimals
         assert_eq!(st.shown(2, 3).0, "16 [13 – 19]");
         // the mean of a count is not an integer and keeps its decimals
         assert!(st.shown(0, 3).0.starts_with("16.500 ["), "{}", st.shown(0, 3).0);

@@ -197,7 +197,8 @@ pub fn figure(rows: &[Index]) -> Figure {
             let short = |p: &str| if p == INTRINSIC { "intrinsic".to_string() } else { p.to_string() };
             Panel {
                 title: output.to_string(),
-                x_label: mine.iter().enumerate().map(|(i, r)| format!("{i}: {}", short(&r.parameter))).collect::<Vec<_>>().join("   "),
+                x_label: "input".into(),
+                x_ticks: mine.iter().enumerate().map(|(i, r)| (i as f64, short(&r.parameter))).collect(),
                 y_label: "Sobol index".into(),
                 points: vec![
                     series("first order", 0, -0.1, &|r| (r.first_order, r.first_order_ci)),

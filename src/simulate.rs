@@ -12,10 +12,9 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use std::io::Write as _;
 
 use crate::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
-use crate::outdir::{DatasetDir, Lock, OutDirError, TempFile};
+use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::rng::GENERATOR;
 use crate::precision::{Target, Tracker};
@@ -126,7 +125,8 @@ pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
 #[derive(Debug)]
 pub struct Pending {
     part: Finished,
-    trajectories: Option<(TempFile, Lock)>,
+    /// the trajectory tables under temporary names, and the directories made for them
+    trajectories: Option<(Vec<(TempFile, Lock)>, Created)>,
     summary: Summary,
 }
 
@@ -134,8 +134,11 @@ impl Pending {
     /// Rename the part (and trajectories) into place.
     pub fn commit(self) -> Result<Summary, SimulateError> {
         let path = self.part.commit()?;
-        if let Some((tmp, _lock)) = self.trajectories {
-            tmp.commit()?;
+        if let Some((tables, created)) = self.trajectories {
+            for (tmp, _lock) in tables {
+                tmp.commit()?;
+            }
+            created.keep();
         }
         Ok(Summary { path, ..self.summary })
     }
@@ -277,24 +280,18 @@ fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target], du
     Ok((rows, tracker))
 }
 
-/// Sample the first `output.trajectories` realizations into `dir/trajectories.csv`, streamed to
-/// a temporary file (committed with the part).
-fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path::Path) -> Result<(TempFile, Lock), SimulateError> {
-    let path = dir.join("trajectories.csv");
-    let lock = Lock::acquire(&path)?;
-    let (tmp, file) = TempFile::create(&path)?;
-    let werr = |e: std::io::Error| DatasetError::Write { path: path.clone(), source: Box::new(e) };
-    let mut w = std::io::BufWriter::new(file);
-    w.write_all(trajectory::CSV_HEADER.as_bytes()).map_err(werr)?;
+/// Sample the first `output.trajectories` realizations into the trajectory tables beside the
+/// dataset ([`trajectory::dir_for`]), under temporary names (committed with the part).
+fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path::Path) -> Result<(Vec<(TempFile, Lock)>, Created), SimulateError> {
+    let place = trajectory::dir_for(dir).ok_or_else(|| OutDirError { path: dir.to_owned(), message: "has no parent to put its trajectories beside".into(), refused: true })?;
+    let created = Created::dir_all(&place)?;
+    let mut tables = trajectory::Tables::default();
     let mut out = Outcome::default();
     for index in 0..scenario.output.trajectories.min(scenario.run.realizations) {
         let sampler = ensemble.trajectory(index, scenario.output.trajectory_step, &mut out)?;
-        let mut csv = String::new();
-        trajectory::csv_rows(&mut csv, index, &sampler.samples, out.switches(), &out.record);
-        w.write_all(csv.as_bytes()).map_err(werr)?;
+        tables.push(index, &sampler.samples, out.switches(), &out.record);
     }
-    w.into_inner().map_err(|e| werr(e.into_error()))?;
-    Ok((tmp, lock))
+    Ok((tables.write(&place)?, created))
 }
 
 fn progress_bar(len: u64, enabled: bool) -> ProgressBar {

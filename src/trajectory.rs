@@ -1,15 +1,28 @@
 //! Sampled trajectories for the paper's Fig. 4: mass and belt velocity on a time grid, evaluated
 //! by the solver's driver on each method's own pieces of motion (closed forms for `exact`, dense
-//! output for the integrators), plus the event marks.
+//! output for the integrators), plus the event instants.
 //!
-//! Only the first `output.trajectories` realizations are sampled, and only when asked: the file
-//! `DIR/trajectories.csv` (not Parquet, so `DIR/**/*.parquet` stays the event table) has columns
-//! `realization,kind,t,x,xdot,belt_velocity` with `kind` one of `sample`, `switch`,
-//! `stick_start`, `stick_end` (event rows carry only `t`).
+//! Only the first `output.trajectories` realizations are sampled, and only when asked. They go
+//! beside the dataset, never into it (the dataset directory holds part files only, so that
+//! `polars.read_parquet(DIR)` and `pyarrow.dataset(DIR)` read it as one table): for a dataset
+//! `DIR` (a sweep cell `DIR/CELL`) the directory `DIR.trajectories/` (`DIR.trajectories/CELL/`,
+//! [`dir_for`]) holds two tidy Parquet tables:
+//! - `samples.parquet`: `realization` (int64), `t`, `x`, `xdot`, `belt_velocity` (float64, s, m,
+//!   m/s, m/s), one row per grid instant;
+//! - `events.parquet`: `realization` (int64), `event` (`belt_switch`, `stick_start`,
+//!   `stick_end`), `t` (float64, s), one row per event.
 
-use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
+use arrow_schema::{DataType, Field, Schema};
+use parquet::arrow::ArrowWriter;
+use parquet::file::metadata::KeyValue;
+use parquet::file::properties::WriterProperties;
 
 use crate::events::{Observer, Record};
+use crate::outdir::{is_marked, resolved, Kind, Lock, OutDirError, TempFile};
 
 /// Records the grid samples the driver hands it.
 #[derive(Debug, Clone)]
@@ -57,19 +70,106 @@ impl<A: Observer, B: Observer> Observer for Tee<'_, A, B> {
     }
 }
 
-/// CSV header of `trajectories.csv`.
-pub const CSV_HEADER: &str = "realization,kind,t,x,xdot,belt_velocity\n";
+/// The two table files, in [`dir_for`].
+pub const SAMPLES: &str = "samples.parquet";
+pub const EVENTS: &str = "events.parquet";
 
-/// Append the CSV rows of one sampled realization.
-pub fn csv_rows(out: &mut String, realization: u64, samples: &[[f64; 4]], switches: &[f64], record: &Record) {
-    for [t, x, xdot, v] in samples {
-        let _ = writeln!(out, "{realization},sample,{t},{x},{xdot},{v}");
+/// The footer key that marks a trajectory table as the tool's (a file without it is never
+/// replaced).
+const MARK: &str = "stickslip.trajectories";
+
+/// Where the trajectories of the dataset (or sweep cell) directory `dir` go: `TOP.trajectories/`
+/// beside the dataset's top directory (the nearest ancestor marked as a dataset), plus the
+/// cell's path below it. `None` for a top without a name (the file system root).
+pub fn dir_for(dir: &Path) -> Option<PathBuf> {
+    let top = dir.ancestors().find(|a| !a.as_os_str().is_empty() && is_marked(a, Kind::Dataset)).unwrap_or(dir);
+    let cell = dir.strip_prefix(top).unwrap_or(Path::new(""));
+    let top = resolved(top);
+    let name = top.file_name()?.to_string_lossy().into_owned();
+    Some(top.parent()?.join(format!("{name}.trajectories")).join(cell))
+}
+
+/// The sampled realizations, as the two tables.
+#[derive(Debug, Default)]
+pub struct Tables {
+    sample_realization: Vec<i64>,
+    samples: Vec<[f64; 4]>,
+    event_realization: Vec<i64>,
+    event: Vec<&'static str>,
+    event_t: Vec<f64>,
+}
+
+impl Tables {
+    /// Add one sampled realization: its grid samples, its effective belt switches and its sticks.
+    pub fn push(&mut self, realization: u64, samples: &[[f64; 4]], switches: &[f64], record: &Record) {
+        let r = realization as i64;
+        self.sample_realization.extend(std::iter::repeat_n(r, samples.len()));
+        self.samples.extend_from_slice(samples);
+        let mut events: Vec<(f64, &'static str)> = switches.iter().map(|&t| (t, "belt_switch")).collect();
+        for (t, d) in record.stick_start.iter().zip(&record.stick_duration) {
+            events.extend([(*t, "stick_start"), (t + d, "stick_end")]);
+        }
+        events.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (t, e) in events {
+            self.event_realization.push(r);
+            self.event.push(e);
+            self.event_t.push(t);
+        }
     }
-    for t in switches {
-        let _ = writeln!(out, "{realization},switch,{t},,,");
+
+    fn samples_batch(&self) -> RecordBatch {
+        let f = |i: usize| Arc::new(Float64Array::from(self.samples.iter().map(|s| s[i]).collect::<Vec<_>>())) as ArrayRef;
+        let cols: Vec<ArrayRef> = vec![Arc::new(Int64Array::from(self.sample_realization.clone())), f(0), f(1), f(2), f(3)];
+        let fields = ["t", "x", "xdot", "belt_velocity"].map(|n| Field::new(n, DataType::Float64, false));
+        let schema = Schema::new([Field::new("realization", DataType::Int64, false)].into_iter().chain(fields).collect::<Vec<_>>());
+        RecordBatch::try_new(Arc::new(schema), cols).expect("columns of equal length")
     }
-    for (t, d) in record.stick_start.iter().zip(&record.stick_duration) {
-        let _ = writeln!(out, "{realization},stick_start,{t},,,");
-        let _ = writeln!(out, "{realization},stick_end,{},,,", t + d);
+
+    fn events_batch(&self) -> RecordBatch {
+        let schema = Schema::new(vec![
+            Field::new("realization", DataType::Int64, false),
+            Field::new("event", DataType::Utf8, false),
+            Field::new("t", DataType::Float64, false),
+        ]);
+        let cols: Vec<ArrayRef> = vec![
+            Arc::new(Int64Array::from(self.event_realization.clone())),
+            Arc::new(StringArray::from(self.event.clone())),
+            Arc::new(Float64Array::from(self.event_t.clone())),
+        ];
+        RecordBatch::try_new(Arc::new(schema), cols).expect("columns of equal length")
     }
+
+    /// Write both tables into `dir` under temporary names (each under its lock), to be
+    /// committed with the part: an existing table is replaced only if it is the tool's.
+    pub fn write(&self, dir: &Path) -> Result<Vec<(TempFile, Lock)>, OutDirError> {
+        let mut out = Vec::new();
+        for (name, batch) in [(SAMPLES, self.samples_batch()), (EVENTS, self.events_batch())] {
+            let path = dir.join(name);
+            let lock = Lock::acquire(&path)?;
+            if std::fs::symlink_metadata(&path).is_ok() && !is_ours(&path) {
+                return Err(OutDirError {
+                    path,
+                    message: "exists and is not a stickslip trajectory table; refusing to replace it: move it away or choose another --out".into(),
+                    refused: true,
+                });
+            }
+            let (tmp, file) = TempFile::create(&path)?;
+            let fail = |e: &dyn std::fmt::Display| OutDirError { path: path.clone(), message: e.to_string(), refused: false };
+            let kv = vec![KeyValue::new(MARK.into(), name.trim_end_matches(".parquet").to_string()), KeyValue::new("stickslip.version".into(), env!("CARGO_PKG_VERSION").to_string())];
+            let props = WriterProperties::builder().set_key_value_metadata(Some(kv)).build();
+            let mut w = ArrowWriter::try_new(file, batch.schema(), Some(props)).map_err(|e| fail(&e))?;
+            w.write(&batch).map_err(|e| fail(&e))?;
+            w.close().map_err(|e| fail(&e))?;
+            out.push((tmp, lock));
+        }
+        Ok(out)
+    }
+}
+
+/// Whether the file at `path` is one of the tool's trajectory tables (its footer says so).
+fn is_ours(path: &Path) -> bool {
+    use parquet::file::reader::FileReader;
+    let Ok(file) = std::fs::File::open(path) else { return false };
+    let Ok(reader) = parquet::file::reader::SerializedFileReader::new(file) else { return false };
+    reader.metadata().file_metadata().key_value_metadata().is_some_and(|kv| kv.iter().any(|e| e.key == MARK))
 }

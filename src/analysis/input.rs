@@ -35,7 +35,8 @@ pub struct Dataset {
     pub missing: Vec<std::ops::Range<u64>>,
     pub scenario: Scenario,
     pub switch_times: bool,
-    /// `DIR/trajectories.csv`, when the simulation sampled trajectories.
+    /// The directory of the trajectory tables beside the dataset ([`crate::trajectory::dir_for`]),
+    /// when the simulation sampled trajectories.
     pub trajectories: Option<PathBuf>,
 }
 
@@ -273,7 +274,7 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         });
     }
     let scenario = Scenario::from_text(Some(&toml), &first, &[]).map_err(|e| bad(&first, format!("its recorded scenario: {e}")))?;
-    let trajectories = Some(dir.join("trajectories.csv")).filter(|p| p.is_file());
+    let trajectories = crate::trajectory::dir_for(dir).filter(|d| [crate::trajectory::SAMPLES, crate::trajectory::EVENTS].iter().all(|f| d.join(f).is_file()));
     let rows: u64 = parts.iter().map(|(_, p)| p.rows).sum();
     // shards that stopped at their own targets: the run is what they simulated
     let expected_rows = if parts.iter().any(|(_, p)| p.block.is_some()) { rows + missing.iter().map(|r| r.end - r.start).sum::<u64>() } else { total };

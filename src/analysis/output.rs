@@ -18,7 +18,8 @@
 //!   per decade (the paper's question: how many realizations?);
 //! - `summary.json`: provenance, policies, counts, regressions, renewal check, tests;
 //! - `table1.md`: our Table 1 beside the paper's;
-//! - `trajectories.csv`: copied from the dataset when it has one (the paper's Fig. 4).
+//! - `trajectory_samples.parquet`, `trajectory_events.parquet`: the trajectory tables beside the
+//!   dataset, copied when the simulation sampled trajectories (the paper's Fig. 4).
 //!
 //! Everything is written into a staging directory that replaces ADIR only when complete
 //! ([`crate::outdir`]).
@@ -278,6 +279,10 @@ fn summary(a: &Analysis) -> serde_json::Value {
     })
 }
 
+/// The trajectory tables beside a dataset ([`crate::trajectory`]) and their names in an analysis.
+pub const TRAJECTORY_TABLES: [(&str, &str); 2] =
+    [(crate::trajectory::SAMPLES, "trajectory_samples.parquet"), (crate::trajectory::EVENTS, "trajectory_events.parquet")];
+
 /// Our Table 1 beside the paper's (for the paper's scene; other scenes: ours alone), as Markdown.
 pub fn table1_markdown(a: &Analysis) -> String {
     let compare = a.dataset.scenario.is_paper_scene();
@@ -349,7 +354,9 @@ pub fn write_into(a: &Analysis, dir: &Path, shown: &Path) -> Result<(), Analysis
     std::fs::write(dir.join("summary.json"), json + "\n").map_err(|e| werr(&shown.join("summary.json"), &e))?;
     std::fs::write(dir.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&shown.join("table1.md"), &e))?;
     if let Some(src) = &a.dataset.trajectories {
-        std::fs::copy(src, dir.join("trajectories.csv")).map_err(|e| werr(&shown.join("trajectories.csv"), &e))?;
+        for (from, to) in TRAJECTORY_TABLES {
+            std::fs::copy(src.join(from), dir.join(to)).map_err(|e| werr(&shown.join(to), &e))?;
+        }
     }
     Ok(())
 }

@@ -58,8 +58,20 @@ impl Cell {
         0.5 * 10f64.powi(-decimals)
     }
 
-    /// `Some(true)` if consistent (see the type's docs), `None` without the numbers to judge.
+    /// Our value lies at the boundary 0 of the support (a mode of T_1, D_k, H_k, whose densities
+    /// peak there) while the paper's does not: a relative difference would always read −100 %
+    /// and mean nothing (the paper's mode of a density peaking at its edge is the centre of its
+    /// first histogram bin), so such a cell is shown, not judged.
+    pub fn at_boundary(&self) -> bool {
+        self.ours == Some(0.0) && self.paper.is_some_and(|p| p != 0.0)
+    }
+
+    /// `Some(true)` if consistent (see the type's docs), `None` without the numbers to judge or
+    /// [at the boundary](Cell::at_boundary).
     pub fn consistent(&self) -> Option<bool> {
+        if self.at_boundary() {
+            return None;
+        }
         let p = self.paper?;
         let r = Self::rounding(p);
         match self.interval {
@@ -85,10 +97,11 @@ impl Cell {
     }
 
     pub fn mark(&self) -> String {
+        if self.at_boundary() {
+            return "boundary".into();
+        }
         match (self.consistent(), self.ours, self.paper) {
             (Some(true), _, _) => "✓".into(),
-            // a relative difference to a value at the boundary 0 (a mode of T_1, D_k, H_k) means nothing
-            (Some(false), Some(o), Some(_)) if o == 0.0 => "✗ (ours at the boundary 0)".into(),
             (Some(false), Some(o), Some(p)) => format!("✗ {:+.1} %", 100.0 * (o / p - 1.0)),
             _ => String::new(),
         }

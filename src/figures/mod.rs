@@ -87,6 +87,49 @@ pub enum FigureError {
     Out(#[from] crate::outdir::OutDirError),
 }
 
+/// One sampled realization (Fig. 4): its grid samples and its events, in time order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Trajectory {
+    /// (t [s], ẋ [m/s], belt velocity [m/s])
+    pub samples: Vec<[f64; 3]>,
+    pub belt_switches: Vec<f64>,
+    pub stick_starts: Vec<f64>,
+    pub stick_ends: Vec<f64>,
+}
+
+impl Trajectory {
+    /// Realization 0 from the analysis' trajectory tables (`None` without them).
+    fn load(adir: &Path) -> Result<Option<Trajectory>, FigureError> {
+        let [(_, samples), (_, events)] = crate::analysis::output::TRAJECTORY_TABLES;
+        let (sp, ep) = (adir.join(samples), adir.join(events));
+        if !(sp.is_file() && ep.is_file()) {
+            return Ok(None);
+        }
+        let read = |path: &Path, columns: &[(&str, char)]| Table::read_checked(path, columns).map_err(|e| FigureError::Read { path: path.to_owned(), message: e.to_string() });
+        let s = read(&sp, &[("realization", 'i'), ("t", 'f'), ("xdot", 'f'), ("belt_velocity", 'f')])?;
+        let e = read(&ep, &[("realization", 'i'), ("event", 's'), ("t", 'f')])?;
+        let first = |t: &Table| t.ints("realization").unwrap_or_default().iter().map(|r| *r == Some(0)).collect::<Vec<bool>>();
+        let mut out = Trajectory::default();
+        let (keep, t, xdot, v) = (first(&s), s.floats("t").unwrap_or_default(), s.floats("xdot").unwrap_or_default(), s.floats("belt_velocity").unwrap_or_default());
+        for i in (0..keep.len()).filter(|&i| keep[i]) {
+            if let (Some(t), Some(x), Some(v)) = (t[i], xdot[i], v[i]) {
+                out.samples.push([t, x, v]);
+            }
+        }
+        let (keep, kind, t) = (first(&e), e.strings("event").unwrap_or_default(), e.floats("t").unwrap_or_default());
+        for i in (0..keep.len()).filter(|&i| keep[i]) {
+            let Some(t) = t[i] else { continue };
+            match kind[i].as_str() {
+                "belt_switch" => out.belt_switches.push(t),
+                "stick_start" => out.stick_starts.push(t),
+                "stick_end" => out.stick_ends.push(t),
+                _ => {}
+            }
+        }
+        Ok(Some(out))
+    }
+}
+
 /// The analysis tables the figures are drawn from.
 #[derive(Debug, Clone)]
 pub struct Inputs {
@@ -96,8 +139,8 @@ pub struct Inputs {
     pub independence: Table,
     pub growth: Table,
     pub scenario: Scenario,
-    /// `trajectories.csv`, if the analysis directory has one
-    pub trajectories: Option<String>,
+    /// realization 0's sampled trajectory, if the analysis has the trajectory tables
+    pub trajectory: Option<Trajectory>,
     /// `convergence.parquet`, if the analysis has one (older analyses do not)
     pub convergence: Option<Table>,
 }
@@ -116,7 +159,7 @@ impl Inputs {
         let summary: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
         let toml = summary["dataset"]["scenario"].as_str().ok_or_else(|| bad("no dataset.scenario".into()))?;
         let scenario = Scenario::from_text(Some(toml), &summary_path, &[]).map_err(|e| bad(e.to_string()))?;
-        let trajectories = std::fs::read_to_string(adir.join("trajectories.csv")).ok();
+        let trajectory = Trajectory::load(adir)?;
         let convergence_path = adir.join("convergence.parquet");
         let convergence = if convergence_path.exists() {
             Some(read("convergence.parquet", &keyed(&[("realizations", 'i'), ("mean", 'f'), ("mean_lo", 'f'), ("mean_hi", 'f')]))?)
@@ -136,7 +179,7 @@ impl Inputs {
             )?,
             growth: read("growth.parquet", &[("variable", 's'), ("statistic", 's'), ("slope", 'f'), ("intercept", 'f'), ("r2", 'f')])?,
             scenario,
-            trajectories,
+            trajectory,
             convergence,
         })
     }
@@ -375,26 +418,10 @@ pub fn colour_top(panels: &[&[[f64; 5]]]) -> (f64, f64) {
 /// Fig 4: mass and belt velocity of the first sampled realization, whole window and first 2 s,
 /// with belt flips (grey), stick starts (black) and stick ends (green).
 pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
-    let csv = inp.trajectories.as_ref()?;
-    let (mut mass, mut belt, mut flips, mut starts, mut ends) = (vec![], vec![], vec![], vec![], vec![]);
-    for line in csv.lines().skip(1) {
-        let f: Vec<&str> = line.split(',').collect();
-        if f.len() < 6 || f[0] != "0" {
-            continue;
-        }
-        let num = |s: &str| s.parse::<f64>().ok();
-        let Some(t) = num(f[2]) else { continue };
-        match f[1] {
-            "sample" => {
-                mass.push((t, num(f[4])?));
-                belt.push((t, num(f[5])?));
-            }
-            "switch" => flips.push(t),
-            "stick_start" => starts.push(t),
-            "stick_end" => ends.push(t),
-            _ => {}
-        }
-    }
+    let tr = inp.trajectory.as_ref()?;
+    let mass: Vec<(f64, f64)> = tr.samples.iter().map(|s| (s[0], s[1])).collect();
+    let belt: Vec<(f64, f64)> = tr.samples.iter().map(|s| (s[0], s[2])).collect();
+    let (flips, starts, ends) = (&tr.belt_switches, &tr.stick_starts, &tr.stick_ends);
     // the window ends at t_a, which the last sample may fall short of (samples at 0, dt, …)
     let last = mass.last()?.0;
     let t_a = inp.scenario.run.duration;

@@ -244,3 +244,19 @@ fn bad_datasets_name_the_file_and_leave_nothing() {
         assert!(!err.contains("panicked"), "{err}");
     }
 }
+
+#[test]
+fn count_modes_and_their_intervals_are_integers() {
+    // issue 20, item 19: a count's mode is a most frequent integer, and so are its interval's ends
+    let tmp = tempfile::tempdir().unwrap();
+    let o = crate::common::stickslip(&["simulate", "--out", "d", "--realizations", "3000", "-q"], tmp.path());
+    assert!(o.status.success());
+    let a = analysis::analyze(&tmp.path().join("d"), &Options::default()).unwrap();
+    use stickslip::analysis::series::{Series, Variable};
+    for (name, var) in [("S_T", Variable::St), ("S_L", Variable::Sl)] {
+        let s = a.get(Series::count(var)).unwrap();
+        let (lo, hi) = s.mode_interval().expect("an interval");
+        let mode = s.mode.unwrap();
+        assert!([mode, lo, hi].iter().all(|x| x.fract() == 0.0) && lo <= mode && mode <= hi, "{name}: {mode} [{lo} – {hi}]");
+    }
+}

@@ -29,7 +29,7 @@ fn simulate_writes_a_dataset_and_reports() {
     let o = stickslip(&["simulate", "--out", "data/paper", "--realizations", "200", "--threads", "2"], tmp.path());
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("mean S_T"), "{}", stderr(&o));
-    assert_eq!(listing(tmp.path()), ["data", "data/paper", "data/paper/.stickslip-output", "data/paper/part-00000-of-00001.parquet"]);
+    assert_eq!(listing(tmp.path()), ["data", "data/paper", "data/paper/.stickslip-dataset", "data/paper/part-00000-of-00001.parquet"]);
     // a second run replaces the part atomically
     let o = stickslip(&["simulate", "--out", "data/paper", "--realizations", "100", "--quiet"], tmp.path());
     assert!(o.status.success() && o.stderr.is_empty(), "{}", stderr(&o));
@@ -111,5 +111,5 @@ fn a_different_shard_layout_in_the_same_directory_is_refused() {
     let o = stickslip(&["simulate", "--out", "d", "--realizations", "20", "--quiet"], tmp.path());
     assert!(!o.status.success());
     assert!(stderr(&o).contains("part-00000-of-00002.parquet"), "{}", stderr(&o));
-    assert_eq!(listing(&tmp.path().join("d")), [".stickslip-output", "part-00000-of-00002.parquet"]);
+    assert_eq!(listing(&tmp.path().join("d")), [".stickslip-dataset", "part-00000-of-00002.parquet"]);
 }

@@ -134,12 +134,12 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
     let args = ["reproduce", "--out", "run", "--realizations", "600", "--set", "output.switch_times=true", "--set", "output.trajectories=2", "--quiet"];
     let o = stickslip(&args, tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    // the layout: the dataset directory holds only its parts (and the trajectories, outside the
-    // *.parquet glob); analysis, figures and report sit beside it
+    // the layout: the dataset directory holds only its parts (and its hidden marker); the
+    // trajectory tables, analysis, figures and report sit beside it
     let mut dataset: Vec<String> = std::fs::read_dir(tmp.path().join("run/dataset")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     dataset.sort();
-    assert_eq!(dataset, [".stickslip-output", "part-00000-of-00001.parquet", "trajectories.csv"]);
-    for beside in ["analysis/moments.parquet", "analysis/summary.json", "figures", "report.html", "report.md"] {
+    assert_eq!(dataset, [".stickslip-dataset", "part-00000-of-00001.parquet"]);
+    for beside in ["dataset.trajectories/samples.parquet", "dataset.trajectories/events.parquet", "analysis/moments.parquet", "analysis/summary.json", "figures", "report.html", "report.md"] {
         assert!(tmp.path().join("run").join(beside).exists(), "run/{beside}");
     }
     let figs = tmp.path().join("run/figures");
@@ -283,14 +283,14 @@ fn the_trajectory_figure_draws_the_belt_at_its_own_two_speeds() {
     let tmp = tempfile::tempdir().unwrap();
     hand_made(tmp.path());
     let mut inp = Inputs::load(tmp.path()).unwrap();
-    let mut csv = String::from("realization,kind,t,x,xdot,belt_velocity\n");
-    for i in 0..10 {
-        let t = i as f64 * 0.1;
-        let v = if (0.3..0.6).contains(&t) { -0.5 } else { 1.0 };
-        csv.push_str(&format!("0,sample,{t},0,{v},{v}\n"));
-    }
-    csv.push_str("0,switch,0.3,,,\n0,switch,0.6,,,\n");
-    inp.trajectories = Some(csv);
+    let samples = (0..10)
+        .map(|i| {
+            let t = i as f64 * 0.1;
+            let v = if (0.3..0.6).contains(&t) { -0.5 } else { 1.0 };
+            [t, v, v]
+        })
+        .collect();
+    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![0.3, 0.6], ..Default::default() });
     let f = figures::trajectory_figure(&inp).unwrap();
     let belt = &f.panels[0].lines[1].points;
     // on to the end of the window, t_a (the samples stop at 0.9 s)
@@ -336,13 +336,8 @@ fn the_belt_trace_reaches_the_end_of_each_window() {
     let t_a = inp.scenario.run.duration;
     assert!(t_a > 3.0, "the paper's scene runs for {t_a} s");
     let level = |t: f64| if (0.3..0.6).contains(&t) || (1.8..2.2).contains(&t) { -0.5 } else { 1.0 };
-    let mut csv = String::from("realization,kind,t,x,xdot,belt_velocity\n");
-    for i in 0..30 {
-        let t = i as f64 * 0.1;
-        csv.push_str(&format!("0,sample,{t},0,0,{}\n", level(t)));
-    }
-    csv.push_str("0,switch,0.3,,,\n0,switch,0.6,,,\n0,switch,1.8,,,\n0,switch,2.2,,,\n");
-    inp.trajectories = Some(csv);
+    let samples = (0..30).map(|i| i as f64 * 0.1).map(|t| [t, 0.0, level(t)]).collect();
+    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![0.3, 0.6, 1.8, 2.2], ..Default::default() });
     let f = figures::trajectory_figure(&inp).unwrap();
     let (whole, first) = (&f.panels[0], &f.panels[1]);
     assert_eq!(first.lines[1].points.last(), Some(&(2.0, -0.5)), "{:?}", first.lines[1].points);

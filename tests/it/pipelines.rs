@@ -95,6 +95,37 @@ fn make_paper_is_incremental() {
 }
 
 #[test]
+fn a_reproduce_dataset_directory_reads_as_one_table_in_every_client() {
+    // issue 20, item 13: the dataset directory of `reproduce` (trajectories sampled) holds part
+    // files only, so directory readers take it whole; the trajectories sit beside it
+    let tmp = tempfile::tempdir().unwrap();
+    ok(&stickslip(&["reproduce", "--out", "r", "--realizations", "700", "-q"], tmp.path()));
+    let d = tmp.path().join("r/dataset");
+    let got = python(&format!(
+        r#"
+import polars as pl, pyarrow.dataset as ds, duckdb
+print("polars_rows", pl.read_parquet("{d}/").height)
+print("pyarrow_rows", ds.dataset("{d}", format="parquet").count_rows())
+print("duckdb_rows", duckdb.sql("SELECT count(*) FROM read_parquet('{d}/*.parquet')").fetchall()[0][0])
+s = pl.read_parquet("{d}.trajectories/samples.parquet")
+e = pl.read_parquet("{d}.trajectories/events.parquet")
+print("samples_realizations", s["realization"].n_unique())
+print("samples_columns_ok", float(s.columns == ["realization", "t", "x", "xdot", "belt_velocity"] and s.null_count().sum_horizontal()[0] == 0))
+print("events_kinds_ok", float(set(e["event"]) <= {{"belt_switch", "stick_start", "stick_end"}} and e.null_count().sum_horizontal()[0] == 0))
+"#,
+        d = d.display()
+    ));
+    for (name, value) in got {
+        let want = match name.as_str() {
+            "polars_rows" | "pyarrow_rows" | "duckdb_rows" => 700.0,
+            "samples_realizations" => 3.0,
+            _ => 1.0,
+        };
+        assert_eq!(value, want, "{name}");
+    }
+}
+
+#[test]
 fn make_paper_runs_a_sweep_once() {
     let tmp = tempfile::tempdir().unwrap();
     let scenario = tmp.path().join("sweep.toml");
@@ -114,7 +145,7 @@ fn python(script: &str) -> Vec<(String, f64)> {
     let o = Command::new("python3").arg("-c").arg(script).output().expect("python3 runs");
     assert!(
         o.status.success(),
-        "python failed (are polars and duckdb installed? `pip install polars duckdb`, see .ci/run):\n{}",
+        "python failed (are polars, duckdb and pyarrow installed? `pip install polars duckdb pyarrow`, see .ci/run):\n{}",
         String::from_utf8_lossy(&o.stderr)
     );
     String::from_utf8_lossy(&o.stdout)

@@ -72,7 +72,7 @@ fn names_below(dir: &Path) -> Vec<String> {
 
 /// Hidden temporaries and locks below `dir` (the marker is not one).
 fn hidden_leftovers(dir: &Path) -> Vec<String> {
-    names_below(dir).into_iter().filter(|n| n.starts_with('.') && n != ".stickslip-output").collect()
+    names_below(dir).into_iter().filter(|n| n.starts_with('.') && n != ".stickslip-output" && n != ".stickslip-dataset").collect()
 }
 
 #[test]
@@ -536,7 +536,7 @@ fn schema_v1_datasets_still_analyse() {
     // the same v1 part as another Parquet writer leaves it: no embedded Arrow schema (DuckDB,
     // parquet-mr), the counts plain INT32 (issue 20, item 22)
     std::fs::create_dir(t.join("v1-plain")).unwrap();
-    std::fs::copy(t.join("v1/.stickslip-output"), t.join("v1-plain/.stickslip-output")).unwrap();
+    std::fs::copy(t.join("v1/.stickslip-dataset"), t.join("v1-plain/.stickslip-dataset")).unwrap();
     {
         let builder = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap()).unwrap();
         let kv = builder.metadata().file_metadata().key_value_metadata().cloned();
