@@ -111,7 +111,7 @@ fn validate(df: &DataFrame, first: u64, switch_times: bool, horizon: f64) -> Pol
                 }
                 // (a duration cut at t_a is t_a − start, rounded: a relative 1e-12 of slack)
                 if let Some(x) = row.iter().find(|x| !(**x >= 0.0 && **x <= horizon * (1.0 + 1e-12))) {
-                    return Err(at(r, col, format!("value {x} (event times and durations lie in [0, t_a = {horizon}] s)")));
+                    return Err(at(r, col, format!("value {} (event times and durations lie in [0, t_a = {horizon}] s)", crate::scenario::short(*x))));
                 }
                 let is_start = col.ends_with("_start") || col == "switch_times";
                 if is_start && row.windows(2).any(|w| w[1] < w[0]) {

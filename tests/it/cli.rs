@@ -113,3 +113,71 @@ fn a_different_shard_layout_in_the_same_directory_is_refused() {
     assert!(stderr(&o).contains("part-00000-of-00002.parquet"), "{}", stderr(&o));
     assert_eq!(listing(&tmp.path().join("d")), [".stickslip-dataset", "part-00000-of-00002.parquet"]);
 }
+
+/// Refused at once with exit 2 and one printable line naming `culprit`, nothing written.
+fn refused_in_one_line(args: &[&str], cwd: &std::path::Path, culprit: &str) {
+    let o = stickslip(args, cwd);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+    assert!(e.contains(culprit), "{args:?} does not name {culprit:?}: {e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{args:?}: one line: {e}");
+    assert!(e.len() < 2000 && !e.trim_end().chars().any(char::is_control), "{args:?}: short and printable: {e}");
+}
+
+/// Issue 20, items 9, 21 and 22: the smaller doors.
+#[test]
+fn the_smaller_doors_refuse_in_one_printable_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    // a swept key in a stage that runs one scene
+    refused_in_one_line(&["tradeoff", "--out", "to", "--set", "belt.switch_rate=[1, 10]"], t, "belt.switch_rate");
+    refused_in_one_line(&["sensitivity", "--out", "so", "--set", "model.damping=[0.5, 5]", "--set", "model.friction_coefficient={dist=\"uniform\", low=0.3, high=0.7}"], t, "model.damping");
+    // a 100,000-character value is shortened, a TOML syntax error is one line
+    let long = format!("model.mass={}", "1".repeat(100_000));
+    refused_in_one_line(&["simulate", "--out", "o", "--set", &long], t, "characters");
+    std::fs::write(t.join("bad.toml"), "[model\nmass = \u{1}\u{2} 2\n").unwrap();
+    refused_in_one_line(&["simulate", "bad.toml", "--out", "o"], t, "line 1, column 7");
+    // a FIFO is not read (it would block)
+    let fifo = t.join("fifo.toml");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    refused_in_one_line(&["simulate", "fifo.toml", "--out", "o"], t, "not a regular file");
+    // the key the user set is named
+    refused_in_one_line(&["simulate", "--out", "o", "--set", "belt.reverse_switch_rate=2e6", "--set", "belt.reverse_speed=1"], t, "belt.reverse_switch_rate");
+    // the shard and a reproduce root
+    let o = stickslip(&["reproduce", "--out", "r", "--shard", "0/2"], t);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!t.join("r").exists());
+    assert!(stickslip(&["reproduce", "--out", "r", "--realizations", "300", "-q"], t).status.success());
+    refused_in_one_line(&["analyze", "r", "--out", "a"], t, "did you mean r/dataset?");
+    assert!(!t.join("a").exists() && !t.join("o").exists() && !t.join("to").exists() && !t.join("so").exists());
+    // k in digits only
+    let o = stickslip(&["simulate", "--out", "o", "--realizations", "100", "--target-se", "T_+1=0.1"], t);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("k must be an integer"), "{}", stderr(&o));
+    // sensitivity keeps its samples in memory: bounded, naming the largest N
+    refused_in_one_line(&["sensitivity", "--out", "so", "--realizations", "100000000", "--set", "model.friction_coefficient={dist=\"uniform\", low=0.3, high=0.7}"], t, "use N <=");
+}
+
+/// Issue 20, item 16: the shipped scenes without a clone.
+#[test]
+fn scenes_lists_prints_and_writes_the_shipped_scenarios() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let o = stickslip(&["scenes"], t);
+    assert!(o.status.success());
+    let list = String::from_utf8_lossy(&o.stdout);
+    for name in ["paper", "stribeck", "damped", "static_friction", "asymmetric_belt", "uncertain_friction", "stribeck_damped"] {
+        assert!(list.lines().any(|l| l.starts_with(name)), "{name} missing: {list}");
+    }
+    // printed: the repository's file, byte for byte
+    let o = stickslip(&["scenes", "damped"], t);
+    let repo = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("pipelines/scenes/damped.toml")).unwrap();
+    assert_eq!(o.stdout, repo);
+    // written to a new file, which then runs; an existing file is never replaced
+    assert!(stickslip(&["scenes", "stribeck", "--out", "my/s.toml"], t).status.success());
+    assert!(stickslip(&["simulate", "my/s.toml", "--out", "d", "--realizations", "50", "-q"], t).status.success());
+    std::fs::write(t.join("mine.toml"), "mine").unwrap();
+    refused_in_one_line(&["scenes", "paper", "--out", "mine.toml"], t, "refusing to replace");
+    assert_eq!(std::fs::read_to_string(t.join("mine.toml")).unwrap(), "mine");
+    refused_in_one_line(&["scenes", "nope"], t, "stribeck_damped");
+}

@@ -391,6 +391,8 @@ fn bad_values_in_a_schema_valid_file_are_refused_with_row_and_column() {
         ("inf", "slip_start", Box::new(|c| list_with(c, 3, Some(f64::INFINITY))), "inf"),
         ("null", "stick_start", Box::new(|c| list_with(c, 0, None)), "null"),
         ("negative", "stick_duration", Box::new(|c| list_with(c, 5, Some(-0.25))), "-0.25"),
+        // finite, positive, in order, but beyond the horizon (issue 20, item 6: it crashed a sketch)
+        ("beyond", "stick_duration", Box::new(|c| list_with(c, 40, Some(1.4e306))), "t_a = 10"),
         ("count", "n_stick", Box::new(|c| ints_with(c, |i, x| if i == 7 { x + 1 } else { x })), "n_stick"),
         ("huge", "n_stick", Box::new(|c| ints_with(c, |i, x| if i == 0 { 1 << 31 } else { x })), "2147483648"),
         ("ids", "realization", Box::new(|c| ints_with(c, |_, _| 0)), "realization 1"),
