@@ -65,8 +65,8 @@ pub struct Ensemble {
     solver: Solver,
     /// the scene per unit mass when no key is random (computed once)
     physics: Physics,
-    /// the largest ω = √(k/m) a drawn realization may have, and the rule ([`Scenario::max_omega`])
-    max_omega: (f64, String),
+    /// the largest ω = √(k/m) a drawn realization may have, the rule and its key ([`Scenario::max_omega`])
+    max_omega: (f64, String, &'static str),
 }
 
 impl Ensemble {
@@ -128,7 +128,7 @@ impl Ensemble {
                 let drawn = format!("{values} give non-finite k/m, c/m or mu n/m");
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }
-            let (max_omega, rule) = &self.max_omega;
+            let (max_omega, rule, _) = &self.max_omega;
             let omega = physics.omega2.sqrt();
             if omega > *max_omega {
                 let p = &out.params;

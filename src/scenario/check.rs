@@ -1,7 +1,7 @@
 //! Validation of a typed scenario — every key in its range, every distribution's support inside
 //! its key's, the combinations — and the scene it describes.
 
-use super::{invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES};
+use super::{invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS, MAX_NATURAL_RADIANS_NUMERICAL, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES};
 use crate::belt::{Belt, Process, Symmetric, Telegraph};
 use crate::params::{Key, Scene};
 use crate::physics::{FrictionLaw, Params, Stribeck};
@@ -91,16 +91,19 @@ impl Scenario {
     }
 
     /// The largest ω = √(k/m) [rad/s] a realization may have, and the rule that sets it:
-    /// ω·t_a ≤ [`MAX_NATURAL_RADIANS`], and for rk4 ω·step ≤ 1 (RK4 loses accuracy past 1 and
+    /// ω·t_a ≤ [`MAX_NATURAL_RADIANS`] (exact; [`MAX_NATURAL_RADIANS_NUMERICAL`] for a numerical
+    /// solver), and for rk4 ω·step ≤ 1 (RK4 loses accuracy past 1 and
     /// is unstable past 2.8). Checked at the door on the fixed values and the finite ends of
     /// every distribution, and per draw ([`crate::ensemble`]) for unbounded laws.
-    pub fn max_omega(&self) -> (f64, String) {
-        let horizon = MAX_NATURAL_RADIANS / self.run.duration;
+    pub fn max_omega(&self) -> (f64, String, &'static str) {
+        let radians = if self.solver() == SolverKind::Exact { MAX_NATURAL_RADIANS } else { MAX_NATURAL_RADIANS_NUMERICAL };
+        let horizon = radians / self.run.duration;
         let rk4 = if self.solver() == SolverKind::Rk4 { 1.0 / self.numerics.step } else { f64::INFINITY };
         if rk4 < horizon {
-            (rk4, format!("rk4 needs ω·numerics.step <= 1 (numerics.step = {})", short(self.numerics.step)))
+            (rk4, format!("rk4 needs ω·numerics.step <= 1 (numerics.step = {})", short(self.numerics.step)), "numerics.step")
         } else {
-            (horizon, format!("ω·run.duration must be at most {MAX_NATURAL_RADIANS:e} natural radians (run.duration = {} s)", short(self.run.duration)))
+            let solver = if radians == MAX_NATURAL_RADIANS { "" } else { " for a numerical solver" };
+            (horizon, format!("ω·run.duration must be at most {radians:e} natural radians{solver} (run.duration = {} s)", short(self.run.duration)), "model.stiffness")
         }
     }
 
@@ -215,13 +218,12 @@ impl Scenario {
         let solver = self.solver();
         let fixed = matches!(solver, SolverKind::Rk4 | SolverKind::Moreau);
         let omega = ratios[0].sqrt();
-        let (max_omega, rule) = self.max_omega();
+        let (max_omega, rule, key) = self.max_omega();
         if omega > max_omega {
-            let step_rule = solver == SolverKind::Rk4 && max_omega * num.step <= 1.0 + 1e-12;
-            let (key, value) = match (step_rule, self.param(Key::Stiffness)) {
-                (true, _) => ("numerics.step", short(num.step)),
-                (false, Some(p)) => ("model.stiffness", shown_param(p)),
-                (false, None) => ("model.stiffness", short(Params::PAPER.stiffness)),
+            let value = match (key, self.param(Key::Stiffness)) {
+                ("numerics.step", _) => short(num.step),
+                (_, Some(p)) => shown_param(p),
+                (_, None) => short(Params::PAPER.stiffness),
             };
             return Err(invalid(key, &value, &format!("with model.mass, ω = √(k/m) reaches {omega:e} rad/s: {rule}, so ω may be at most {max_omega:e} rad/s")));
         }
