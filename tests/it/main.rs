@@ -12,6 +12,7 @@ mod extremes;
 mod figures;
 mod fingerprint;
 mod invariants;
+mod pinned;
 mod pipelines;
 mod precision;
 mod readme;
