@@ -65,8 +65,9 @@ pub struct Ensemble {
     solver: Solver,
     /// the scene per unit mass when no key is random (computed once)
     physics: Physics,
-    /// the largest ω = √(k/m) a drawn realization may have, the rule and its key ([`Scenario::max_omega`])
-    max_omega: (f64, String, &'static str),
+    /// the rate rule a drawn realization must meet ([`Scenario::max_rate`]): the largest rate,
+    /// the rule, and whether the solver is numerical (its rate counts c/m too)
+    max_rate: (f64, String, bool),
 }
 
 impl Ensemble {
@@ -80,7 +81,10 @@ impl Ensemble {
             store_switch_times: scenario.output.switch_times,
             solver,
             physics: scene.params.per_unit_mass(),
-            max_omega: scenario.max_omega(),
+            max_rate: {
+                let (rate, rule, _) = scenario.max_rate();
+                (rate, rule, scenario.solver() != crate::solver::SolverKind::Exact)
+            },
             scene,
         })
     }
@@ -128,11 +132,14 @@ impl Ensemble {
                 let drawn = format!("{values} give non-finite k/m, c/m or mu n/m");
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }
-            let (max_omega, rule, _) = &self.max_omega;
-            let omega = physics.omega2.sqrt();
-            if omega > *max_omega {
+            let (max_rate, rule, numerical) = &self.max_rate;
+            let (rate, _, symbol) = crate::scenario::fastest_rate(*numerical, physics.omega2.sqrt(), physics.gamma);
+            if rate > *max_rate {
                 let p = &out.params;
-                let drawn = format!("model.stiffness = {:e} N/m, model.mass = {:e} kg give ω = {omega:e} rad/s, but {rule}", p.stiffness, p.mass);
+                let drawn = format!(
+                    "model.stiffness = {:e} N/m, model.damping = {:e} N·s/m, model.mass = {:e} kg give {symbol} = {rate:e} 1/s, but {rule}",
+                    p.stiffness, p.damping, p.mass
+                );
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }
         }

@@ -388,7 +388,15 @@ impl Lock {
             if !same_file(&file, &path) {
                 continue;
             }
-            let _ = file.set_len(0).and_then(|()| file.write_all(std::process::id().to_string().as_bytes()));
+            // A lock file holds nothing or a process id (a killed writer's, taken over): anything
+            // else is a user's file with our name, never emptied or removed.
+            let mut held = String::new();
+            let ours = (&file).take(64).read_to_string(&mut held).is_ok() && held.bytes().all(|b| b.is_ascii_digit());
+            if !ours {
+                return Err(refuse(&path, "exists and is not a stickslip lock file; refusing to touch it: move it away or choose another output"));
+            }
+            use std::io::Seek;
+            let _ = file.set_len(0).and_then(|()| file.seek(std::io::SeekFrom::Start(0))).and_then(|_| file.write_all(std::process::id().to_string().as_bytes()));
             interrupt::register(&path);
             remove_stale(dir, &name_of(target)?);
             return Ok(Lock { path, file });
@@ -589,7 +597,7 @@ impl DatasetDir {
             if !is_empty_dir(dir).map_err(|e| fail(dir, e))? && !is_marked(dir, Kind::Dataset) {
                 let why = match read_marker(dir) {
                     Some(m) => format!("holds a stickslip {}, not a dataset", m.kind),
-                    None => format!("is not empty and is not a stickslip dataset (no {MARKER})"),
+                    None => format!("is not empty and is not a stickslip dataset (no {DATASET_MARKER})"),
                 };
                 return Err(refuse(dir, format!("--out {why}; simulate adds part files only to a dataset directory: choose another --out")));
             }

@@ -190,12 +190,20 @@ impl Dist {
                 let z = |x: f64| if x > 0.0 { (x.ln() - mu) / s2.sqrt() } else { f64::NEG_INFINITY };
                 between(z(lo), z(hi))
             }
+            // below cv = 1e-150, cv² underflows: the law is a point mass at the mean in f64
+            Dist::Gamma { mean, .. } if self.point_mass() => f64::from(u8::from(mean >= lo && mean <= hi)),
             Dist::Gamma { mean, cv } => {
                 let (shape, scale) = (1.0 / (cv * cv), mean * cv * cv);
                 gamma_p(shape, hi / scale) - gamma_p(shape, lo / scale)
             }
         };
         p.clamp(0.0, 1.0)
+    }
+
+    /// A gamma law whose spread is below f64's resolution (cv < 1e-150, where cv² underflows
+    /// and the shape 1/cv² is infinite): every draw is the mean.
+    fn point_mass(&self) -> bool {
+        matches!(*self, Dist::Gamma { cv, .. } if cv < 1e-150)
     }
 
     /// The mean (of the untruncated law).
@@ -226,6 +234,7 @@ impl Dist {
                 let z: f64 = StandardNormal.sample(rng);
                 (mean.ln() - 0.5 * s2 + s2.sqrt() * z).exp()
             }
+            Dist::Gamma { mean, .. } if self.point_mass() => mean,
             Dist::Gamma { mean, cv } => {
                 let shape = 1.0 / (cv * cv);
                 Gamma::new(shape, mean * cv * cv).expect("checked gamma parameters").sample(rng)

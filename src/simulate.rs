@@ -291,7 +291,7 @@ fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path:
         let sampler = ensemble.trajectory(index, scenario.output.trajectory_step, &mut out)?;
         tables.push(index, &sampler.samples, out.switches(), &out.record);
     }
-    Ok((tables.write(&place)?, created))
+    Ok((tables.write(&place, &scenario.to_toml())?, created))
 }
 
 fn progress_bar(len: u64, enabled: bool) -> ProgressBar {

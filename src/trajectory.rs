@@ -140,8 +140,10 @@ impl Tables {
     }
 
     /// Write both tables into `dir` under temporary names (each under its lock), to be
-    /// committed with the part: an existing table is replaced only if it is the tool's.
-    pub fn write(&self, dir: &Path) -> Result<Vec<(TempFile, Lock)>, OutDirError> {
+    /// committed with the part: an existing table is replaced only if it is the tool's. `scenario`
+    /// (the resolved scenario, as the parts record it) goes into their footers, so that tables
+    /// left beside a dataset by another run are never taken for this one's ([`recorded_scenario`]).
+    pub fn write(&self, dir: &Path, scenario: &str) -> Result<Vec<(TempFile, Lock)>, OutDirError> {
         let mut out = Vec::new();
         for (name, batch) in [(SAMPLES, self.samples_batch()), (EVENTS, self.events_batch())] {
             let path = dir.join(name);
@@ -155,7 +157,11 @@ impl Tables {
             }
             let (tmp, file) = TempFile::create(&path)?;
             let fail = |e: &dyn std::fmt::Display| OutDirError { path: path.clone(), message: e.to_string(), refused: false };
-            let kv = vec![KeyValue::new(MARK.into(), name.trim_end_matches(".parquet").to_string()), KeyValue::new("stickslip.version".into(), env!("CARGO_PKG_VERSION").to_string())];
+            let kv = vec![
+                KeyValue::new(MARK.into(), name.trim_end_matches(".parquet").to_string()),
+                KeyValue::new("stickslip.version".into(), env!("CARGO_PKG_VERSION").to_string()),
+                KeyValue::new(SCENARIO.into(), scenario.to_string()),
+            ];
             let props = WriterProperties::builder().set_key_value_metadata(Some(kv)).build();
             let mut w = ArrowWriter::try_new(file, batch.schema(), Some(props)).map_err(|e| fail(&e))?;
             w.write(&batch).map_err(|e| fail(&e))?;
@@ -166,10 +172,22 @@ impl Tables {
     }
 }
 
+/// The footer key holding the scenario of the run that sampled the trajectories.
+const SCENARIO: &str = "stickslip.scenario";
+
+/// The footer's key-value pairs of the Parquet file at `path` (None if it is not one).
+fn footer(path: &Path) -> Option<Vec<(String, Option<String>)>> {
+    use parquet::file::reader::FileReader;
+    let reader = parquet::file::reader::SerializedFileReader::new(std::fs::File::open(path).ok()?).ok()?;
+    Some(reader.metadata().file_metadata().key_value_metadata()?.iter().map(|e| (e.key.clone(), e.value.clone())).collect())
+}
+
 /// Whether the file at `path` is one of the tool's trajectory tables (its footer says so).
 fn is_ours(path: &Path) -> bool {
-    use parquet::file::reader::FileReader;
-    let Ok(file) = std::fs::File::open(path) else { return false };
-    let Ok(reader) = parquet::file::reader::SerializedFileReader::new(file) else { return false };
-    reader.metadata().file_metadata().key_value_metadata().is_some_and(|kv| kv.iter().any(|e| e.key == MARK))
+    footer(path).is_some_and(|kv| kv.iter().any(|(k, _)| k == MARK))
+}
+
+/// The scenario recorded in the trajectory table at `path`, if it is the tool's.
+pub fn recorded_scenario(path: &Path) -> Option<String> {
+    footer(path)?.into_iter().find(|(k, _)| k == SCENARIO).and_then(|(_, v)| v)
 }

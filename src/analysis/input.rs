@@ -274,7 +274,12 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         });
     }
     let scenario = Scenario::from_text(Some(&toml), &first, &[]).map_err(|e| bad(&first, format!("its recorded scenario: {e}")))?;
-    let trajectories = crate::trajectory::dir_for(dir).filter(|d| [crate::trajectory::SAMPLES, crate::trajectory::EVENTS].iter().all(|f| d.join(f).is_file()));
+    // the trajectory tables beside the dataset, only if this run sampled them (tables another run
+    // left there record another scenario, and are not taken for these realizations)
+    let trajectories = crate::trajectory::dir_for(dir).filter(|d| {
+        use crate::trajectory::{recorded_scenario, EVENTS, SAMPLES};
+        [SAMPLES, EVENTS].iter().all(|f| recorded_scenario(&d.join(f)).as_deref() == Some(toml.as_str()))
+    });
     let rows: u64 = parts.iter().map(|(_, p)| p.rows).sum();
     // shards that stopped at their own targets: the run is what they simulated
     let expected_rows = if parts.iter().any(|(_, p)| p.block.is_some()) { rows + missing.iter().map(|r| r.end - r.start).sum::<u64>() } else { total };

@@ -90,20 +90,28 @@ impl Scenario {
         }
     }
 
-    /// The largest ω = √(k/m) [rad/s] a realization may have, and the rule that sets it:
-    /// ω·t_a ≤ [`MAX_NATURAL_RADIANS`] (exact; [`MAX_NATURAL_RADIANS_NUMERICAL`] for a numerical
-    /// solver), and for rk4 ω·step ≤ 1 (RK4 loses accuracy past 1 and
-    /// is unstable past 2.8). Checked at the door on the fixed values and the finite ends of
-    /// every distribution, and per draw ([`crate::ensemble`]) for unbounded laws.
-    pub fn max_omega(&self) -> (f64, String, &'static str) {
+    /// The rate [1/s] that sets a realization's work, and the key that sets it: ω = √(k/m)
+    /// for `exact` (closed forms absorb any damping), the fastest of ω and c/m for a numerical
+    /// solver (the largest eigenvalue of the linear part is at most max(ω, c/m): the step must
+    /// resolve it).
+    pub fn fastest_rate(&self, omega: f64, c_per_m: f64) -> (f64, &'static str, &'static str) {
+        fastest_rate(self.solver() != SolverKind::Exact, omega, c_per_m)
+    }
+
+    /// The largest [`Scenario::fastest_rate`] a realization may have, and the rule that sets it:
+    /// rate·t_a ≤ [`MAX_NATURAL_RADIANS`] (exact; [`MAX_NATURAL_RADIANS_NUMERICAL`] for a
+    /// numerical solver), and for rk4 rate·step ≤ 1 (RK4 loses accuracy past 1 and is unstable
+    /// past 2.8; the rule then names `numerics.step`). Checked at the door on the fixed values
+    /// and the finite ends of every distribution, and per draw ([`crate::ensemble`]).
+    pub fn max_rate(&self) -> (f64, String, Option<&'static str>) {
         let radians = if self.solver() == SolverKind::Exact { MAX_NATURAL_RADIANS } else { MAX_NATURAL_RADIANS_NUMERICAL };
         let horizon = radians / self.run.duration;
         let rk4 = if self.solver() == SolverKind::Rk4 { 1.0 / self.numerics.step } else { f64::INFINITY };
         if rk4 < horizon {
-            (rk4, format!("rk4 needs ω·numerics.step <= 1 (numerics.step = {})", short(self.numerics.step)), "numerics.step")
+            (rk4, format!("rk4 needs it times numerics.step to be at most 1 (numerics.step = {})", short(self.numerics.step)), Some("numerics.step"))
         } else {
             let solver = if radians == MAX_NATURAL_RADIANS { "" } else { " for a numerical solver" };
-            (horizon, format!("ω·run.duration must be at most {radians:e} natural radians{solver} (run.duration = {} s)", short(self.run.duration)), "model.stiffness")
+            (horizon, format!("it times run.duration must be at most {radians:e} radians{solver} (run.duration = {} s)", short(self.run.duration)), None)
         }
     }
 
@@ -217,15 +225,16 @@ impl Scenario {
         let num = &self.numerics;
         let solver = self.solver();
         let fixed = matches!(solver, SolverKind::Rk4 | SolverKind::Moreau);
-        let omega = ratios[0].sqrt();
-        let (max_omega, rule, key) = self.max_omega();
-        if omega > max_omega {
-            let value = match (key, self.param(Key::Stiffness)) {
+        let (rate, rate_key, symbol) = self.fastest_rate(ratios[0].sqrt(), ratios[1]);
+        let (max_rate, rule, step_key) = self.max_rate();
+        if rate > max_rate {
+            let key = step_key.unwrap_or(rate_key);
+            let value = match (key, self.param(if rate_key == "model.damping" { Key::Damping } else { Key::Stiffness })) {
                 ("numerics.step", _) => short(num.step),
                 (_, Some(p)) => shown_param(p),
                 (_, None) => short(Params::PAPER.stiffness),
             };
-            return Err(invalid(key, &value, &format!("with model.mass, ω = √(k/m) reaches {omega:e} rad/s: {rule}, so ω may be at most {max_omega:e} rad/s")));
+            return Err(invalid(key, &value, &format!("with model.mass, {symbol} reaches {rate:e} 1/s: {rule}, so it may be at most {max_rate:e} 1/s")));
         }
         let least_steps = self.run.duration / if fixed { num.step } else { num.max_step };
         if matches!(solver, SolverKind::Rk45 | SolverKind::Rk4 | SolverKind::Moreau) && least_steps > num.step_budget as f64 {
@@ -290,12 +299,14 @@ fn check_param(key: Key, p: &Param) -> Result<(), ScenarioError> {
             }
             let share = d.share_in((lo, hi));
             if !(share >= d.min_share()) {
+                let shown = shown_share(share);
+                // (a share just below the threshold must not print as the threshold)
+                let shown = if shown.parse::<f64>().is_ok_and(|x| x >= d.min_share()) { format!("{share:.9}") } else { shown };
                 return Err(invalid(
                     key.dotted(),
                     &shown_param(p),
                     &format!(
-                        "only {} of this law lies {range} (draws outside are drawn again): at least {} % must; narrow the law",
-                        shown_share(share),
+                        "only {shown} of this law lies {range} (draws outside are drawn again): at least {} % must; narrow the law",
                         d.min_share() * 100.0
                     ),
                 ));
@@ -316,11 +327,22 @@ pub(crate) fn bound(x: f64) -> String {
 
 /// A probability for a message: `0.13`, `2.1e-9`, `< 1e-300`.
 fn shown_share(p: f64) -> String {
-    if p < 1e-300 {
+    if !p.is_finite() {
+        "an unknown share (it could not be computed)".into()
+    } else if p < 1e-300 {
         "< 1e-300".into()
     } else if p < 1e-3 {
         format!("{p:.1e}")
     } else {
         format!("{:.3}", p)
+    }
+}
+
+/// [`Scenario::fastest_rate`] for a solver that is numerical (`numerical`) or `exact`.
+pub fn fastest_rate(numerical: bool, omega: f64, c_per_m: f64) -> (f64, &'static str, &'static str) {
+    if numerical && c_per_m > omega {
+        (c_per_m, "model.damping", "c/m")
+    } else {
+        (omega, "model.stiffness", "ω = √(k/m)")
     }
 }

@@ -26,6 +26,7 @@ pub use crate::solver::Numerics;
 mod check;
 mod spec;
 
+pub use check::fastest_rate;
 pub use spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, Run, Sign};
 
 /// The paper scenario, embedded: the default of every key.

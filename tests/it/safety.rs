@@ -630,3 +630,30 @@ fn an_interrupted_run_removes_the_directories_it_created() {
         assert!(!t.join("top").exists(), "left {:?}", names_below(t));
     }
 }
+
+/// Issue 20, item 1 (review): a user's file with the lock's name is neither emptied nor removed.
+#[test]
+fn a_users_file_with_the_locks_name_is_left_alone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "100", "-q"], t));
+    std::fs::write(t.join(".an.stickslip-lock"), "user notes").unwrap();
+    refused(&stickslip(&["analyze", "d", "--out", "an"], t), "not a stickslip lock file");
+    assert_eq!(std::fs::read_to_string(t.join(".an.stickslip-lock")).unwrap(), "user notes");
+    assert!(!t.join("an").exists());
+}
+
+/// Trajectory tables another run left beside a dataset are not taken for its realizations.
+#[test]
+fn trajectories_of_another_run_are_not_used() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    ok(&stickslip(&["simulate", "--out", "ds", "--realizations", "100", "-q", "--set", "output.trajectories=2"], t));
+    ok(&stickslip(&["analyze", "ds", "--out", "a1", "-q"], t));
+    assert!(t.join("a1/trajectory_samples.parquet").is_file(), "this run's trajectories are used");
+    std::fs::remove_dir_all(t.join("ds")).unwrap();
+    ok(&stickslip(&["simulate", "--out", "ds", "--realizations", "100", "--seed", "99", "-q", "--set", "belt.speed=3"], t));
+    assert!(t.join("ds.trajectories/samples.parquet").is_file(), "the earlier run's tables are still there");
+    ok(&stickslip(&["analyze", "ds", "--out", "a2", "-q"], t));
+    assert!(!t.join("a2/trajectory_samples.parquet").exists() && !t.join("a2/trajectory_events.parquet").exists());
+}
