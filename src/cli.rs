@@ -330,7 +330,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "S")]
     pub seed: Option<u64>,
     /// Stop when the standard error of the mean of VAR is at most SE (repeatable; all must be
-    /// met). VAR: S_T, S_L, T_k, D_k, L_k, H_k (k >= 1) or stick_fraction. Checked after every
+    /// met). VAR: S_T, S_L, T_k, D_k, L_k, H_k (k >= 1), stick_fraction, mean_stick_duration or
+    /// mean_slip_duration (a duration cut at t_a is censored, left out, as everywhere). Checked after every
     /// chunk of realizations in index order, so the dataset is the first N rows of a fixed-N run;
     /// --realizations (run.realizations) is the cap. With --shard, each shard applies the targets
     /// to its own block (its standard errors, not the union's).

@@ -1,9 +1,10 @@
 //! Stop at a target precision: `simulate --target-se VAR=SE` (repeatable).
 //!
-//! VAR is the mean of one per-realization quantity — `S_T`, `S_L`, `T_k`, `D_k`, `L_k`, `H_k`
-//! (k ≥ 1) or `stick_fraction` — and SE the standard error of that mean the run should reach,
-//! `se = √(s²/n)` over the realizations that have the quantity (D_k and H_k without the interval
-//! cut at t_a, as `analyze` counts them). Realizations are simulated in index order; after every
+//! VAR is the mean of one per-realization quantity of [`crate::observables`] — `S_T`, `S_L`,
+//! `T_k`, `D_k`, `L_k`, `H_k` (k ≥ 1), `stick_fraction`, `mean_stick_duration`,
+//! `mean_slip_duration` — and SE the standard error of that mean the run should reach,
+//! `se = √(s²/n)` over the realizations that have the quantity (its censoring rule is the
+//! observables' one, as everywhere). Realizations are simulated in index order; after every
 //! chunk of [`crate::ensemble::Ensemble::chunk_len`] realizations (a boundary that depends on the
 //! scenario only) the standard errors are updated and the run stops at the first boundary where
 //! every target is met. The dataset is therefore exactly the first N rows of a fixed-N run with
@@ -13,91 +14,33 @@
 use std::str::FromStr;
 
 use crate::ensemble::Outcome;
-use crate::events::censored;
+use crate::observables::Observable;
 use crate::stats::Moments;
-
-/// A per-realization quantity whose mean a target bounds.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Quantity {
-    SticksCount,
-    SlipsCount,
-    StickStart(usize),
-    StickDuration(usize),
-    SlipStart(usize),
-    SlipDuration(usize),
-    StickFraction,
-}
 
 /// One `--target-se VAR=SE`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Target {
-    pub quantity: Quantity,
+    pub quantity: Observable,
     pub se: f64,
-    /// the text of VAR, for messages and metadata
-    pub name: &'static str,
-    pub index: usize,
 }
 
 impl std::fmt::Display for Target {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.index > 0 {
-            write!(f, "{}_{}", self.name, self.index)
-        } else {
-            write!(f, "{}", self.name)
-        }
+        write!(f, "{}", self.quantity)
     }
 }
 
 impl FromStr for Target {
     type Err = String;
     fn from_str(s: &str) -> Result<Target, String> {
-        let bad = |why: &str| format!("--target-se {s:?}: {why}; expected VAR=SE with VAR one of S_T, S_L, T_k, D_k, L_k, H_k (k >= 1), stick_fraction, e.g. S_T=0.05");
+        let bad = |why: &str| format!("--target-se {s:?}: {why}; expected VAR=SE, e.g. S_T=0.05");
         let (var, se) = s.split_once('=').ok_or_else(|| bad("no '='"))?;
         let se: f64 = se.trim().parse().map_err(|_| bad("SE is not a number"))?;
         if !(se.is_finite() && se > 0.0) {
             return Err(bad("SE must be a positive number"));
         }
-        let var = var.trim();
-        let (quantity, name, index) = match var {
-            "S_T" => (Quantity::SticksCount, "S_T", 0),
-            "S_L" => (Quantity::SlipsCount, "S_L", 0),
-            "stick_fraction" => (Quantity::StickFraction, "stick_fraction", 0),
-            _ => {
-                let (v, k) = var.split_once('_').ok_or_else(|| bad("unknown VAR"))?;
-                // digits only: `parse` would also take `+1`
-                let k: usize = Some(k)
-                    .filter(|k| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
-                    .and_then(|k| k.parse().ok())
-                    .filter(|&k| (1..=1000).contains(&k))
-                    .ok_or_else(|| bad("k must be an integer from 1 to 1000, written in digits"))?;
-                match v {
-                    "T" => (Quantity::StickStart(k), "T", k),
-                    "D" => (Quantity::StickDuration(k), "D", k),
-                    "L" => (Quantity::SlipStart(k), "L", k),
-                    "H" => (Quantity::SlipDuration(k), "H", k),
-                    _ => return Err(bad("unknown VAR")),
-                }
-            }
-        };
-        Ok(Target { quantity, se, name, index })
-    }
-}
-
-impl Quantity {
-    /// Its value in one realization (None: the realization does not have it).
-    pub fn value(&self, o: &Outcome, duration: f64) -> Option<f64> {
-        let r = &o.record;
-        let (nt, nl) = (r.n_stick(), r.n_slip());
-        match *self {
-            Quantity::SticksCount => Some(nt as f64),
-            Quantity::SlipsCount => Some(nl as f64),
-            Quantity::StickFraction => Some(r.stick_duration.iter().sum::<f64>() / duration),
-            Quantity::StickStart(k) => r.stick_start.get(k - 1).copied(),
-            Quantity::SlipStart(k) => r.slip_start.get(k - 1).copied(),
-            // the interval cut at t_a is censored: excluded, as in `analyze`
-            Quantity::StickDuration(k) => r.stick_duration.get(k - 1).copied().filter(|_| !censored(true, k as u64, nt as u64, nl as u64, r.last_truncated)),
-            Quantity::SlipDuration(k) => r.slip_duration.get(k - 1).copied().filter(|_| !censored(false, k as u64, nt as u64, nl as u64, r.last_truncated)),
-        }
+        let quantity = var.parse::<Observable>().map_err(|e| bad(&e))?;
+        Ok(Target { quantity, se })
     }
 }
 
@@ -116,7 +59,7 @@ impl Tracker {
     /// Add one realization.
     pub fn add(&mut self, o: &Outcome, duration: f64) {
         for (t, m) in self.targets.iter().zip(&mut self.moments) {
-            if let Some(x) = t.quantity.value(o, duration) {
+            if let Some(x) = t.quantity.value(&o.record, duration) {
                 m.add(x);
             }
         }
@@ -157,9 +100,9 @@ mod tests {
     #[test]
     fn targets_parse_and_bad_ones_are_named() {
         let t: Target = "D_3=0.01".parse().unwrap();
-        assert_eq!((t.quantity, t.se, t.to_string()), (Quantity::StickDuration(3), 0.01, "D_3".to_string()));
-        assert_eq!("stick_fraction=1e-3".parse::<Target>().unwrap().quantity, Quantity::StickFraction);
-        for bad in ["S_T", "S_T=0", "S_T=-1", "X_1=0.1", "T_0=0.1", "T_x=0.1", "S_T=nan"] {
+        assert_eq!((t.quantity, t.se, t.to_string()), (Observable::StickDuration(3), 0.01, "D_3".to_string()));
+        assert_eq!("stick_fraction=1e-3".parse::<Target>().unwrap().quantity, Observable::StickFraction);
+        for bad in ["S_T", "S_T=0", "S_T=-1", "X_1=0.1", "T_0=0.1", "T_x=0.1", "S_T=nan", "T_+1=0.1"] {
             let e = bad.parse::<Target>().unwrap_err();
             assert!(e.contains("--target-se"), "{e}");
         }

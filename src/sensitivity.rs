@@ -17,8 +17,11 @@
 //!
 //! 95 % intervals: percentile bootstrap over j (200 replicates, resampling drawn from ChaCha8
 //! seeded by the run's seed). Cost: N (d + 3) realizations for d random keys (d + 1 inputs).
-//! Outputs per realization: S_T, the stick fraction (time in stick / t_a), the mean stick duration
-//! and the mean slip duration (0 for a realization without one).
+//! Outputs per realization, as [`crate::observables`] defines them: S_T, the stick fraction (time
+//! in stick / t_a), the mean stick duration and the mean slip duration (the durations cut at t_a
+//! censored, left out). A pick-freeze sample j in one of whose d + 3 realizations an output has no
+//! value (a mean stick duration where a realization has no uncensored stick) is left out of that
+//! output's indices — never filled in; `samples` in `sobol.parquet` says how many were used.
 
 use std::path::Path;
 
@@ -28,12 +31,13 @@ use rayon::prelude::*;
 
 use crate::analysis::frame::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
+use crate::observables::Observable;
 use crate::figures::{render, Figure, Panel, Series};
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 
 /// The per-realization outputs whose variance is apportioned.
-pub const OUTPUTS: [&str; 4] = ["S_T", "stick_fraction", "mean_stick_duration", "mean_slip_duration"];
+pub const OUTPUTS: [Observable; 4] = [Observable::Sticks, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
 
 /// Bootstrap replicates of the intervals.
 pub const REPLICATES: usize = 200;
@@ -62,25 +66,25 @@ pub const MAX_MEMORY_GIB: f64 = 4.0;
 
 /// Bytes one pick-freeze sample holds: its vector (header and allocation) and d + 3 output rows.
 fn sample_bytes(d: usize) -> f64 {
-    (24 + 16 + (d + 3) * std::mem::size_of::<[f64; 4]>()) as f64
+    (24 + 16 + (d + 3) * std::mem::size_of::<[Option<f64>; 4]>()) as f64
 }
 
 /// One row of `sobol.parquet`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Index {
     pub parameter: String,
-    pub output: &'static str,
+    pub output: Observable,
+    /// pick-freeze samples whose realizations all have the output
+    pub samples: usize,
     pub first_order: f64,
     pub first_order_ci: (f64, f64),
     pub total: f64,
     pub total_ci: (f64, f64),
 }
 
-/// The outputs of one realization.
-pub fn outputs(o: &Outcome, duration: f64) -> [f64; 4] {
-    let r = &o.record;
-    let mean = |v: &[f64]| if v.is_empty() { 0.0 } else { v.iter().sum::<f64>() / v.len() as f64 };
-    [r.n_stick() as f64, r.stick_duration.iter().sum::<f64>() / duration, mean(&r.stick_duration), mean(&r.slip_duration)]
+/// The outputs of one realization ([`OUTPUTS`]; None where it has no value).
+pub fn outputs(o: &Outcome, duration: f64) -> [Option<f64>; 4] {
+    OUTPUTS.map(|q| q.value(&o.record, duration))
 }
 
 /// (first order, total) from f(A), f(B), f(AB⁽ⁱ⁾) over the samples `js` (module docs).
@@ -132,12 +136,12 @@ pub fn compute(scenario: &Scenario, n: u64) -> Result<Vec<Index>, SensitivityErr
     }
     let duration = scenario.run.duration;
     // per sample j: f(A), f(B), f(AB⁽ⁱ⁾) for each key i, then for the intrinsic input
-    let samples: Vec<Vec<[f64; 4]>> = (0..n)
+    let samples: Vec<Vec<[Option<f64>; 4]>> = (0..n)
         .into_par_iter()
-        .map(|j| -> Result<Vec<[f64; 4]>, RunError> {
+        .map(|j| -> Result<Vec<[Option<f64>; 4]>, RunError> {
             let (a, b) = (j, n + j);
             let mut out = Outcome::default();
-            let mut run = |intrinsic: u64, from: &[u64]| -> Result<[f64; 4], RunError> {
+            let mut run = |intrinsic: u64, from: &[u64]| -> Result<[Option<f64>; 4], RunError> {
                 ens.realization_mixed(intrinsic, from, &mut out)?;
                 Ok(outputs(&out, duration))
             };
@@ -152,12 +156,18 @@ pub fn compute(scenario: &Scenario, n: u64) -> Result<Vec<Index>, SensitivityErr
         .collect::<Result<_, _>>()?;
     let mut rows = Vec::new();
     let names: Vec<String> = keys.iter().map(|k| k.to_string()).chain(std::iter::once(INTRINSIC.to_string())).collect();
-    for (o, output) in OUTPUTS.iter().enumerate() {
-        let col = |c: usize| samples.iter().map(|f| f[c][o]).collect::<Vec<f64>>();
+    for (o, &output) in OUTPUTS.iter().enumerate() {
+        // the complete samples: every one of their d + 3 realizations has the output
+        let kept: Vec<&Vec<[Option<f64>; 4]>> = samples.iter().filter(|f| f.iter().all(|r| r[o].is_some())).collect();
+        let col = |c: usize| kept.iter().map(|f| f[c][o].unwrap_or(f64::NAN)).collect::<Vec<f64>>();
         let (fa, fb) = (col(0), col(1));
         for (i, name) in names.iter().enumerate() {
-            let ((s, s_ci), (t, t_ci)) = with_intervals(&fa, &fb, &col(2 + i), scenario.run.seed ^ (o as u64 * 1000 + i as u64));
-            rows.push(Index { parameter: name.clone(), output, first_order: s, first_order_ci: s_ci, total: t, total_ci: t_ci });
+            let ((s, s_ci), (t, t_ci)) = if kept.len() >= 2 {
+                with_intervals(&fa, &fb, &col(2 + i), scenario.run.seed ^ (o as u64 * 1000 + i as u64))
+            } else {
+                ((f64::NAN, (f64::NAN, f64::NAN)), (f64::NAN, (f64::NAN, f64::NAN)))
+            };
+            rows.push(Index { parameter: name.clone(), output, samples: kept.len(), first_order: s, first_order_ci: s_ci, total: t, total_ci: t_ci });
         }
     }
     Ok(rows)
@@ -169,6 +179,7 @@ pub fn table(rows: &[Index]) -> Table {
     let mut t = Table::default();
     t.push("parameter", Col::Str(rows.iter().map(|r| r.parameter.clone()).collect()))
         .push("output", Col::Str(rows.iter().map(|r| r.output.to_string()).collect()))
+        .push("samples", Col::Int(rows.iter().map(|r| Some(r.samples as i64)).collect()))
         .push("first_order", f(&|r| r.first_order))
         .push("first_order_lo", f(&|r| r.first_order_ci.0))
         .push("first_order_hi", f(&|r| r.first_order_ci.1))
@@ -188,8 +199,9 @@ pub fn figure(rows: &[Index]) -> Figure {
             let series = |label: &str, color: usize, shift: f64, get: &dyn Fn(&Index) -> (f64, (f64, f64))| Series {
                 label: label.into(),
                 color,
-                points: mine.iter().enumerate().map(|(i, r)| (i as f64 + shift, get(r).0)).collect(),
-                errors: mine.iter().map(|r| {
+                // (an index without enough complete samples is not drawn)
+                points: mine.iter().enumerate().filter(|(_, r)| get(r).0.is_finite()).map(|(i, r)| (i as f64 + shift, get(r).0)).collect(),
+                errors: mine.iter().filter(|r| get(r).0.is_finite()).map(|r| {
                     let (x, (lo, hi)) = get(r);
                     (x - lo).max(hi - x).max(0.0)
                 }).collect(),
@@ -231,11 +243,9 @@ pub fn markdown(rows: &[Index], n: u64) -> String {
     let mut m = format!(
         "## Global sensitivity (Sobol indices, {n} pick-freeze samples)\n\nFirst order (Saltelli 2010) and total (Jansen 1999), bootstrap 95 % intervals.\n\n| output | input | first order | total |\n|---|---|---|---|\n"
     );
+    let shown = |x: f64, (lo, hi): (f64, f64)| if x.is_finite() { format!("{x:.3} [{lo:.3} – {hi:.3}]") } else { "– (fewer than 2 complete samples)".into() };
     for r in rows {
-        m += &format!(
-            "| {} | {} | {:.3} [{:.3} – {:.3}] | {:.3} [{:.3} – {:.3}] |\n",
-            r.output, r.parameter, r.first_order, r.first_order_ci.0, r.first_order_ci.1, r.total, r.total_ci.0, r.total_ci.1
-        );
+        m += &format!("| {} | {} | {} | {} |\n", r.output, r.parameter, shown(r.first_order, r.first_order_ci), shown(r.total, r.total_ci));
     }
     m
 }

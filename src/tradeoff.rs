@@ -19,7 +19,8 @@
 //!
 //! **The question users ask** — which is the cheapest setting whose bias is below a fraction of
 //! the Monte Carlo standard error at my N? For each setting and each Table 1 statistic s
-//! (E T_k, E D_k, E L_k, E H_k for k ≤ 6, E S_T, E S_L): bias_s = mean_setting − mean_reference
+//! (E T_k, E D_k, E L_k, E H_k for k ≤ 6, E S_T, E S_L, as [`crate::observables`] defines them:
+//! a duration cut at t_a is censored, left out): bias_s = mean_setting − mean_reference
 //! over the same realizations, and SE_s = sd_reference / √(N · p_s) the standard error of the
 //! mean at the scenario's `run.realizations` N (p_s: the fraction of realizations that have the
 //! k-th interval). The setting's score is max_s |bias_s| / SE_s; the recommendation is the
@@ -41,6 +42,7 @@ use std::time::Instant;
 use crate::analysis::frame::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::events::Record;
+use crate::observables::Observable;
 use crate::figures::{render, Figure, Panel, Series};
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Numerics, Scenario, ScenarioError};
@@ -180,38 +182,20 @@ fn run_all(sc: &Scenario, n: u64) -> Result<Measured, TradeoffError> {
     Ok(Measured { records, seconds: per(seconds), evaluations: per((steps * sc.solver().evaluations_per_step()) as f64) })
 }
 
-/// Mean of the k-th elements (k < 6) of the lists picked by `f`, pooled.
-fn pooled(rs: &[Record], f: impl Fn(&Record) -> &Vec<f64>) -> f64 {
-    let v: Vec<f64> = rs.iter().flat_map(|r| f(r).iter().take(6).copied()).collect();
+/// The mean over `records` of the values of `quantities` (pooled: every realization's value of
+/// each quantity it has), 0 without any.
+fn pooled(records: &[Record], quantities: &[Observable], duration: f64) -> f64 {
+    let v: Vec<f64> = records.iter().flat_map(|r| quantities.iter().filter_map(move |q| q.value(r, duration))).collect();
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
-fn mean_tk(rs: &[Record], k: usize) -> f64 {
-    let v: Vec<f64> = rs.iter().filter_map(|r| r.stick_start.get(k).copied()).collect();
-    v.iter().sum::<f64>() / v.len().max(1) as f64
-}
-
-/// The Table 1 statistics the recommendation scores: (name, value of one realization if it has it).
-fn statistics() -> Vec<(String, Box<dyn Fn(&Record) -> Option<f64>>)> {
-    let mut out: Vec<(String, Box<dyn Fn(&Record) -> Option<f64>>)> = vec![
-        ("S_T".into(), Box::new(|r: &Record| Some(r.n_stick() as f64))),
-        ("S_L".into(), Box::new(|r: &Record| Some(r.n_slip() as f64))),
-    ];
-    for k in 0..6 {
-        out.push((format!("T_{}", k + 1), Box::new(move |r: &Record| r.stick_start.get(k).copied())));
-        out.push((format!("D_{}", k + 1), Box::new(move |r: &Record| r.stick_duration.get(k).copied())));
-        out.push((format!("L_{}", k + 1), Box::new(move |r: &Record| r.slip_start.get(k).copied())));
-        out.push((format!("H_{}", k + 1), Box::new(move |r: &Record| r.slip_duration.get(k).copied())));
-    }
-    out
-}
-
-/// max over the statistics of |mean(records) − mean(reference)| / SE at `n_run` realizations.
-fn bias_over_se(records: &[Record], reference: &[Record], n_run: u64) -> f64 {
+/// max over the Table 1 statistics ([`Observable::table1`]) of |mean(records) − mean(reference)|
+/// / SE at `n_run` realizations.
+fn bias_over_se(records: &[Record], reference: &[Record], n_run: u64, duration: f64) -> f64 {
     let mut worst: f64 = 0.0;
-    for (_, f) in statistics() {
-        let r: Vec<f64> = reference.iter().filter_map(&f).collect();
-        let o: Vec<f64> = records.iter().filter_map(&f).collect();
+    for q in Observable::table1() {
+        let r: Vec<f64> = reference.iter().filter_map(|x| q.value(x, duration)).collect();
+        let o: Vec<f64> = records.iter().filter_map(|x| q.value(x, duration)).collect();
         if r.len() < 2 || o.is_empty() {
             continue;
         }
@@ -299,7 +283,9 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
             errors.extend(match_events(&e.slip_start, &r.slip_start).0);
         }
         let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len().max(1) as f64).sqrt();
-        let count = |rs: &[Record]| rs.iter().map(|r| r.stick_start.len()).sum::<usize>() as f64 / rs.len().max(1) as f64;
+        // D_1..D_6 (H_1..H_6) pooled, the censored ones left out (the observables' one rule)
+        let durations = |f: fn(u32) -> Observable| (1..=6).map(f).collect::<Vec<_>>();
+        let t_a = base.run.duration;
         rows.push(Row {
             solver,
             setting,
@@ -311,11 +297,11 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
             matched: errors.len() as u64,
             missed_sticks: missed,
             spurious_sticks: spurious,
-            bias_t: (0..6).map(|k| (mean_tk(&records, k) - mean_tk(exact, k)).abs()).fold(0.0, f64::max),
-            bias_d: pooled(&records, |r| &r.stick_duration) - pooled(exact, |r| &r.stick_duration),
-            bias_h: pooled(&records, |r| &r.slip_duration) - pooled(exact, |r| &r.slip_duration),
-            bias_st: count(&records) - count(exact),
-            max_bias_over_se: (n >= MIN_REALIZATIONS).then(|| bias_over_se(&records, exact, base.run.realizations)),
+            bias_t: (1..=6).map(|k| [Observable::StickStart(k)]).map(|q| (pooled(&records, &q, t_a) - pooled(exact, &q, t_a)).abs()).fold(0.0, f64::max),
+            bias_d: pooled(&records, &durations(Observable::StickDuration), t_a) - pooled(exact, &durations(Observable::StickDuration), t_a),
+            bias_h: pooled(&records, &durations(Observable::SlipDuration), t_a) - pooled(exact, &durations(Observable::SlipDuration), t_a),
+            bias_st: pooled(&records, &[Observable::Sticks], t_a) - pooled(exact, &[Observable::Sticks], t_a),
+            max_bias_over_se: (n >= MIN_REALIZATIONS).then(|| bias_over_se(&records, exact, base.run.realizations, t_a)),
             recommended: false,
         });
     }

@@ -12,6 +12,7 @@ mod extremes;
 mod figures;
 mod fingerprint;
 mod invariants;
+mod observables;
 mod pinned;
 mod pipelines;
 mod precision;

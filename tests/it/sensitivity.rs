@@ -31,7 +31,7 @@ fn the_first_order_index_of_lambda_agrees_with_binning_a_plain_run() {
     let binned = between / var;
     // the pick-freeze estimate (seed 1, independent of the plain run) and its interval
     let rows = sensitivity::compute(&scenario(&[MU, LAMBDA]), 100_000).unwrap();
-    let r = rows.iter().find(|r| r.parameter == "switch_rate" && r.output == "S_T").unwrap();
+    let r = rows.iter().find(|r| r.parameter == "switch_rate" && r.output.name() == "S_T").unwrap();
     assert!(r.first_order_ci.0 <= binned && binned <= r.first_order_ci.1, "binned {binned} outside {:?} (estimate {})", r.first_order_ci, r.first_order);
     // first order ≤ total, both within [0, 1] up to their noise, for every row
     for r in &rows {

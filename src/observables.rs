@@ -1,0 +1,205 @@
+//! One home for the per-realization quantities the tool measures: their names (one parser for
+//! what users type), units, meaning, and their value on one simulated realization — the one
+//! definition `simulate --target-se`, `tradeoff` and `sensitivity` use (they never write a
+//! dataset). `analyze` reads the same quantities from the dataset's columns (see each variant's
+//! column below) under the same censoring rule.
+//!
+//! **Censoring (one rule, everywhere).** The interval still running at t_a is cut there and its
+//! truncation recorded (`last_truncated`). A cut interval is *censored*: its length is a lower
+//! bound of a duration, not a duration, so it is left out of D_k and H_k — and so out of every
+//! mean duration — while the time it covers still counts toward the stick fraction (time spent
+//! stuck in [0, t_a]) and its start still counts as T_k or L_k (the start is observed). A
+//! realization without the k-th interval, or whose k-th duration is censored, has no value of it:
+//! statistics are over the realizations that have the value, and say how many they are.
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::events::Record;
+
+/// A per-realization quantity (see the module docs for the censoring rule).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Observable {
+    /// T_k [s]: start of the k-th stick, counted from the first (column `stick_start`)
+    StickStart(u32),
+    /// L_k [s]: start of the k-th slip, counted from the slip after the first stick (`slip_start`)
+    SlipStart(u32),
+    /// D_k [s]: duration of the k-th stick, censored at t_a (`stick_duration`)
+    StickDuration(u32),
+    /// H_k [s]: duration of the k-th slip, censored at t_a (`slip_duration`)
+    SlipDuration(u32),
+    /// S_T: number of sticks (`n_stick`)
+    Sticks,
+    /// S_L: number of slips (`n_slip`)
+    Slips,
+    /// fraction of [0, t_a] spent stuck, the cut last stick included (Σ `stick_duration` / t_a)
+    StickFraction,
+    /// mean of the realization's uncensored stick durations [s]
+    MeanStickDuration,
+    /// mean of the realization's uncensored slip durations [s]
+    MeanSlipDuration,
+}
+
+/// Highest index k a name may carry.
+pub const MAX_INDEX: u32 = 1000;
+
+impl Observable {
+    /// The name users type and tables show: `T_3`, `S_T`, `stick_fraction`.
+    pub fn name(self) -> String {
+        match self {
+            Observable::StickStart(k) => format!("T_{k}"),
+            Observable::SlipStart(k) => format!("L_{k}"),
+            Observable::StickDuration(k) => format!("D_{k}"),
+            Observable::SlipDuration(k) => format!("H_{k}"),
+            Observable::Sticks => "S_T".into(),
+            Observable::Slips => "S_L".into(),
+            Observable::StickFraction => "stick_fraction".into(),
+            Observable::MeanStickDuration => "mean_stick_duration".into(),
+            Observable::MeanSlipDuration => "mean_slip_duration".into(),
+        }
+    }
+
+    /// Its unit: `s`, or `1` for counts and fractions.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Observable::Sticks | Observable::Slips | Observable::StickFraction => "1",
+            _ => "s",
+        }
+    }
+
+    /// What it is, in a sentence.
+    pub fn about(self) -> &'static str {
+        match self {
+            Observable::StickStart(_) => "start of the k-th stick, counting from the first stick",
+            Observable::SlipStart(_) => "start of the k-th slip, counting from the slip after the first stick",
+            Observable::StickDuration(_) => "duration of the k-th stick; none when it is the stick cut at t_a (censored)",
+            Observable::SlipDuration(_) => "duration of the k-th slip; none when it is the slip cut at t_a (censored)",
+            Observable::Sticks => "number of sticks in [0, t_a]",
+            Observable::Slips => "number of slips in [0, t_a], counted from the slip after the first stick",
+            Observable::StickFraction => "fraction of [0, t_a] spent stuck, the stick cut at t_a included",
+            Observable::MeanStickDuration => "mean duration of the realization's sticks, the censored one left out; none without one",
+            Observable::MeanSlipDuration => "mean duration of the realization's slips, the censored one left out; none without one",
+        }
+    }
+
+    /// Its value on one realization's record over the window t_a = `duration` [s]; `None` when
+    /// the realization does not have it (no k-th interval, a censored duration, no uncensored
+    /// interval to average).
+    pub fn value(self, r: &Record, duration: f64) -> Option<f64> {
+        let at = |v: &[f64], k: u32| v.get(k as usize - 1).copied();
+        let mean = |v: &[f64], stick: bool| {
+            let kept: Vec<f64> = (1..=v.len() as u32).filter(|&k| !censored(r, stick, k)).map(|k| v[k as usize - 1]).collect();
+            (!kept.is_empty()).then(|| kept.iter().sum::<f64>() / kept.len() as f64)
+        };
+        match self {
+            Observable::StickStart(k) => at(&r.stick_start, k),
+            Observable::SlipStart(k) => at(&r.slip_start, k),
+            Observable::StickDuration(k) => at(&r.stick_duration, k).filter(|_| !censored(r, true, k)),
+            Observable::SlipDuration(k) => at(&r.slip_duration, k).filter(|_| !censored(r, false, k)),
+            Observable::Sticks => Some(r.n_stick() as f64),
+            Observable::Slips => Some(r.n_slip() as f64),
+            Observable::StickFraction => Some(r.stick_duration.iter().sum::<f64>() / duration),
+            Observable::MeanStickDuration => mean(&r.stick_duration, true),
+            Observable::MeanSlipDuration => mean(&r.slip_duration, false),
+        }
+    }
+
+    /// The paper's Table 1 quantities: T_k, D_k, L_k, H_k for k ≤ 6, then S_T and S_L.
+    pub fn table1() -> Vec<Observable> {
+        let mut out = Vec::new();
+        for k in 1..=6 {
+            out.extend([Observable::StickStart(k), Observable::StickDuration(k), Observable::SlipStart(k), Observable::SlipDuration(k)]);
+        }
+        out.extend([Observable::Sticks, Observable::Slips]);
+        out
+    }
+}
+
+/// Whether the k-th stick (`stick`) or slip duration is the interval cut at t_a: the last
+/// interval was cut, it is the k-th of its kind, and it is the last one (a final stick when
+/// S_T > S_L, a final slip when S_T = S_L). The one censoring rule (module docs).
+pub fn censored(r: &Record, stick: bool, k: u32) -> bool {
+    crate::events::censored(stick, u64::from(k), r.n_stick() as u64, r.n_slip() as u64, r.last_truncated)
+}
+
+impl fmt::Display for Observable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+impl FromStr for Observable {
+    type Err = String;
+    /// The one parser of the names users type: `S_T`, `S_L`, `stick_fraction`,
+    /// `mean_stick_duration`, `mean_slip_duration`, and `T_k`, `L_k`, `D_k`, `H_k` with k ≥ 1 in
+    /// digits (`T_3`; `T3` too). Anything else is refused, naming what is accepted.
+    fn from_str(s: &str) -> Result<Observable, String> {
+        let s = s.trim();
+        let known = "S_T, S_L, stick_fraction, mean_stick_duration, mean_slip_duration, or T_k, L_k, D_k, H_k with k >= 1";
+        let fixed = [Observable::Sticks, Observable::Slips, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
+        if let Some(o) = fixed.into_iter().find(|o| o.name() == s) {
+            return Ok(o);
+        }
+        let family: Option<fn(u32) -> Observable> = match s.chars().next() {
+            Some('T') => Some(Observable::StickStart),
+            Some('L') => Some(Observable::SlipStart),
+            Some('D') => Some(Observable::StickDuration),
+            Some('H') => Some(Observable::SlipDuration),
+            _ => None,
+        };
+        let family = family.ok_or_else(|| format!("{s:?}: unknown quantity; expected {known}"))?;
+        let digits = s[1..].strip_prefix('_').unwrap_or(&s[1..]);
+        // digits only: `parse` would also take `+1`
+        let k = Some(digits)
+            .filter(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|d| d.parse::<u32>().ok())
+            .filter(|k| (1..=MAX_INDEX).contains(k))
+            .ok_or_else(|| format!("{s:?}: k must be an integer from 1 to {MAX_INDEX}, written in digits; expected {known}"))?;
+        Ok(family(k))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::events::Observer;
+
+    /// A record built by hand: first stick at 1 s for 0.5 s, a slip of 2 s, a stick at 3.5 s
+    /// still running at t_a = 4 s (cut: censored).
+    fn record() -> Record {
+        let mut r = Record::default();
+        r.stick(1.0, 0.0);
+        r.slip(1.5, 0.0, 1.0);
+        r.stick(3.5, 0.0);
+        r.finish(4.0);
+        r
+    }
+
+    #[test]
+    fn values_follow_the_one_censoring_rule() {
+        let r = record();
+        let v = |o: &str| o.parse::<Observable>().unwrap().value(&r, 4.0);
+        assert_eq!((v("S_T"), v("S_L")), (Some(2.0), Some(1.0)));
+        assert_eq!((v("T_1"), v("T_2"), v("T_3")), (Some(1.0), Some(3.5), None));
+        assert_eq!((v("D_1"), v("D_2")), (Some(0.5), None), "the stick cut at t_a is censored");
+        assert_eq!((v("L_1"), v("H_1")), (Some(1.5), Some(2.0)));
+        assert_eq!(v("stick_fraction"), Some((0.5 + 0.5) / 4.0), "the cut stick's time is time stuck");
+        assert_eq!((v("mean_stick_duration"), v("mean_slip_duration")), (Some(0.5), Some(2.0)));
+        // a realization that never sticks has no durations to average
+        let mut none = Record::default();
+        none.finish(4.0);
+        assert_eq!(Observable::MeanStickDuration.value(&none, 4.0), None);
+    }
+
+    #[test]
+    fn names_round_trip_and_bad_ones_are_refused() {
+        for o in Observable::table1().into_iter().chain([Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration]) {
+            assert_eq!(o.name().parse::<Observable>(), Ok(o));
+        }
+        assert_eq!("D3".parse::<Observable>(), Ok(Observable::StickDuration(3)));
+        for bad in ["T_+1", "T_0", "T_", "X_1", "T_1001", "s_t", "T_1.5"] {
+            let e = bad.parse::<Observable>().unwrap_err();
+            assert!(e.contains(bad) && e.contains("expected"), "{bad}: {e}");
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! The observables home: its value on an in-memory record is what `analyze` reads from the
+//! dataset, for every Table 1 quantity (the one censoring rule on both paths).
+
+use stickslip::analysis::series::{Series, Variable};
+use stickslip::analysis::{analyze, Options};
+use stickslip::observables::Observable;
+
+use crate::common::{outcomes, scenario, stickslip};
+
+#[test]
+fn the_record_path_agrees_with_analyze_on_the_same_realizations() {
+    let n = 3000;
+    let sc = scenario(&[&format!("run.realizations={n}")]);
+    let records: Vec<_> = outcomes(&sc, n).into_iter().map(|o| o.record).collect();
+    let tmp = tempfile::tempdir().unwrap();
+    assert!(stickslip(&["simulate", "--out", "d", "--realizations", &n.to_string(), "-q"], tmp.path()).status.success());
+    let a = analyze(&tmp.path().join("d"), &Options::default()).unwrap();
+    let t_a = sc.run.duration;
+    for q in Observable::table1() {
+        let values: Vec<f64> = records.iter().filter_map(|r| q.value(r, t_a)).collect();
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let series = match q {
+            Observable::StickStart(k) => Series::at(Variable::T, k),
+            Observable::SlipStart(k) => Series::at(Variable::L, k),
+            Observable::StickDuration(k) => Series::at(Variable::D, k),
+            Observable::SlipDuration(k) => Series::at(Variable::H, k),
+            Observable::Sticks => Series::count(Variable::St),
+            Observable::Slips => Series::count(Variable::Sl),
+            other => unreachable!("{other} is not in Table 1"),
+        };
+        let m = &a.get(series).unwrap_or_else(|| panic!("analyze has no {series}")).moments;
+        assert_eq!(m.n, values.len() as u64, "{q}: realizations with a value");
+        assert!((m.mean - mean).abs() <= 1e-12 * mean.abs(), "{q}: analyze {} vs record {mean}", m.mean);
+    }
+    // the cut stick is censored out of D_k but its time counts in the stick fraction
+    let censored = records.iter().filter(|r| r.last_truncated && r.n_stick() > r.n_slip()).count();
+    assert!(censored > 100, "the paper scene ends in a stick often ({censored} of {n})");
+}
