@@ -273,7 +273,12 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
             detail: format!("the run has {total} realizations, the parts present lack {}", gaps.join(", ")),
         });
     }
-    let scenario = Scenario::from_text(Some(&toml), &first, &[]).map_err(|e| bad(&first, format!("its recorded scenario: {e}")))?;
+    let scenario = Scenario::recorded(&toml, &first).map_err(|e| bad(&first, format!("its recorded scenario: {e}")))?;
+    // the one recorded value the analysis computes with: every event time lies in [0, t_a]
+    let t_a = scenario.run.duration;
+    if !(t_a.is_finite() && t_a > 0.0 && t_a <= crate::scenario::DURATION_RANGE.1) {
+        return Err(bad(&first, format!("its recorded run.duration = {t_a:e} s lies outside (0, {:e}] s, the window the analysis is proven on", crate::scenario::DURATION_RANGE.1)));
+    }
     // the trajectory tables beside the dataset, only if this run sampled them (tables another run
     // left there record another scenario, and are not taken for these realizations)
     let trajectories = crate::trajectory::dir_for(dir).filter(|d| {

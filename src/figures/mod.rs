@@ -158,7 +158,7 @@ impl Inputs {
         let text = std::fs::read_to_string(&summary_path).map_err(|e| bad(e.to_string()))?;
         let summary: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
         let toml = summary["dataset"]["scenario"].as_str().ok_or_else(|| bad("no dataset.scenario".into()))?;
-        let scenario = Scenario::from_text(Some(toml), &summary_path, &[]).map_err(|e| bad(e.to_string()))?;
+        let scenario = Scenario::recorded(toml, &summary_path).map_err(|e| bad(e.to_string()))?;
         let trajectory = Trajectory::load(adir)?;
         let convergence_path = adir.join("convergence.parquet");
         let convergence = if convergence_path.exists() {

@@ -162,6 +162,14 @@ impl Scenario {
         Ok(sc)
     }
 
+    /// A scenario recorded in a dataset or an analysis, read as provenance: typed (its keys
+    /// must exist), but not checked against today's ranges, so that data written before a range
+    /// tightened stays readable. The stages that read one guard the values they compute with
+    /// themselves (e.g. `analyze` bounds every event time by the recorded t_a).
+    pub fn recorded(text: &str, origin: &Path) -> Result<Scenario, ScenarioError> {
+        typed(merged(Some(text), origin, &[])?)
+    }
+
     /// Refuse a swept key (a list) for `stage`, which runs one scene: the first swept key named.
     pub fn refuse_sweep(&self, stage: &str) -> Result<(), ScenarioError> {
         match Key::ALL.into_iter().find_map(|k| match self.param(k) {

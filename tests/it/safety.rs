@@ -657,3 +657,35 @@ fn trajectories_of_another_run_are_not_used() {
     ok(&stickslip(&["analyze", "ds", "--out", "a2", "-q"], t));
     assert!(!t.join("a2/trajectory_samples.parquet").exists() && !t.join("a2/trajectory_events.parquet").exists());
 }
+
+/// A dataset recorded before a range tightened stays readable: its scenario is provenance, not
+/// re-validated (issue 21, item 3) — but the window the analysis computes with is still bounded.
+#[test]
+fn a_recorded_scenario_is_read_as_provenance() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    let with_scenario = |edit: &'static str, by: &'static str| {
+        move |kv: Option<Vec<parquet::file::metadata::KeyValue>>| {
+            kv.map(|kv| {
+                kv.into_iter()
+                    .map(|mut e| {
+                        if e.key == "stickslip.scenario" {
+                            e.value = e.value.map(|v| v.replacen(edit, by, 1));
+                        }
+                        e
+                    })
+                    .collect()
+            })
+        }
+    };
+    let same = |c: &ArrayRef| c.clone();
+    // mass 1e-12 kg: below today's range, written by an earlier version
+    ok(&stickslip(&["simulate", "--out", "old", "--realizations", "200", "-q"], t));
+    rewrite(&t.join("old"), &["n_stick"], same, with_scenario("mass = 1.0", "mass = 1e-12"));
+    ok(&stickslip(&["analyze", "old", "--out", "a", "-q"], t));
+    ok(&stickslip(&["figures", "a", "--out", "f", "-q"], t));
+    // a recorded window past what the analysis is proven on is refused, naming it
+    ok(&stickslip(&["simulate", "--out", "wide", "--realizations", "200", "-q"], t));
+    rewrite(&t.join("wide"), &["n_stick"], same, with_scenario("duration = 10.0", "duration = 1e200"));
+    refused(&stickslip(&["analyze", "wide", "--out", "b"], t), "run.duration");
+}
