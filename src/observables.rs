@@ -1,8 +1,9 @@
 //! One home for the per-realization quantities the tool measures: their names (one parser for
-//! what users type), units, meaning, and their value on one simulated realization — the one
+//! what users type), units, meaning, their value on one simulated realization — the one
 //! definition `simulate --target-se`, `tradeoff` and `sensitivity` use (they never write a
-//! dataset). `analyze` reads the same quantities from the dataset's columns (see each variant's
-//! column below) under the same censoring rule.
+//! dataset) — and their polars expression over a dataset's columns ([`Observable::expr`]), the
+//! same quantity under the same censoring rule for queries on written datasets
+//! (`tests/it/observables.rs` checks the two paths agree on every realization).
 //!
 //! **Censoring (one rule, everywhere).** The interval still running at t_a is cut there and its
 //! truncation recorded (`last_truncated`). A cut interval is *censored*: its length is a lower
@@ -14,6 +15,8 @@
 
 use std::fmt;
 use std::str::FromStr;
+
+use polars::prelude::{col, lit, when, DataType, Expr, NULL};
 
 use crate::events::Record;
 
@@ -102,6 +105,32 @@ impl Observable {
             Observable::MeanStickDuration => mean(&r.stick_duration, true),
             Observable::MeanSlipDuration => mean(&r.slip_duration, false),
         }
+    }
+
+    /// Its polars expression over the dataset columns (schema v2: `stick_start`, `stick_duration`,
+    /// `slip_start`, `slip_duration` lists, `n_stick`, `n_slip`, `last_truncated`), one float64
+    /// value per realization, null where [`Observable::value`] is None; `duration` is t_a [s].
+    pub fn expr(self, duration: f64) -> Expr {
+        let n = |c: &str| col(c).cast(DataType::Int64);
+        let (n_stick, n_slip, cut) = (n("n_stick"), n("n_slip"), col("last_truncated"));
+        // the last stick (slip) is the interval cut at t_a: the rule of `censored`, as columns
+        let last_stick_cut = cut.clone().and(n_stick.clone().gt(n_slip.clone()));
+        let last_slip_cut = cut.and(n_stick.clone().eq(n_slip.clone()));
+        let at = |c: &str, k: u32| col(c).list().get(lit(i64::from(k) - 1), true);
+        let unless = |censored: Expr, value: Expr| when(censored).then(lit(NULL)).otherwise(value).cast(DataType::Float64);
+        let uncensored_mean = |c: &str, count: Expr, last_cut: Expr| col(c).list().slice(lit(0i64), count - last_cut.cast(DataType::Int64)).list().mean();
+        let named = match self {
+            Observable::StickStart(k) => at("stick_start", k),
+            Observable::SlipStart(k) => at("slip_start", k),
+            Observable::StickDuration(k) => unless(last_stick_cut.and(n_stick.eq(lit(i64::from(k)))), at("stick_duration", k)),
+            Observable::SlipDuration(k) => unless(last_slip_cut.and(n_slip.eq(lit(i64::from(k)))), at("slip_duration", k)),
+            Observable::Sticks => n_stick,
+            Observable::Slips => n_slip,
+            Observable::StickFraction => col("stick_duration").list().sum() / lit(duration),
+            Observable::MeanStickDuration => uncensored_mean("stick_duration", n_stick, last_stick_cut),
+            Observable::MeanSlipDuration => uncensored_mean("slip_duration", n_slip, last_slip_cut),
+        };
+        named.cast(DataType::Float64).alias(self.name())
     }
 
     /// The paper's Table 1 quantities: T_k, D_k, L_k, H_k for k ≤ 6, then S_T and S_L.

@@ -36,3 +36,40 @@ fn the_record_path_agrees_with_analyze_on_the_same_realizations() {
     let censored = records.iter().filter(|r| r.last_truncated && r.n_stick() > r.n_slip()).count();
     assert!(censored > 100, "the paper scene ends in a stick often ({censored} of {n})");
 }
+
+#[test]
+fn the_polars_expression_equals_the_record_value_on_every_realization() {
+    use polars::prelude::*;
+    // a scene with short windows, so that many realizations end in a cut stick or slip, and a
+    // few have no stick at all
+    let n = 2000;
+    let sc = scenario(&[&format!("run.realizations={n}"), "run.duration=1.5"]);
+    let records: Vec<_> = outcomes(&sc, n).into_iter().map(|o| o.record).collect();
+    let tmp = tempfile::tempdir().unwrap();
+    assert!(stickslip(&["simulate", "--out", "d", "--realizations", &n.to_string(), "--set", "run.duration=1.5", "-q"], tmp.path()).status.success());
+    let part = tmp.path().join("d/part-00000-of-00001.parquet");
+    let t_a = sc.run.duration;
+    let mut all: Vec<Observable> = Observable::table1();
+    all.extend([Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration]);
+    let exprs: Vec<Expr> = all.iter().map(|q| q.expr(t_a)).collect();
+    let df = LazyFrame::scan_parquet(PlRefPath::new(part.to_string_lossy().as_ref()), ScanArgsParquet::default()).unwrap().select(exprs).collect().unwrap();
+    assert_eq!(df.height(), n as usize);
+    let (mut censored, mut none) = (0, 0);
+    for q in &all {
+        let column = df.column(&q.name()).unwrap().f64().unwrap().clone();
+        for (i, r) in records.iter().enumerate() {
+            let (e, v) = (column.get(i), q.value(r, t_a));
+            let same = match (e, v) {
+                (Some(e), Some(v)) => (e - v).abs() <= 1e-12 * v.abs().max(1e-300),
+                (None, None) => true,
+                _ => false,
+            };
+            assert!(same, "{q}, realization {i}: expression {e:?}, record {v:?}");
+            none += usize::from(v.is_none());
+        }
+    }
+    for r in &records {
+        censored += usize::from(r.last_truncated);
+    }
+    assert!(censored > 1000 && none > 1000, "the rule is exercised: {censored} cut, {none} without a value");
+}
