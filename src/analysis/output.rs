@@ -30,7 +30,6 @@ use serde_json::json;
 
 use super::frame::{Col, Table};
 use super::paper;
-use super::series::Variable;
 use super::{Analysis, AnalysisError};
 use crate::outdir::{Kind, StagedDir};
 
@@ -292,35 +291,10 @@ pub fn table1_markdown(a: &Analysis) -> String {
         "Ours [95 % interval]. Not the paper's scene, so not compared with the paper's Table 1.\n\n"
     });
     out += "| variable | n | mean | variance | mode | skewness | kurtosis |\n|---|---|---|---|---|---|---|\n";
-    let paper_row = |p: Option<[f64; 5]>| p.filter(|_| compare);
-    let mean = |m: &super::Moments| (m.n > 0).then_some(m.mean);
-    let cells = |s: &super::SeriesStats, p: Option<[f64; 5]>| -> [paper::Cell; 5] {
-        let pv = |i: usize| p.map(|p| p[i]).filter(|x| x.is_finite());
-        let m = &s.moments;
-        [
-            paper::Cell { ours: f(mean(m)), se: f(m.mean_se()), interval: s.interval(mean), paper: pv(0) },
-            paper::Cell { ours: f(m.variance()), se: f(m.variance_se()), interval: s.interval(super::Moments::variance), paper: pv(1) },
-            paper::Cell { ours: f(s.mode), se: None, interval: s.mode_interval(), paper: pv(2) },
-            paper::Cell { ours: f(m.skewness()), se: None, interval: s.interval(super::Moments::skewness), paper: pv(3) },
-            paper::Cell { ours: f(m.kurtosis()), se: None, interval: s.interval(super::Moments::kurtosis), paper: pv(4) },
-        ]
-    };
-    let mut row = |s: &super::SeriesStats, p: Option<[f64; 5]>| {
-        let c = cells(s, p);
-        let mode_digits = if s.series.var.is_count() { 0 } else { 3 };
-        out += &format!("| {} | {} | {} | {} | {} | {} | {} |\n", s.series, s.moments.n, c[0].shown(3), c[1].shown(3), c[2].shown(mode_digits), c[3].shown(2), c[4].shown(2));
-    };
-    for var in [Variable::T, Variable::L, Variable::D, Variable::H] {
-        for k in 1..=a.options.max_index.min(6) {
-            if let Some(s) = a.get(super::series::Series::at(var, k)) {
-                row(s, paper_row(paper::table1(var, Some(k))));
-            }
-        }
-    }
-    for (var, pm, pvar) in paper::COUNTS {
-        if let Some(s) = a.get(super::series::Series::count(*var)) {
-            row(s, paper_row(Some([*pm, *pvar, f64::NAN, f64::NAN, f64::NAN])));
-        }
+    // the rows the report shows too, from the same moments table (Table 1 built once)
+    for r in paper::table1(&moments_table(a), compare) {
+        let c = |i: usize, digits: usize| r.shown(i, digits).0;
+        out += &format!("| {} | {} | {} | {} | {} | {} | {} |\n", r.label, r.n, c(0, 3), c(1, 3), c(2, 3), c(3, 2), c(4, 2));
     }
     out
 }

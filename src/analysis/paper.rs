@@ -1,5 +1,6 @@
 //! The paper's reported numbers (Lima & Sampaio, Table 1 and section 4), for comparison only.
 
+use super::frame::Table;
 use super::series::Variable;
 
 /// (variable, k, mean, variance, mode, skewness, kurtosis) from Table 1.
@@ -32,11 +33,6 @@ pub const TABLE1: &[(Variable, u32, [f64; 5])] = &[
 
 /// (variable, mean, variance) of the counts, section 4.
 pub const COUNTS: &[(Variable, f64, f64)] = &[(Variable::St, 16.71, 7.94), (Variable::Sl, 16.54, 7.89)];
-
-/// The paper's (mean, variance, mode, skewness, kurtosis) of a series, if reported.
-pub fn table1(var: Variable, index: Option<u32>) -> Option<[f64; 5]> {
-    TABLE1.iter().find(|(v, k, _)| *v == var && Some(*k) == index).map(|r| r.2)
-}
 
 /// One cell of the comparison: ours with its 95 % interval (or ± se) against the paper's
 /// printed value; ✓ when the paper's value lies inside our interval widened by half a unit of its
@@ -108,3 +104,66 @@ impl Cell {
     }
 }
 
+/// A row of Table 1: series label and (mean, variance, mode, skewness, kurtosis) cells.
+#[derive(Debug, Clone)]
+pub struct Row {
+    pub label: String,
+    pub n: i64,
+    pub cells: [Cell; 5],
+    /// a count (S_T, S_L): its mode is an integer, and so are the bounds of its interval
+    pub count: bool,
+}
+
+impl Row {
+    /// Cell `i` as shown (`ours [lo – hi] (paper) mark`) and whether it agrees with the paper's
+    /// (`None`: nothing to judge, or nothing a reader should be alarmed by).
+    ///
+    /// A count's mode prints as the integer it is (`16 [13 – 19]`); a mode at the boundary 0 is
+    /// shown, not judged ([`Cell::at_boundary`]).
+    pub fn shown(&self, i: usize, digits: usize) -> (String, Option<bool>) {
+        let c = &self.cells[i];
+        let digits = if i == 2 && self.count { 0 } else { digits };
+        (c.shown(digits), c.consistent())
+    }
+}
+
+/// Table 1 from an analysis' moments table (`moments.parquet`), beside the paper's values when
+/// `compare` (the dataset is of the paper's scene, [`crate::scenario::Scenario::is_paper_scene`]):
+/// built once, for `table1.md`, the printed table and the report alike.
+pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
+    let (vars, idx) = (moments.strings("variable").unwrap_or_default(), moments.ints("index").unwrap_or_default());
+    let n = moments.ints("n").unwrap_or_default();
+    let col = |c: &str| moments.floats(c).unwrap_or_default();
+    let (mean, var, mode, skew, kurt, mse, vse) =
+        (col("mean"), col("variance"), col("mode"), col("skewness"), col("kurtosis"), col("mean_se"), col("variance_se"));
+    let bounds = |stat: &str| (col(&format!("{stat}_lo")), col(&format!("{stat}_hi")));
+    let iv: Vec<(&[Option<f64>], &[Option<f64>])> = ["mean", "variance", "mode", "skewness", "kurtosis"].iter().map(|s| bounds(s)).collect();
+    let mut rows = Vec::new();
+    let wanted = TABLE1.iter().map(|(v, k, p)| (*v, Some(*k), Some(*p))).chain(
+        COUNTS.iter().map(|(v, m, s2)| (*v, None, Some([*m, *s2, f64::NAN, f64::NAN, f64::NAN]))),
+    );
+    for (v, k, p) in wanted {
+        let Some(r) = (0..vars.len()).find(|&r| vars[r] == v.name() && idx.get(r).copied().flatten() == k.map(i64::from)) else { continue };
+        let pv = |i: usize| p.filter(|_| compare).map(|p| p[i]).filter(|x| x.is_finite());
+        let interval = |i: usize| iv[i].0.get(r).copied().flatten().zip(iv[i].1.get(r).copied().flatten());
+        let cell = |ours: Option<f64>, se: Option<f64>, i: usize| Cell { ours, se, interval: interval(i), paper: pv(i) };
+        // a column the table lacks reads as no value, never as an index out of bounds
+        let at = |c: &[Option<f64>]| c.get(r).copied().flatten();
+        // (a count's mode interval is stored rounded outward to integers, `SeriesStats::mode_interval`)
+        let count = v.is_count();
+        let mode_cell = cell(at(mode), None, 2);
+        rows.push(Row {
+            label: k.map_or(v.name().to_string(), |k| format!("{}_{k}", v.name())),
+            n: n.get(r).copied().flatten().unwrap_or(0),
+            cells: [
+                cell(at(mean), at(mse), 0),
+                cell(at(var), at(vse), 1),
+                mode_cell,
+                cell(at(skew), None, 3),
+                cell(at(kurt), None, 4),
+            ],
+            count,
+        });
+    }
+    rows
+}
