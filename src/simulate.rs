@@ -13,7 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 
-use crate::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
+use crate::dataset::{meta, DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
 use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::rng::GENERATOR;
@@ -104,16 +104,16 @@ pub fn worker_threads(asked: Option<usize>) -> Result<usize, SimulateError> {
 pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
     let range = shard.range(scenario.run.realizations);
     [
-        ("stickslip.schema_version", SCHEMA_VERSION.to_string()),
-        ("stickslip.version", env!("CARGO_PKG_VERSION").to_string()),
-        ("stickslip.scenario", scenario.to_toml()),
+        (meta::SCHEMA_VERSION, SCHEMA_VERSION.to_string()),
+        (meta::VERSION, env!("CARGO_PKG_VERSION").to_string()),
+        (meta::SCENARIO, scenario.to_toml()),
         ("stickslip.seed", scenario.run.seed.to_string()),
         ("stickslip.solver", scenario.solver().name().to_string()),
         ("stickslip.generator", GENERATOR.to_string()),
         ("stickslip.poisson", "rand_distr 0.6.0 Poisson (Knuth for mean < 12, Ahrens-Dieter 1982 otherwise)".into()),
-        ("stickslip.realizations", scenario.run.realizations.to_string()),
+        (meta::REALIZATIONS, scenario.run.realizations.to_string()),
         ("stickslip.shard", format!("{}/{}", shard.index, shard.count)),
-        ("stickslip.realization_range", format!("{}..{}", range.start, range.end)),
+        (meta::REALIZATION_RANGE, format!("{}..{}", range.start, range.end)),
     ]
     .into_iter()
     .map(|(k, v)| (k.to_string(), v))
@@ -178,7 +178,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     let sharded = opts.shard != Shard::WHOLE;
     let mut metadata = provenance(scenario, opts.shard);
     if !targets.is_empty() {
-        metadata.retain(|(k, _)| k != "stickslip.realization_range" && (sharded || k != "stickslip.realizations"));
+        metadata.retain(|(k, _)| k != meta::REALIZATION_RANGE && (sharded || k != meta::REALIZATIONS));
     }
     let writer = PartWriter::create(&opts.out, opts.shard.index, opts.shard.count, layout, metadata)?;
     let progress = progress_bar(range.end - range.start, opts.progress);
@@ -233,13 +233,13 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     if !targets.is_empty() {
         let rule = targets.iter().map(|t| format!("{t}={}", t.se)).collect::<Vec<_>>().join(", ");
         let reached_se = targets.iter().zip(tracker.errors()).map(|(t, se)| format!("{t}={}", se.map_or("none".into(), |x| format!("{x:e}")))).collect::<Vec<_>>().join(", ");
-        let mut meta = vec![("stickslip.realization_range", format!("{}..{reached}", range.start))];
+        let mut written_meta = vec![(meta::REALIZATION_RANGE, format!("{}..{reached}", range.start))];
         if sharded {
-            meta.push(("stickslip.shard_block", format!("{}..{}", range.start, range.end)));
+            written_meta.push((meta::SHARD_BLOCK, format!("{}..{}", range.start, range.end)));
         } else {
-            meta.push(("stickslip.realizations", reached.to_string()));
+            written_meta.push((meta::REALIZATIONS, reached.to_string()));
         }
-        for (k, v) in meta.into_iter().chain([
+        for (k, v) in written_meta.into_iter().chain([
             ("stickslip.target_se", rule),
             ("stickslip.target_se_reached", reached_se),
             ("stickslip.target_se_met", tracker.met().to_string()),

@@ -13,7 +13,7 @@ use arrow_schema::DataType;
 use parquet::arrow::parquet_to_arrow_schema;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-use crate::dataset::READABLE_VERSIONS;
+use crate::dataset::{meta, READABLE_VERSIONS, REQUIRED};
 use crate::scenario::Scenario;
 
 /// A checked dataset.
@@ -97,19 +97,6 @@ impl Stamp {
     }
 }
 
-/// Columns and types of schema v2 (v1: int32 counts, read as well).
-const COLUMNS: &[(&str, &str)] = &[
-    ("realization", "int64"),
-    ("n_switches", "int64"),
-    ("n_stick", "int64"),
-    ("n_slip", "int64"),
-    ("last_truncated", "bool"),
-    ("stick_start", "list<float64>"),
-    ("stick_duration", "list<float64>"),
-    ("slip_start", "list<float64>"),
-    ("slip_duration", "list<float64>"),
-];
-
 fn type_name(t: &DataType) -> String {
     match t {
         DataType::Int32 => "int32".into(),
@@ -144,13 +131,13 @@ fn check(path: &Path) -> Result<Part, InputError> {
     let meta = reader.metadata().file_metadata();
     let kv = meta.key_value_metadata();
     let get = |key: &str| kv.and_then(|kv| kv.iter().find(|e| e.key == key)).and_then(|e| e.value.clone());
-    let version = match get("stickslip.schema_version") {
+    let version = match get(meta::SCHEMA_VERSION) {
         Some(v) if READABLE_VERSIONS.contains(&v.as_str()) => v,
         Some(v) => return Err(bad(path, format!("dataset schema version {v}, this stickslip reads {READABLE_VERSIONS:?}"))),
         None => return Err(bad(path, "not a stickslip dataset (no stickslip.schema_version in its metadata)")),
     };
     let schema = parquet_to_arrow_schema(meta.schema_descr(), kv).map_err(|e| bad(path, e.to_string()))?;
-    for (name, want) in COLUMNS {
+    for (name, want) in REQUIRED {
         let field = schema.field_with_name(name).map_err(|_| bad(path, format!("missing column `{name}`")))?;
         let got = type_name(field.data_type());
         let v1_count = version == "1" && got == "int32" && *want == "int64";
@@ -158,13 +145,13 @@ fn check(path: &Path) -> Result<Part, InputError> {
             return Err(bad(path, format!("column `{name}` is {got}, expected {want}")));
         }
     }
-    let scenario = get("stickslip.scenario").ok_or_else(|| bad(path, "no stickslip.scenario in its metadata"))?;
+    let scenario = get(meta::SCENARIO).ok_or_else(|| bad(path, format!("no {} in its metadata", meta::SCENARIO)))?;
     let switch_times = schema.field_with_name("switch_times").is_ok();
     let number = |key: &str| -> Result<u64, InputError> {
         get(key).and_then(|v| v.trim().parse().ok()).ok_or_else(|| bad(path, format!("no valid {key} in its metadata")))
     };
-    let total = number("stickslip.realizations")?;
-    let range = get("stickslip.realization_range")
+    let total = number(meta::REALIZATIONS)?;
+    let range = get(meta::REALIZATION_RANGE)
         .and_then(|r| {
             let (a, b) = r.split_once("..")?;
             Some(a.trim().parse::<u64>().ok()?..b.trim().parse::<u64>().ok()?)
@@ -175,7 +162,7 @@ fn check(path: &Path) -> Result<Part, InputError> {
     if rows != range.end - range.start {
         return Err(bad(path, format!("holds {rows} rows but its metadata declares realizations {}..{}", range.start, range.end)));
     }
-    let block = get("stickslip.shard_block").and_then(|r| {
+    let block = get(meta::SHARD_BLOCK).and_then(|r| {
         let (a, b) = r.split_once("..")?;
         Some(a.trim().parse::<u64>().ok()?..b.trim().parse::<u64>().ok()?)
     });
@@ -300,4 +287,18 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         switch_times,
         trajectories,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_writers_schema_has_every_column_the_reader_requires() {
+        let schema = crate::dataset::schema(&crate::dataset::Layout::default());
+        for (name, ty) in REQUIRED {
+            let field = schema.field_with_name(name).unwrap_or_else(|_| panic!("the writer has no {name}"));
+            assert_eq!(type_name(field.data_type()), *ty, "{name}");
+        }
+    }
 }
