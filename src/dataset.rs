@@ -44,23 +44,6 @@ pub const READABLE_VERSIONS: [&str; 2] = ["1", "2"];
 const ROW_GROUP_ROWS: usize = 131_072;
 const ROW_GROUP_BYTES: usize = 128 << 20;
 
-/// The `stickslip.*` key-value metadata of a part file that more than one stage reads or
-/// writes (the writer in `simulate`, the reader in `analysis::input`, the trajectory tables).
-pub mod meta {
-    /// the schema version (`SCHEMA_VERSION`); its presence marks a stickslip part
-    pub const SCHEMA_VERSION: &str = "stickslip.schema_version";
-    /// the crate version that wrote the file
-    pub const VERSION: &str = "stickslip.version";
-    /// the resolved scenario (TOML), read back as provenance
-    pub const SCENARIO: &str = "stickslip.scenario";
-    /// the whole run's number of realizations
-    pub const REALIZATIONS: &str = "stickslip.realizations";
-    /// the realizations this file holds, `a..b`
-    pub const REALIZATION_RANGE: &str = "stickslip.realization_range";
-    /// the block a shard with `--target-se` was given, `a..b`
-    pub const SHARD_BLOCK: &str = "stickslip.shard_block";
-}
-
 /// The columns every part has and their types in schema v2, as the reader checks them (v1 had
 /// int32 counts, read as well); the writer's [`schema`] is tested to agree.
 pub const REQUIRED: &[(&str, &str)] = &[
@@ -250,7 +233,7 @@ fn is_stickslip_part(path: &Path) -> bool {
     let Ok(reader) = parquet::file::reader::SerializedFileReader::new(file) else { return false };
     use parquet::file::reader::FileReader;
     let kv = reader.metadata().file_metadata().key_value_metadata();
-    kv.is_some_and(|kv| kv.iter().any(|e| e.key == meta::SCHEMA_VERSION))
+    kv.is_some_and(|kv| kv.iter().any(|e| e.key == crate::metadata::SCHEMA_VERSION))
 }
 
 /// Writes one part file: created under a unique temporary name while holding the part's lock,

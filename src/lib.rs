@@ -18,6 +18,7 @@ pub mod ensemble;
 pub mod events;
 pub mod figures;
 pub mod interrupt;
+pub mod metadata;
 pub mod observables;
 pub mod outdir;
 pub mod params;

@@ -13,7 +13,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 
-use crate::dataset::{meta, DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
+use crate::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
+use crate::metadata as meta;
 use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::rng::GENERATOR;

@@ -159,7 +159,7 @@ impl Tables {
             let fail = |e: &dyn std::fmt::Display| OutDirError { path: path.clone(), message: e.to_string(), refused: false };
             let kv = vec![
                 KeyValue::new(MARK.into(), name.trim_end_matches(".parquet").to_string()),
-                KeyValue::new(crate::dataset::meta::VERSION.into(), env!("CARGO_PKG_VERSION").to_string()),
+                KeyValue::new(crate::metadata::VERSION.into(), env!("CARGO_PKG_VERSION").to_string()),
                 KeyValue::new(SCENARIO.into(), scenario.to_string()),
             ];
             let props = WriterProperties::builder().set_key_value_metadata(Some(kv)).build();
@@ -173,7 +173,7 @@ impl Tables {
 }
 
 /// The footer key holding the scenario of the run that sampled the trajectories (the parts' key).
-const SCENARIO: &str = crate::dataset::meta::SCENARIO;
+const SCENARIO: &str = crate::metadata::SCENARIO;
 
 /// The footer's key-value pairs of the Parquet file at `path` (None if it is not one).
 fn footer(path: &Path) -> Option<Vec<(String, Option<String>)>> {

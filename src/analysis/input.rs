@@ -13,7 +13,8 @@ use arrow_schema::DataType;
 use parquet::arrow::parquet_to_arrow_schema;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-use crate::dataset::{meta, READABLE_VERSIONS, REQUIRED};
+use crate::dataset::{READABLE_VERSIONS, REQUIRED};
+use crate::metadata as meta;
 use crate::scenario::Scenario;
 
 /// A checked dataset.
