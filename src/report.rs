@@ -11,10 +11,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use serde_json::Value;
 
 use crate::analysis::frame::Table;
 use crate::analysis::input;
+use crate::analysis::summary::Summary;
 use crate::analysis::paper::{table1, Row};
 
 #[derive(Debug, thiserror::Error)]
@@ -52,19 +52,19 @@ pub fn escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;").replace('\'', "&#39;")
 }
 
-/// A number of `summary.json`: an integer as written (`16`, not `16.0000`), else 4 decimals
-/// (exponent notation far from 1).
-fn num(v: &Value) -> String {
+/// A number of `summary.json`: an integer-valued one of 1 or more as an integer (`81`, not
+/// `81.0000`), else 4 decimals (exponent notation far from 1); `–` without one.
+fn num(v: Option<f64>) -> String {
     // degrees of freedom and counts are integers even when written as 81.0
-    if let Some(i) = v.as_i64().map(|i| i.to_string()).or_else(|| v.as_f64().filter(|x| x.abs() >= 1.0).and_then(crate::figures::format::integer)) {
+    if let Some(i) = v.filter(|x| x.abs() >= 1.0).and_then(crate::figures::format::integer) {
         return i;
     }
-    v.as_f64().map_or("–".into(), |x| if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) { format!("{x:.3e}") } else { format!("{x:.4}") })
+    v.map_or("–".into(), |x| if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) { format!("{x:.3e}") } else { format!("{x:.4}") })
 }
 
 /// A p-value of `summary.json`, as the figures print it ([`crate::figures::format::p_value`]).
-fn p_value(v: &Value) -> String {
-    crate::figures::format::p_value(v.as_f64().unwrap_or(f64::NAN))
+fn p_value(v: Option<f64>) -> String {
+    crate::figures::format::p_value(v.unwrap_or(f64::NAN))
 }
 
 /// The report's sections as (heading, markdown-ish rows) — rendered to HTML and Markdown alike.
@@ -84,8 +84,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
     let data = input::open_partial(dataset, true)?;
     let read_err = |path: &Path, e: &dyn std::fmt::Display| ReportError::Read { path: path.to_owned(), message: e.to_string() };
     let summary_path = adir.join("summary.json");
-    let text = std::fs::read_to_string(&summary_path).map_err(|e| read_err(&summary_path, &e))?;
-    let summary: Value = serde_json::from_str(&text).map_err(|e| read_err(&summary_path, &e))?;
+    let summary = Summary::read(&summary_path).map_err(|e| read_err(&summary_path, &e))?;
     let moments_path = adir.join("moments.parquet");
     let moments = Table::read_checked(
         &moments_path,
@@ -94,14 +93,14 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
     .map_err(|e| read_err(&moments_path, &e))?;
     let sc = &data.scenario;
     // the analysis must be of this dataset: same scenario, same realizations
-    let recorded = &summary["dataset"];
-    if recorded["scenario"].as_str() != Some(sc.to_toml().as_str()) || recorded["realizations"].as_u64() != Some(data.rows) {
+    let recorded = &summary.dataset;
+    if recorded.scenario != sc.to_toml() || recorded.realizations != data.rows {
         return Err(ReportError::Mismatch {
             path: adir.to_owned(),
             message: format!(
                 "is the analysis of another dataset than {} (its summary.json records {} realizations of a different scenario or size; this dataset has {}); run analyze on this dataset first",
                 dataset.display(),
-                recorded["realizations"],
+                recorded.realizations,
                 data.rows
             ),
         });
@@ -117,49 +116,46 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         ("seed".into(), sc.run.seed.to_string()),
         ("solver".into(), solver_settings(sc)),
         ("generator".into(), crate::rng::GENERATOR.into()),
-        ("stickslip".into(), summary["stickslip_version"].as_str().unwrap_or("?").into()),
+        ("stickslip".into(), summary.stickslip_version.clone()),
         ("analysis".into(), adir.display().to_string()),
-        ("truncated intervals".into(), summary["policies"]["truncated_intervals"].as_str().unwrap_or("").into()),
-        ("mode".into(), summary["policies"]["mode"].as_str().unwrap_or("").into()),
+        ("truncated intervals".into(), summary.policies.truncated_intervals.clone()),
+        ("mode".into(), summary.policies.mode.clone()),
     ];
     // a value with its 95 % interval `[lo, hi]`, when the analysis has one
-    let with_interval = |v: &Value, iv: &Value| match iv.as_array().map(|a| (num(&a[0]), num(&a[1]))) {
-        Some((lo, hi)) => format!("{} [{lo} – {hi}]", num(v)),
+    let with_interval = |v: Option<f64>, iv: Option<[Option<f64>; 2]>| match iv {
+        Some([lo, hi]) => format!("{} [{} – {}]", num(v), num(lo), num(hi)),
         None => num(v),
     };
-    let growth = summary["growth"]
-        .as_array()
-        .into_iter()
-        .flatten()
+    let growth = summary
+        .growth
+        .iter()
         .map(|g| {
-            [
-                format!("{} of {}_k", g["statistic"].as_str().unwrap_or(""), g["variable"].as_str().unwrap_or("")),
-                with_interval(&g["slope"], &g["slope_95"]),
-                num(&g["slope_se"]),
-                num(&g["intercept"]),
-                num(&g["r2"]),
-            ]
+            [format!("{} of {}_k", g.statistic, g.variable), with_interval(g.slope, g.slope_95), num(g.slope_se), num(g.intercept), num(g.r2)]
         })
         .collect();
-    let r = &summary["renewal_check"];
+    // (without a renewal check, the rows read "–")
+    let r = summary.renewal_check.as_ref();
     let renewal = vec![
-        ["E[S_T]".to_string(), with_interval(&r["predicted_mean_S_T"], &r["predicted_mean_S_T_95"]), num(&r["measured_mean_S_T"])],
-        ["Var[S_T]".to_string(), with_interval(&r["predicted_variance_S_T"], &r["predicted_variance_S_T_95"]), num(&r["measured_variance_S_T"])],
+        ["E[S_T]".to_string(), with_interval(r.and_then(|r| r.predicted_mean), r.and_then(|r| r.predicted_mean_95)), num(r.and_then(|r| r.measured_mean))],
+        [
+            "Var[S_T]".to_string(),
+            with_interval(r.and_then(|r| r.predicted_variance), r.and_then(|r| r.predicted_variance_95)),
+            num(r.and_then(|r| r.measured_variance)),
+        ],
     ];
-    let tests = summary["independence"]
-        .as_array()
-        .into_iter()
-        .flatten()
+    let tests = summary
+        .independence
+        .iter()
         .map(|t| {
             [
-                format!("({}, {})", t["x"].as_str().unwrap_or(""), t["y"].as_str().unwrap_or("")),
-                t["n"].to_string(),
-                format!("{} on {}", num(&t["chi2"]), num(&t["df"])),
-                p_value(&t["chi2_p_value"]),
-                p_value(&t["g_p_value"]),
-                num(&t["mutual_information"]),
-                p_value(&t["mi_p_value"]),
-                t["verdict"].as_str().unwrap_or("").to_string(),
+                format!("({}, {})", t.x, t.y),
+                t.n.to_string(),
+                format!("{} on {}", num(t.chi2), num(Some(t.df))),
+                p_value(t.chi2_p_value),
+                p_value(t.g_p_value),
+                num(t.mutual_information),
+                p_value(t.mi_p_value),
+                t.verdict.clone(),
             ]
         })
         .collect();
@@ -401,12 +397,13 @@ mod tests {
 
     #[test]
     fn summary_numbers_print_integers_as_integers_and_p_values_by_the_rule() {
-        assert_eq!(num(&serde_json::json!(81.0)), "81");
-        assert_eq!(num(&serde_json::json!(18000)), "18000");
-        assert_eq!(num(&serde_json::json!(0.2624)), "0.2624");
-        assert_eq!(p_value(&serde_json::json!(0.0)), "< 1e-300");
-        assert_eq!(p_value(&serde_json::json!(0.0004)), "< 0.001");
-        assert_eq!(p_value(&serde_json::json!(0.54812)), "0.548");
-        assert_eq!(p_value(&serde_json::Value::Null), "–");
+        assert_eq!(num(Some(81.0)), "81");
+        assert_eq!(num(Some(18000.0)), "18000");
+        assert_eq!(num(Some(0.2624)), "0.2624");
+        assert_eq!(num(None), "–");
+        assert_eq!(p_value(Some(0.0)), "< 1e-300");
+        assert_eq!(p_value(Some(0.0004)), "< 0.001");
+        assert_eq!(p_value(Some(0.54812)), "0.548");
+        assert_eq!(p_value(None), "–");
     }
 }

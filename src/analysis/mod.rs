@@ -22,6 +22,7 @@ pub mod output;
 pub mod paper;
 pub mod series;
 pub mod sketch;
+pub mod summary;
 pub mod sweep;
 
 use std::collections::BTreeMap;

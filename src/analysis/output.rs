@@ -26,10 +26,10 @@
 
 use std::path::Path;
 
-use serde_json::json;
 
 use super::frame::{Col, Table};
 use super::paper;
+use super::summary::{Bins, CountSummary, DatasetSummary, GrowthSummary, OptionsSummary, Policies, RenewalSummary, Summary, TestSummary};
 use super::{Analysis, AnalysisError};
 use crate::outdir::{Kind, StagedDir};
 
@@ -206,76 +206,109 @@ fn convergence_table(a: &Analysis) -> Table {
     t
 }
 
-fn num(v: Option<f64>) -> serde_json::Value {
-    f(v).map_or(serde_json::Value::Null, |x| json!(x))
+/// An interval as `[lo, hi]`, its ends `null` where not finite.
+fn pair(i: Option<(f64, f64)>) -> Option<[Option<f64>; 2]> {
+    i.map(|i| [f(Some(i.0)), f(Some(i.1))])
 }
 
-fn summary(a: &Analysis) -> serde_json::Value {
+/// The typed `summary.json` ([`Summary`]).
+pub fn summary(a: &Analysis) -> Summary {
     let sc = &a.dataset.scenario;
     let paper_scene = sc.is_paper_scene();
-    let counts: serde_json::Map<String, serde_json::Value> = a
+    let counts = a
         .stats
         .iter()
         .filter(|s| s.series.var.is_count())
         .map(|s| {
             let m = &s.moments;
             let paper = paper::COUNTS.iter().find(|c| c.0 == s.series.var).filter(|_| paper_scene);
-            (
-                s.series.to_string(),
-                json!({"n": m.n, "mean": num(Some(m.mean)), "variance": num(m.variance()), "mean_se": num(m.mean_se()),
-                       "variance_se": num(m.variance_se()), "mode": num(s.mode),
-                       "paper_mean": paper.map(|p| p.1), "paper_variance": paper.map(|p| p.2)}),
-            )
+            let count = CountSummary {
+                n: m.n,
+                mean: f(Some(m.mean)),
+                variance: f(m.variance()),
+                mean_se: f(m.mean_se()),
+                variance_se: f(m.variance_se()),
+                mode: f(s.mode),
+                paper_mean: paper.map(|p| p.1),
+                paper_variance: paper.map(|p| p.2),
+            };
+            (s.series.to_string(), count)
         })
         .collect();
-    let growth: Vec<_> = a
+    let growth = a
         .growth
         .iter()
-        .map(|g| json!({"variable": g.var.name(), "statistic": g.statistic, "slope": num(Some(g.line.slope)),
-                        "intercept": num(Some(g.line.intercept)), "r2": num(Some(g.line.r2)), "slope_se": num(g.line.slope_se),
-                        "slope_95": g.slope_interval.map(|i| [num(Some(i.0)), num(Some(i.1))])}))
+        .map(|g| GrowthSummary {
+            variable: g.var.name().into(),
+            statistic: g.statistic.into(),
+            slope: f(Some(g.line.slope)),
+            intercept: f(Some(g.line.intercept)),
+            r2: f(Some(g.line.r2)),
+            slope_se: f(g.line.slope_se),
+            slope_95: pair(g.slope_interval),
+        })
         .collect();
-    let tests: Vec<_> = a
+    let independence = a
         .joints
         .iter()
         .filter_map(|j| j.test.as_ref().map(|t| (j, t)))
-        .map(|(j, t)| json!({"x": j.pair.0.to_string(), "y": j.pair.1.to_string(), "n": t.n, "table": [t.rows, t.cols],
-                             "chi2": num(Some(t.chi2)), "df": t.df, "chi2_p_value": num(Some(t.chi2_p_value)),
-                             "g": num(Some(t.g)), "g_p_value": num(Some(t.g_p_value)),
-                             "mutual_information": num(Some(t.mutual_information)), "mi_null_mean": num(t.mi_null_mean),
-                             "mi_p_value": num(Some(t.mi_p_value)), "permutations": t.permutations,
-                             "alpha": ALPHA, "verdict": verdict(t.chi2_p_value)}))
+        .map(|(j, t)| TestSummary {
+            x: j.pair.0.to_string(),
+            y: j.pair.1.to_string(),
+            n: t.n,
+            table: [t.rows, t.cols],
+            chi2: f(Some(t.chi2)),
+            df: t.df,
+            chi2_p_value: f(Some(t.chi2_p_value)),
+            g: f(Some(t.g)),
+            g_p_value: f(Some(t.g_p_value)),
+            mutual_information: f(Some(t.mutual_information)),
+            mi_null_mean: f(t.mi_null_mean),
+            mi_p_value: f(Some(t.mi_p_value)),
+            permutations: t.permutations,
+            alpha: ALPHA,
+            verdict: verdict(t.chi2_p_value).into(),
+        })
         .collect();
-    let renewal = a.renewal.as_ref().map(|r| {
-        json!({"predicted_mean_S_T": num(Some(r.predicted_mean)), "measured_mean_S_T": num(Some(r.measured_mean)),
-               "predicted_variance_S_T": num(Some(r.predicted_variance)), "measured_variance_S_T": num(Some(r.measured_variance)),
-               "predicted_mean_S_T_95": r.predicted_mean_interval.map(|i| [num(Some(i.0)), num(Some(i.1))]),
-               "predicted_variance_S_T_95": r.predicted_variance_interval.map(|i| [num(Some(i.0)), num(Some(i.1))]),
-               "formula": "E[S_T] ~ t_a / slope(E T_k); Var[S_T] ~ t_a slope(Var T_k) / slope(E T_k)^3"})
+    let renewal_check = a.renewal.as_ref().map(|r| RenewalSummary {
+        predicted_mean: f(Some(r.predicted_mean)),
+        measured_mean: f(Some(r.measured_mean)),
+        predicted_variance: f(Some(r.predicted_variance)),
+        measured_variance: f(Some(r.measured_variance)),
+        predicted_mean_95: pair(r.predicted_mean_interval),
+        predicted_variance_95: pair(r.predicted_variance_interval),
+        formula: "E[S_T] ~ t_a / slope(E T_k); Var[S_T] ~ t_a slope(Var T_k) / slope(E T_k)^3".into(),
     });
-    json!({
-        "stickslip_version": env!("CARGO_PKG_VERSION"),
-        "dataset": {"files": a.dataset.files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-                    "realizations": a.dataset.rows, "seed": sc.run.seed, "solver": sc.solver().name(),
-                    "scenario": sc.to_toml(),
-                    "complete": a.dataset.missing.is_empty(),
-                    "realizations_of_the_run": a.dataset.expected_rows,
-                    "missing_ranges": a.dataset.missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect::<Vec<_>>()},
-        "options": {"max_index": a.options.max_index, "bins": a.options.bins.map_or(json!("scott"), |b| json!(b)),
-                    "permutations": a.options.permutations},
-        "policies": {
-            "truncated_intervals": "The interval running at t_a is cut there and flagged; its length is censored, so it is excluded from D_k and H_k (moments.n_truncated_excluded counts them). T_k and L_k always include every realization that has a k-th event.",
-            "moments": "variance unbiased (n-1); skewness m3/m2^1.5 and kurtosis m4/m2^2 (Pearson, 3 for a normal) with population moments, as MATLAB's skewness/kurtosis; mean_se = sqrt(s^2/n); variance_se = sqrt((m4 - (n-3)/(n-1) s^4)/n)",
-            "intervals": "95 % intervals <stat>_lo/_hi by the delete-a-group jackknife: realization i is in group i mod 20; each statistic is recomputed without each group (theta_g) and se^2 = (G-1)/G sum (theta_g - mean theta_g)^2, interval = estimate -/+ t(19, 0.975) se with t = 2.093; the same for any thread count or shard split",
-            "mode": "maximum of a Gaussian KDE (Silverman bandwidth 0.9 sigma n^-1/5, reflected at 0) evaluated on the (up to 4096) bins of the one-pass sketch, a maximum in the first bin at 0 reported as 0; counts: most frequent value",
-            "bins": "equal width over the sample range; Scott's rule 3.49 sigma n^-1/3 clamped to 10..200 bins, or --bins",
-            "independence": "contingency table of the joint histogram merged to <= 10x10 cells of ~equal marginal mass; Pearson chi2 and G tests; mutual information with a permutation null",
+    Summary {
+        stickslip_version: env!("CARGO_PKG_VERSION").into(),
+        dataset: DatasetSummary {
+            files: a.dataset.files.iter().map(|p| p.display().to_string()).collect(),
+            realizations: a.dataset.rows,
+            seed: sc.run.seed,
+            solver: sc.solver().name().into(),
+            scenario: sc.to_toml(),
+            complete: a.dataset.missing.is_empty(),
+            realizations_of_the_run: a.dataset.expected_rows,
+            missing_ranges: a.dataset.missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect(),
         },
-        "counts": counts,
-        "growth": growth,
-        "renewal_check": renewal,
-        "independence": tests,
-    })
+        options: OptionsSummary {
+            max_index: a.options.max_index,
+            bins: a.options.bins.map_or(Bins::Rule("scott".into()), Bins::Fixed),
+            permutations: a.options.permutations,
+        },
+        policies: Policies {
+            truncated_intervals: "The interval running at t_a is cut there and flagged; its length is censored, so it is excluded from D_k and H_k (moments.n_truncated_excluded counts them). T_k and L_k always include every realization that has a k-th event.".into(),
+            moments: "variance unbiased (n-1); skewness m3/m2^1.5 and kurtosis m4/m2^2 (Pearson, 3 for a normal) with population moments, as MATLAB's skewness/kurtosis; mean_se = sqrt(s^2/n); variance_se = sqrt((m4 - (n-3)/(n-1) s^4)/n)".into(),
+            intervals: "95 % intervals <stat>_lo/_hi by the delete-a-group jackknife: realization i is in group i mod 20; each statistic is recomputed without each group (theta_g) and se^2 = (G-1)/G sum (theta_g - mean theta_g)^2, interval = estimate -/+ t(19, 0.975) se with t = 2.093; the same for any thread count or shard split".into(),
+            mode: "maximum of a Gaussian KDE (Silverman bandwidth 0.9 sigma n^-1/5, reflected at 0) evaluated on the (up to 4096) bins of the one-pass sketch, a maximum in the first bin at 0 reported as 0; counts: most frequent value".into(),
+            bins: "equal width over the sample range; Scott's rule 3.49 sigma n^-1/3 clamped to 10..200 bins, or --bins".into(),
+            independence: "contingency table of the joint histogram merged to <= 10x10 cells of ~equal marginal mass; Pearson chi2 and G tests; mutual information with a permutation null".into(),
+        },
+        counts,
+        growth,
+        renewal_check,
+        independence,
+    }
 }
 
 /// The trajectory tables beside a dataset ([`crate::trajectory`]) and their names in an analysis.
@@ -324,8 +357,7 @@ pub fn write_into(a: &Analysis, dir: &Path, shown: &Path) -> Result<(), Analysis
     for (file, table) in tables {
         table.write_parquet(&dir.join(file)).map_err(|e| werr(&shown.join(file), &e))?;
     }
-    let json = serde_json::to_string_pretty(&summary(a)).expect("JSON serializes");
-    std::fs::write(dir.join("summary.json"), json + "\n").map_err(|e| werr(&shown.join("summary.json"), &e))?;
+    std::fs::write(dir.join("summary.json"), summary(a).to_json()).map_err(|e| werr(&shown.join("summary.json"), &e))?;
     std::fs::write(dir.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&shown.join("table1.md"), &e))?;
     if let Some(src) = &a.dataset.trajectories {
         for (from, to) in TRAJECTORY_TABLES {

@@ -155,10 +155,8 @@ impl Inputs {
         let keyed = |more: &[(&'static str, char)]| -> Vec<(&'static str, char)> { [("variable", 's'), ("index", 'i')].into_iter().chain(more.iter().copied()).collect() };
         let summary_path = adir.join("summary.json");
         let bad = |message: String| FigureError::Read { path: summary_path.clone(), message };
-        let text = std::fs::read_to_string(&summary_path).map_err(|e| bad(e.to_string()))?;
-        let summary: serde_json::Value = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-        let toml = summary["dataset"]["scenario"].as_str().ok_or_else(|| bad("no dataset.scenario".into()))?;
-        let scenario = Scenario::recorded(toml, &summary_path).map_err(|e| bad(e.to_string()))?;
+        let toml = crate::analysis::summary::Summary::read_scenario(&summary_path).map_err(bad)?;
+        let scenario = Scenario::recorded(&toml, &summary_path).map_err(|e| bad(e.to_string()))?;
         let trajectory = Trajectory::load(adir)?;
         let convergence_path = adir.join("convergence.parquet");
         let convergence = if convergence_path.exists() {
