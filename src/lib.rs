@@ -31,6 +31,7 @@ pub mod scenes;
 pub mod sensitivity;
 pub mod simulate;
 pub mod stats;
+pub mod table;
 pub mod solver;
 pub mod special;
 pub mod tradeoff;

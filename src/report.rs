@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 
-use crate::analysis::frame::Table;
+use crate::table::Table;
 use crate::analysis::input;
 use crate::analysis::summary::Summary;
 use crate::analysis::paper::{table1, Row};
@@ -346,7 +346,7 @@ pub fn run(dataset: &Path, adir: &Path, figdir: &Path, out: &Path) -> Result<[Pa
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::frame::Col;
+    use crate::table::Col;
 
     fn floats(v: &[f64]) -> Col {
         Col::Float(v.iter().map(|&x| Some(x)).collect())

@@ -29,7 +29,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::analysis::frame::{Col, Table};
+use crate::table::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::observables::Observable;
 use crate::figures::{render, Figure, Panel, Series};

@@ -39,7 +39,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::analysis::frame::{Col, Table};
+use crate::table::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::events::Record;
 use crate::observables::Observable;

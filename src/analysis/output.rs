@@ -27,7 +27,7 @@
 use std::path::Path;
 
 
-use super::frame::{Col, Table};
+use crate::table::{Col, Table};
 use super::paper;
 use super::summary::{Bins, CountSummary, DatasetSummary, GrowthSummary, OptionsSummary, Policies, RenewalSummary, Summary, TestSummary};
 use super::{Analysis, AnalysisError};

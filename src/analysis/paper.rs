@@ -1,6 +1,6 @@
 //! The paper's reported numbers (Lima & Sampaio, Table 1 and section 4), for comparison only.
 
-use super::frame::Table;
+use crate::table::Table;
 use super::series::Variable;
 
 /// (variable, k, mean, variance, mode, skewness, kurtosis) from Table 1.

@@ -11,7 +11,7 @@
 use std::path::Path;
 
 use super::accum::Moments;
-use super::frame::{Col, Table};
+use crate::table::{Col, Table};
 use super::input::open_cells;
 use super::series::{Series, Variable};
 use super::{analyze_dataset, output, Analysis, AnalysisError, Options};

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use stickslip::analysis::frame::{Col, Table};
+use stickslip::table::{Col, Table};
 use stickslip::figures::{self, Inputs};
 use stickslip::scenario::PAPER_TOML;
 

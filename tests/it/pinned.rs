@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use stickslip::analysis::frame::{Col, Table};
+use stickslip::table::{Col, Table};
 
 use crate::common::stickslip;
 

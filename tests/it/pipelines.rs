@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use stickslip::analysis::frame::Table;
+use stickslip::table::Table;
 
 use crate::common::stickslip;
 

@@ -275,9 +275,9 @@ fn values_that_used_to_slip_through_are_refused_or_made_safe() {
     assert!(t.join("w/mass=0.000000001/part-00000-of-00001.parquet").is_file());
     ok(&stickslip(&["analyze", "w", "--out", "wa", "-q"], t));
     for (path, _) in snapshot(&t.join("wa")).iter().filter(|(p, _)| p.extension().is_some_and(|x| x == "parquet")) {
-        let table = stickslip::analysis::frame::Table::read_parquet(path).unwrap();
+        let table = stickslip::table::Table::read_parquet(path).unwrap();
         for (name, col) in &table.columns {
-            if let stickslip::analysis::frame::Col::Float(v) = col {
+            if let stickslip::table::Col::Float(v) = col {
                 assert!(v.iter().flatten().all(|x| x.is_finite()), "{}: column {name} has a non-finite value", path.display());
             }
         }
@@ -557,7 +557,7 @@ fn schema_v1_datasets_still_analyse() {
         ok(&stickslip(&["analyze", d, "--out", &format!("{d}-a"), "-q"], t));
     }
     for table in ["moments", "histograms", "growth"] {
-        let read = |d: &str| stickslip::analysis::frame::Table::read_parquet(&t.join(format!("{d}-a/{table}.parquet"))).unwrap();
+        let read = |d: &str| stickslip::table::Table::read_parquet(&t.join(format!("{d}-a/{table}.parquet"))).unwrap();
         let (a, b, c) = (read("v1"), read("v2"), read("v1-plain"));
         assert_eq!(format!("{:?}", a.columns), format!("{:?}", b.columns), "{table}: v1 and v2 analyses differ");
         assert_eq!(format!("{:?}", c.columns), format!("{:?}", b.columns), "{table}: v1 without an Arrow schema and v2 analyses differ");

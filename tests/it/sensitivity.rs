@@ -44,7 +44,7 @@ fn the_command_writes_its_table_and_refuses_a_scene_without_random_keys() {
     let tmp = tempfile::tempdir().unwrap();
     let o = stickslip(&["sensitivity", "--out", "s", "--realizations", "300", "--set", MU, "-q"], tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let t = stickslip::analysis::frame::Table::read_parquet(&tmp.path().join("s/sobol.parquet")).unwrap();
+    let t = stickslip::table::Table::read_parquet(&tmp.path().join("s/sobol.parquet")).unwrap();
     assert_eq!(t.height(), 2 * sensitivity::OUTPUTS.len());
     for c in ["first_order", "first_order_lo", "first_order_hi", "total", "total_lo", "total_hi"] {
         assert!(t.floats(c).is_some(), "{c}");

@@ -183,7 +183,7 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
 fn tradeoff_writes_one_row_per_setting() {
     let tmp = tempfile::tempdir().unwrap();
     let rows = tradeoff::run(&scenario(&["run.duration=2"]), 10, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
-    let t = stickslip::analysis::frame::Table::read_parquet(&tmp.path().join("t/tradeoff.parquet")).unwrap();
+    let t = stickslip::table::Table::read_parquet(&tmp.path().join("t/tradeoff.parquet")).unwrap();
     assert_eq!(t.height(), tradeoff::ladder(2.0).len());
     assert_eq!(rows.len(), t.height());
     for col in ["cpu_seconds_per_realization", "event_time_error_max", "event_time_error_rms", "bias_mean_S_T", "bias_mean_D", "bias_mean_H", "bias_mean_T_k_max", "max_bias_over_se"] {
@@ -209,7 +209,7 @@ fn tradeoff_recommends_nothing_without_a_standard_error_and_the_same_thing_every
     let sc = scenario(&["run.duration=2", "model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"]);
     let one = tradeoff::run(&sc, 1, tradeoff::BIAS_FRACTION, &tmp.path().join("one")).unwrap();
     assert!(one.iter().all(|r| r.max_bias_over_se.is_none() && !r.recommended));
-    let t = stickslip::analysis::frame::Table::read_parquet(&tmp.path().join("one/tradeoff.parquet")).unwrap();
+    let t = stickslip::table::Table::read_parquet(&tmp.path().join("one/tradeoff.parquet")).unwrap();
     assert!(t.floats("max_bias_over_se").unwrap().iter().all(Option::is_none), "no score is written as a number");
     // the ranking is counted, not timed: two runs recommend the same setting, and it is the
     // eligible one with the fewest right-hand-side evaluations (counts are deterministic)

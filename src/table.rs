@@ -1,0 +1,120 @@
+//! The small tidy tables the stages exchange (analysis tables, `tradeoff.parquet`,
+//! `sobol.parquet`) and read back (figures, report), column by column, with their Parquet I/O
+//! through polars (its Rust API changes between minor versions; polars is pinned).
+
+use std::fs::File;
+use std::path::Path;
+
+use polars::prelude::*;
+
+/// A small tidy table, column by column.
+#[derive(Debug, Clone, Default)]
+pub struct Table {
+    pub columns: Vec<(String, Col)>,
+}
+
+#[derive(Debug, Clone)]
+pub enum Col {
+    Str(Vec<String>),
+    Int(Vec<Option<i64>>),
+    Float(Vec<Option<f64>>),
+}
+
+impl Table {
+    /// Read a table written by [`Table::write_parquet`] (string, integer and float columns).
+    pub fn read_parquet(path: &Path) -> PolarsResult<Table> {
+        let file = File::open(path).map_err(|e| polars_err!(ComputeError: "{}: {e}", path.display()))?;
+        let df = ParquetReader::new(file).finish()?;
+        let mut t = Table::default();
+        for c in df.columns() {
+            let name = c.name().to_string();
+            let col = match c.dtype() {
+                DataType::String => Col::Str(c.str()?.iter().map(|v| v.unwrap_or_default().to_string()).collect()),
+                DataType::Int64 | DataType::Int32 => Col::Int(c.cast(&DataType::Int64)?.i64()?.iter().collect()),
+                DataType::Float64 => Col::Float(c.f64()?.iter().collect()),
+                other => polars_bail!(SchemaMismatch: "{}: column `{name}` has unsupported type {other}", path.display()),
+            };
+            t.columns.push((name, col));
+        }
+        Ok(t)
+    }
+
+    /// Read a table and check that it has `columns`, each of the kind given ('s' string,
+    /// 'i' integer, 'f' float): a broken or foreign table is an error naming the column.
+    pub fn read_checked(path: &Path, columns: &[(&str, char)]) -> PolarsResult<Table> {
+        let t = Table::read_parquet(path)?;
+        for &(name, kind) in columns {
+            let got = match t.col(name) {
+                None => polars_bail!(ColumnNotFound: "{}: column `{name}` is missing", path.display()),
+                Some(Col::Str(_)) => 's',
+                Some(Col::Int(_)) => 'i',
+                Some(Col::Float(_)) => 'f',
+            };
+            if got != kind {
+                let word = |k: char| match k {
+                    's' => "string",
+                    'i' => "integer",
+                    _ => "float",
+                };
+                polars_bail!(SchemaMismatch: "{}: column `{name}` is {}, expected {}", path.display(), word(got), word(kind));
+            }
+        }
+        Ok(t)
+    }
+
+    /// Number of rows.
+    pub fn height(&self) -> usize {
+        self.columns.first().map_or(0, |(_, c)| match c {
+            Col::Str(v) => v.len(),
+            Col::Int(v) => v.len(),
+            Col::Float(v) => v.len(),
+        })
+    }
+
+    fn col(&self, name: &str) -> Option<&Col> {
+        self.columns.iter().find(|(n, _)| n == name).map(|(_, c)| c)
+    }
+
+    pub fn strings(&self, name: &str) -> Option<&[String]> {
+        match self.col(name)? {
+            Col::Str(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    pub fn ints(&self, name: &str) -> Option<&[Option<i64>]> {
+        match self.col(name)? {
+            Col::Int(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    pub fn floats(&self, name: &str) -> Option<&[Option<f64>]> {
+        match self.col(name)? {
+            Col::Float(v) => Some(v),
+            _ => None,
+        }
+    }
+
+    pub fn push(&mut self, name: &str, col: Col) -> &mut Self {
+        self.columns.push((name.to_string(), col));
+        self
+    }
+
+    /// Write as Parquet (zstd) to `path`.
+    pub fn write_parquet(&self, path: &Path) -> PolarsResult<()> {
+        let columns: Vec<Column> = self
+            .columns
+            .iter()
+            .map(|(name, c)| match c {
+                Col::Str(v) => Column::new(name.as_str().into(), v),
+                Col::Int(v) => Column::new(name.as_str().into(), v),
+                Col::Float(v) => Column::new(name.as_str().into(), v),
+            })
+            .collect();
+        let mut df = DataFrame::new_infer_height(columns)?;
+        let file = File::create(path).map_err(|e| polars_err!(ComputeError: "{}: {e}", path.display()))?;
+        ParquetWriter::new(file).with_compression(ParquetCompression::Zstd(None)).finish(&mut df)?;
+        Ok(())
+    }
+}
