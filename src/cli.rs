@@ -176,7 +176,7 @@ pub fn message(e: &anyhow::Error) -> String {
 /// `text` on one line: control characters (newlines included) become spaces, runs of spaces
 /// one, and a run of more than 200 characters without a space keeps its first 80 and says how
 /// long it was.
-pub fn printable(text: &str) -> String {
+fn printable(text: &str) -> String {
     let clean: String = text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
     let words: Vec<String> = clean
         .split_whitespace()
@@ -486,7 +486,7 @@ fn reproduce_command(args: ReproduceArgs, quiet: bool) -> anyhow::Result<()> {
     let layout = ReproduceLayout::new(&dir);
     let mut run = args.run;
     run.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
-    simulate_command(SimulateArgs { out: layout.dataset.clone(), shard: Shard { index: 0, count: 1 }, run }, quiet)?;
+    simulate_command(SimulateArgs { out: layout.dataset.clone(), shard: Shard::WHOLE, run }, quiet)?;
     let opts = analysis::Options { progress: !quiet && std::io::stderr().is_terminal(), ..Default::default() };
     let cells = analyze_and_print(&layout.dataset, &layout.analysis, &opts, quiet)?;
     figures_command(&layout.analysis, &layout.figures, quiet)?;

@@ -229,11 +229,7 @@ pub fn part_name(index: u64, count: u64) -> String {
 
 /// Whether the file at `path` is a stickslip dataset part (its footer says so).
 fn is_stickslip_part(path: &Path) -> bool {
-    let Ok(file) = File::open(path) else { return false };
-    let Ok(reader) = parquet::file::reader::SerializedFileReader::new(file) else { return false };
-    use parquet::file::reader::FileReader;
-    let kv = reader.metadata().file_metadata().key_value_metadata();
-    kv.is_some_and(|kv| kv.iter().any(|e| e.key == crate::metadata::SCHEMA_VERSION))
+    crate::metadata::footer(path).is_some_and(|kv| kv.iter().any(|(k, _)| k == crate::metadata::SCHEMA_VERSION))
 }
 
 /// Writes one part file: created under a unique temporary name while holding the part's lock,

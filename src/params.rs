@@ -86,7 +86,7 @@ impl Key {
     /// The range in which the solvers are proven to work, `[lo, hi]` (`tests/it/extremes.rs`
     /// runs every solver at both ends of every key): a value, sweep or distribution support
     /// outside it is refused at the door. Combinations are bounded too (ω·t_a, see
-    /// [`crate::scenario::Limits`]).
+    /// [`crate::scenario::Scenario::max_rate`]).
     pub fn range(self) -> (f64, f64) {
         match self {
             Key::Mass => (1e-9, 1e6),
@@ -180,18 +180,15 @@ impl Dist {
             Dist::Uniform { low, high } if high > low => ((hi.min(high) - lo.max(low)) / (high - low)).max(0.0),
             Dist::Uniform { low, .. } => f64::from(u8::from(low >= lo && low <= hi)),
             Dist::Normal { mean, sd } => between((lo - mean) / sd, (hi - mean) / sd),
+            // below cv = 1e-150, cv² underflows: the law is a point mass at the mean in f64
+            Dist::Lognormal { mean, .. } | Dist::Gamma { mean, .. } if self.point_mass() => f64::from(u8::from(mean >= lo && mean <= hi)),
             Dist::Lognormal { mean, cv } => {
                 // ln X ~ N(μ, σ²), σ² = ln(1 + cv²) (written to stay finite for any finite cv)
                 let s2 = if cv < 1e150 { (cv * cv).ln_1p() } else { 2.0 * cv.ln() };
-                if s2 == 0.0 {
-                    return f64::from(u8::from(mean >= lo && mean <= hi)); // (a point mass, cv < 1e-154)
-                }
                 let mu = mean.ln() - 0.5 * s2;
                 let z = |x: f64| if x > 0.0 { (x.ln() - mu) / s2.sqrt() } else { f64::NEG_INFINITY };
                 between(z(lo), z(hi))
             }
-            // below cv = 1e-150, cv² underflows: the law is a point mass at the mean in f64
-            Dist::Gamma { mean, .. } if self.point_mass() => f64::from(u8::from(mean >= lo && mean <= hi)),
             Dist::Gamma { mean, cv } => {
                 let (shape, scale) = (1.0 / (cv * cv), mean * cv * cv);
                 gamma_p(shape, hi / scale) - gamma_p(shape, lo / scale)
@@ -200,10 +197,10 @@ impl Dist {
         p.clamp(0.0, 1.0)
     }
 
-    /// A gamma law whose spread is below f64's resolution (cv < 1e-150, where cv² underflows
-    /// and the shape 1/cv² is infinite): every draw is the mean.
+    /// A lognormal or gamma law whose spread is below f64's resolution (cv < 1e-150, where cv²
+    /// underflows: a gamma's shape 1/cv² is infinite, a lognormal's σ is 0): every draw is the mean.
     fn point_mass(&self) -> bool {
-        matches!(*self, Dist::Gamma { cv, .. } if cv < 1e-150)
+        matches!(*self, Dist::Lognormal { cv, .. } | Dist::Gamma { cv, .. } if cv < 1e-150)
     }
 
     /// The mean (of the untruncated law).

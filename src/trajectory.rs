@@ -175,19 +175,12 @@ impl Tables {
 /// The footer key holding the scenario of the run that sampled the trajectories (the parts' key).
 const SCENARIO: &str = crate::metadata::SCENARIO;
 
-/// The footer's key-value pairs of the Parquet file at `path` (None if it is not one).
-fn footer(path: &Path) -> Option<Vec<(String, Option<String>)>> {
-    use parquet::file::reader::FileReader;
-    let reader = parquet::file::reader::SerializedFileReader::new(std::fs::File::open(path).ok()?).ok()?;
-    Some(reader.metadata().file_metadata().key_value_metadata()?.iter().map(|e| (e.key.clone(), e.value.clone())).collect())
-}
-
 /// Whether the file at `path` is one of the tool's trajectory tables (its footer says so).
 fn is_ours(path: &Path) -> bool {
-    footer(path).is_some_and(|kv| kv.iter().any(|(k, _)| k == MARK))
+    crate::metadata::footer(path).is_some_and(|kv| kv.iter().any(|(k, _)| k == MARK))
 }
 
 /// The scenario recorded in the trajectory table at `path`, if it is the tool's.
 pub fn recorded_scenario(path: &Path) -> Option<String> {
-    footer(path)?.into_iter().find(|(k, _)| k == SCENARIO).and_then(|(_, v)| v)
+    crate::metadata::footer(path)?.into_iter().find(|(k, _)| k == SCENARIO).and_then(|(_, v)| v)
 }

@@ -90,15 +90,7 @@ impl Scenario {
         }
     }
 
-    /// The rate [1/s] that sets a realization's work, and the key that sets it: ω = √(k/m)
-    /// for `exact` (closed forms absorb any damping), the fastest of ω and c/m for a numerical
-    /// solver (the largest eigenvalue of the linear part is at most max(ω, c/m): the step must
-    /// resolve it).
-    pub fn fastest_rate(&self, omega: f64, c_per_m: f64) -> (f64, &'static str, &'static str) {
-        fastest_rate(self.solver() != SolverKind::Exact, omega, c_per_m)
-    }
-
-    /// The largest [`Scenario::fastest_rate`] a realization may have, and the rule that sets it:
+    /// The largest [`fastest_rate`] a realization may have, and the rule that sets it:
     /// rate·t_a ≤ [`MAX_NATURAL_RADIANS`] (exact; [`MAX_NATURAL_RADIANS_NUMERICAL`] for a
     /// numerical solver), and for rk4 rate·step ≤ 1 (RK4 loses accuracy past 1 and is unstable
     /// past 2.8; the rule then names `numerics.step`). Checked at the door on the fixed values
@@ -225,7 +217,7 @@ impl Scenario {
         let num = &self.numerics;
         let solver = self.solver();
         let fixed = matches!(solver, SolverKind::Rk4 | SolverKind::Moreau);
-        let (rate, rate_key, symbol) = self.fastest_rate(ratios[0].sqrt(), ratios[1]);
+        let (rate, rate_key, symbol) = fastest_rate(solver != SolverKind::Exact, ratios[0].sqrt(), ratios[1]);
         let (max_rate, rule, step_key) = self.max_rate();
         if rate > max_rate {
             let key = step_key.unwrap_or(rate_key);
@@ -317,7 +309,7 @@ fn check_param(key: Key, p: &Param) -> Result<(), ScenarioError> {
 }
 
 /// A range end for a message: `0`, `0.3`, `1e-6`, `1e9`.
-pub(crate) fn bound(x: f64) -> String {
+fn bound(x: f64) -> String {
     if x == 0.0 || (1e-3..1e4).contains(&x.abs()) {
         format!("{x}")
     } else {
@@ -338,7 +330,10 @@ fn shown_share(p: f64) -> String {
     }
 }
 
-/// [`Scenario::fastest_rate`] for a solver that is numerical (`numerical`) or `exact`.
+/// The rate [1/s] that sets a realization's work, the key that sets it and its symbol: ω = √(k/m)
+/// for `exact` (closed forms absorb any damping), the fastest of ω and c/m for a `numerical`
+/// solver (the largest eigenvalue of the linear part is at most max(ω, c/m): the step must
+/// resolve it).
 pub fn fastest_rate(numerical: bool, omega: f64, c_per_m: f64) -> (f64, &'static str, &'static str) {
     if numerical && c_per_m > omega {
         (c_per_m, "model.damping", "c/m")
