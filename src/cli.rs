@@ -285,7 +285,7 @@ pub struct AnalyzeArgs {
     /// Joint histogram + independence test of a pair, e.g. --pair D1,D2 (repeatable;
     /// default: T1,T2 and D1,D2).
     #[arg(long = "pair", value_name = "A,B")]
-    pub pairs: Vec<crate::analysis::series::Pair>,
+    pub pairs: Vec<crate::analysis::Pair>,
     /// Permutations of the mutual-information null distribution.
     #[arg(long, value_name = "P", default_value_t = analysis::DEFAULT_PERMUTATIONS)]
     pub permutations: u32,

@@ -31,10 +31,15 @@ pub enum Observable {
     StickDuration(u32),
     /// H_k [s]: duration of the k-th slip, censored at t_a (`slip_duration`)
     SlipDuration(u32),
+    /// Y_k [s]: instant of the k-th belt velocity change (`switch_times`, stored only when the
+    /// scenario asks for `output.switch_times`)
+    SwitchTime(u32),
     /// S_T: number of sticks (`n_stick`)
     Sticks,
     /// S_L: number of slips (`n_slip`)
     Slips,
+    /// Q: number of belt velocity changes in [0, t_a] (`n_switches`)
+    Switches,
     /// fraction of [0, t_a] spent stuck, the cut last stick included (Σ `stick_duration` / t_a)
     StickFraction,
     /// mean of the realization's uncensored stick durations [s]
@@ -54,18 +59,83 @@ impl Observable {
             Observable::SlipStart(k) => format!("L_{k}"),
             Observable::StickDuration(k) => format!("D_{k}"),
             Observable::SlipDuration(k) => format!("H_{k}"),
-            Observable::Sticks => "S_T".into(),
-            Observable::Slips => "S_L".into(),
+            Observable::SwitchTime(k) => format!("Y_{k}"),
+            Observable::Sticks | Observable::Slips | Observable::Switches => self.variable().into(),
             Observable::StickFraction => "stick_fraction".into(),
             Observable::MeanStickDuration => "mean_stick_duration".into(),
             Observable::MeanSlipDuration => "mean_slip_duration".into(),
         }
     }
 
+    /// The `variable` column of the analysis tables: the family letter of an indexed quantity
+    /// (`T`, `L`, `D`, `H`, `Y`) or the whole name of a scalar one (`S_T`, `stick_fraction`).
+    pub fn variable(self) -> &'static str {
+        match self {
+            Observable::StickStart(_) => "T",
+            Observable::SlipStart(_) => "L",
+            Observable::StickDuration(_) => "D",
+            Observable::SlipDuration(_) => "H",
+            Observable::SwitchTime(_) => "Y",
+            Observable::Sticks => "S_T",
+            Observable::Slips => "S_L",
+            Observable::Switches => "Q",
+            Observable::StickFraction => "stick_fraction",
+            Observable::MeanStickDuration => "mean_stick_duration",
+            Observable::MeanSlipDuration => "mean_slip_duration",
+        }
+    }
+
+    /// The `index` column: k of an indexed quantity, None for a scalar one.
+    pub fn index(self) -> Option<u32> {
+        match self {
+            Observable::StickStart(k) | Observable::SlipStart(k) | Observable::StickDuration(k) | Observable::SlipDuration(k) | Observable::SwitchTime(k) => Some(k),
+            _ => None,
+        }
+    }
+
+    /// The same family at index `k` (None for a scalar quantity).
+    pub fn at(self, k: u32) -> Option<Observable> {
+        match self {
+            Observable::StickStart(_) => Some(Observable::StickStart(k)),
+            Observable::SlipStart(_) => Some(Observable::SlipStart(k)),
+            Observable::StickDuration(_) => Some(Observable::StickDuration(k)),
+            Observable::SlipDuration(_) => Some(Observable::SlipDuration(k)),
+            Observable::SwitchTime(_) => Some(Observable::SwitchTime(k)),
+            _ => None,
+        }
+    }
+
+    /// The indexed families, at k = 1.
+    pub const FAMILIES: [Observable; 5] = [Observable::StickStart(1), Observable::SlipStart(1), Observable::StickDuration(1), Observable::SlipDuration(1), Observable::SwitchTime(1)];
+
+    /// The counts S_T, S_L, Q.
+    pub const COUNTS: [Observable; 3] = [Observable::Sticks, Observable::Slips, Observable::Switches];
+
+    /// The quantities without an index.
+    pub const SCALARS: [Observable; 6] =
+        [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
+
+    /// Every quantity, the indexed families for k ≤ `max_index` (what the consistency test runs
+    /// through: a new quantity is covered once it is listed here).
+    pub fn every(max_index: u32) -> Vec<Observable> {
+        let indexed = Observable::FAMILIES.into_iter().flat_map(|f| (1..=max_index).filter_map(move |k| f.at(k)));
+        indexed.chain(Observable::SCALARS).collect()
+    }
+
+    /// Whether it is a count (integer values: exact distributions, unit histogram bins).
+    pub fn is_count(self) -> bool {
+        Observable::COUNTS.contains(&self)
+    }
+
+    /// Whether it needs the `switch_times` column.
+    pub fn needs_switch_times(self) -> bool {
+        matches!(self, Observable::SwitchTime(_))
+    }
+
     /// Its unit: `s`, or `1` for counts and fractions.
     pub fn unit(self) -> &'static str {
         match self {
-            Observable::Sticks | Observable::Slips | Observable::StickFraction => "1",
+            Observable::Sticks | Observable::Slips | Observable::Switches | Observable::StickFraction => "1",
             _ => "s",
         }
     }
@@ -77,18 +147,20 @@ impl Observable {
             Observable::SlipStart(_) => "start of the k-th slip, counting from the slip after the first stick",
             Observable::StickDuration(_) => "duration of the k-th stick; none when it is the stick cut at t_a (censored)",
             Observable::SlipDuration(_) => "duration of the k-th slip; none when it is the slip cut at t_a (censored)",
+            Observable::SwitchTime(_) => "instant of the k-th change of the belt velocity",
             Observable::Sticks => "number of sticks in [0, t_a]",
             Observable::Slips => "number of slips in [0, t_a], counted from the slip after the first stick",
+            Observable::Switches => "number of changes of the belt velocity in [0, t_a]",
             Observable::StickFraction => "fraction of [0, t_a] spent stuck, the stick cut at t_a included",
             Observable::MeanStickDuration => "mean duration of the realization's sticks, the censored one left out; none without one",
             Observable::MeanSlipDuration => "mean duration of the realization's slips, the censored one left out; none without one",
         }
     }
 
-    /// Its value on one realization's record over the window t_a = `duration` [s]; `None` when
-    /// the realization does not have it (no k-th interval, a censored duration, no uncensored
-    /// interval to average).
-    pub fn value(self, r: &Record, duration: f64) -> Option<f64> {
+    /// Its value on one realization — its record and its belt's change instants `switch_times`
+    /// — over the window t_a = `duration` [s]; `None` when the realization does not have it (no
+    /// k-th interval, a censored duration, no uncensored interval to average).
+    pub fn value(self, r: &Record, switch_times: &[f64], duration: f64) -> Option<f64> {
         let at = |v: &[f64], k: u32| v.get(k as usize - 1).copied();
         let mean = |v: &[f64], stick: bool| {
             let kept: Vec<f64> = (1..=v.len() as u32).filter(|&k| !censored(r, stick, k)).map(|k| v[k as usize - 1]).collect();
@@ -99,8 +171,10 @@ impl Observable {
             Observable::SlipStart(k) => at(&r.slip_start, k),
             Observable::StickDuration(k) => at(&r.stick_duration, k).filter(|_| !censored(r, true, k)),
             Observable::SlipDuration(k) => at(&r.slip_duration, k).filter(|_| !censored(r, false, k)),
+            Observable::SwitchTime(k) => at(switch_times, k),
             Observable::Sticks => Some(r.n_stick() as f64),
             Observable::Slips => Some(r.n_slip() as f64),
+            Observable::Switches => Some(switch_times.len() as f64),
             Observable::StickFraction => Some(r.stick_duration.iter().sum::<f64>() / duration),
             Observable::MeanStickDuration => mean(&r.stick_duration, true),
             Observable::MeanSlipDuration => mean(&r.slip_duration, false),
@@ -108,29 +182,40 @@ impl Observable {
     }
 
     /// Its polars expression over the dataset columns (schema v2: `stick_start`, `stick_duration`,
-    /// `slip_start`, `slip_duration` lists, `n_stick`, `n_slip`, `last_truncated`), one float64
-    /// value per realization, null where [`Observable::value`] is None; `duration` is t_a [s].
+    /// `slip_start`, `slip_duration` lists, `n_stick`, `n_slip`, `last_truncated`; `n_switches`,
+    /// and `switch_times` for Y_k), one float64 value per realization, null where
+    /// [`Observable::value`] is None; `duration` is t_a [s].
     pub fn expr(self, duration: f64) -> Expr {
-        let n = |c: &str| col(c).cast(DataType::Int64);
-        let (n_stick, n_slip, cut) = (n("n_stick"), n("n_slip"), col("last_truncated"));
-        // the last stick (slip) is the interval cut at t_a: the rule of `censored`, as columns
-        let last_stick_cut = cut.clone().and(n_stick.clone().gt(n_slip.clone()));
-        let last_slip_cut = cut.and(n_stick.clone().eq(n_slip.clone()));
+        let (n_stick, n_slip) = (count_column("n_stick"), count_column("n_slip"));
         let at = |c: &str, k: u32| col(c).list().get(lit(i64::from(k) - 1), true);
         let unless = |censored: Expr, value: Expr| when(censored).then(lit(NULL)).otherwise(value).cast(DataType::Float64);
         let uncensored_mean = |c: &str, count: Expr, last_cut: Expr| col(c).list().slice(lit(0i64), count - last_cut.cast(DataType::Int64)).list().mean();
         let named = match self {
             Observable::StickStart(k) => at("stick_start", k),
             Observable::SlipStart(k) => at("slip_start", k),
-            Observable::StickDuration(k) => unless(last_stick_cut.and(n_stick.eq(lit(i64::from(k)))), at("stick_duration", k)),
-            Observable::SlipDuration(k) => unless(last_slip_cut.and(n_slip.eq(lit(i64::from(k)))), at("slip_duration", k)),
+            Observable::StickDuration(k) | Observable::SlipDuration(k) => {
+                let column = if matches!(self, Observable::StickDuration(_)) { "stick_duration" } else { "slip_duration" };
+                unless(self.censored_expr().expect("a duration"), at(column, k))
+            }
+            Observable::SwitchTime(k) => at("switch_times", k),
             Observable::Sticks => n_stick,
             Observable::Slips => n_slip,
+            Observable::Switches => count_column("n_switches"),
             Observable::StickFraction => col("stick_duration").list().sum() / lit(duration),
-            Observable::MeanStickDuration => uncensored_mean("stick_duration", n_stick, last_stick_cut),
-            Observable::MeanSlipDuration => uncensored_mean("slip_duration", n_slip, last_slip_cut),
+            Observable::MeanStickDuration => uncensored_mean("stick_duration", n_stick, last_cut(true)),
+            Observable::MeanSlipDuration => uncensored_mean("slip_duration", n_slip, last_cut(false)),
         };
         named.cast(DataType::Float64).alias(self.name())
+    }
+
+    /// For D_k and H_k, the expression that is true where the realization's k-th duration is the
+    /// interval cut at t_a (censored, so its value is null); None for every other quantity.
+    pub fn censored_expr(self) -> Option<Expr> {
+        match self {
+            Observable::StickDuration(k) => Some(last_cut(true).and(count_column("n_stick").eq(lit(i64::from(k))))),
+            Observable::SlipDuration(k) => Some(last_cut(false).and(count_column("n_slip").eq(lit(i64::from(k))))),
+            _ => None,
+        }
     }
 
     /// The paper's Table 1 quantities: T_k, D_k, L_k, H_k for k ≤ 6, then S_T and S_L.
@@ -142,6 +227,18 @@ impl Observable {
         out.extend([Observable::Sticks, Observable::Slips]);
         out
     }
+}
+
+/// A count column as int64 (int32 in schema v1).
+fn count_column(name: &str) -> Expr {
+    col(name).cast(DataType::Int64)
+}
+
+/// Whether the last interval was a stick (`stick`) or a slip cut at t_a: the rule of
+/// [`censored`], as columns.
+fn last_cut(stick: bool) -> Expr {
+    let (n_stick, n_slip) = (count_column("n_stick"), count_column("n_slip"));
+    col("last_truncated").and(if stick { n_stick.gt(n_slip) } else { n_stick.eq(n_slip) })
 }
 
 /// Whether the k-th stick (`stick`) or slip duration is the interval cut at t_a: the last
@@ -164,9 +261,8 @@ impl FromStr for Observable {
     /// digits (`T_3`; `T3` too). Anything else is refused, naming what is accepted.
     fn from_str(s: &str) -> Result<Observable, String> {
         let s = s.trim();
-        let known = "S_T, S_L, stick_fraction, mean_stick_duration, mean_slip_duration, or T_k, L_k, D_k, H_k with k >= 1";
-        let fixed = [Observable::Sticks, Observable::Slips, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
-        if let Some(o) = fixed.into_iter().find(|o| o.name() == s) {
+        let known = "S_T, S_L, Q, stick_fraction, mean_stick_duration, mean_slip_duration, or T_k, L_k, D_k, H_k, Y_k with k >= 1";
+        if let Some(o) = Observable::SCALARS.into_iter().find(|o| o.name() == s) {
             return Ok(o);
         }
         let family: Option<fn(u32) -> Observable> = match s.chars().next() {
@@ -174,6 +270,7 @@ impl FromStr for Observable {
             Some('L') => Some(Observable::SlipStart),
             Some('D') => Some(Observable::StickDuration),
             Some('H') => Some(Observable::SlipDuration),
+            Some('Y') => Some(Observable::SwitchTime),
             _ => None,
         };
         let family = family.ok_or_else(|| format!("{s:?}: unknown quantity; expected {known}"))?;
@@ -207,22 +304,23 @@ mod tests {
     #[test]
     fn values_follow_the_one_censoring_rule() {
         let r = record();
-        let v = |o: &str| o.parse::<Observable>().unwrap().value(&r, 4.0);
+        let v = |o: &str| o.parse::<Observable>().unwrap().value(&r, &[0.7, 2.9], 4.0);
         assert_eq!((v("S_T"), v("S_L")), (Some(2.0), Some(1.0)));
         assert_eq!((v("T_1"), v("T_2"), v("T_3")), (Some(1.0), Some(3.5), None));
         assert_eq!((v("D_1"), v("D_2")), (Some(0.5), None), "the stick cut at t_a is censored");
         assert_eq!((v("L_1"), v("H_1")), (Some(1.5), Some(2.0)));
+        assert_eq!((v("Q"), v("Y_2"), v("Y_3")), (Some(2.0), Some(2.9), None));
         assert_eq!(v("stick_fraction"), Some((0.5 + 0.5) / 4.0), "the cut stick's time is time stuck");
         assert_eq!((v("mean_stick_duration"), v("mean_slip_duration")), (Some(0.5), Some(2.0)));
         // a realization that never sticks has no durations to average
         let mut none = Record::default();
         none.finish(4.0);
-        assert_eq!(Observable::MeanStickDuration.value(&none, 4.0), None);
+        assert_eq!(Observable::MeanStickDuration.value(&none, &[], 4.0), None);
     }
 
     #[test]
     fn names_round_trip_and_bad_ones_are_refused() {
-        for o in Observable::table1().into_iter().chain([Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration]) {
+        for o in Observable::every(12) {
             assert_eq!(o.name().parse::<Observable>(), Ok(o));
         }
         assert_eq!("D3".parse::<Observable>(), Ok(Observable::StickDuration(3)));

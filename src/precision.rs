@@ -59,7 +59,7 @@ impl Tracker {
     /// Add one realization.
     pub fn add(&mut self, o: &Outcome, duration: f64) {
         for (t, m) in self.targets.iter().zip(&mut self.moments) {
-            if let Some(x) = t.quantity.value(&o.record, duration) {
+            if let Some(x) = t.quantity.value(&o.record, &o.belt.switch_times, duration) {
                 m.add(x);
             }
         }

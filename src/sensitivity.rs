@@ -84,7 +84,7 @@ pub struct Index {
 
 /// The outputs of one realization ([`OUTPUTS`]; None where it has no value).
 pub fn outputs(o: &Outcome, duration: f64) -> [Option<f64>; 4] {
-    OUTPUTS.map(|q| q.value(&o.record, duration))
+    OUTPUTS.map(|q| q.value(&o.record, &o.belt.switch_times, duration))
 }
 
 /// (first order, total) from f(A), f(B), f(AB⁽ⁱ⁾) over the samples `js` (module docs).

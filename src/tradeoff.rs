@@ -182,10 +182,14 @@ fn run_all(sc: &Scenario, n: u64) -> Result<Measured, TradeoffError> {
     Ok(Measured { records, seconds: per(seconds), evaluations: per((steps * sc.solver().evaluations_per_step()) as f64) })
 }
 
+/// `tradeoff` keeps each realization's record only: its statistics (Table 1's and the pooled
+/// durations) are all of stick and slip intervals, none of the belt's changes (Y_k, Q).
+const NO_SWITCHES: &[f64] = &[];
+
 /// The mean over `records` of the values of `quantities` (pooled: every realization's value of
 /// each quantity it has), 0 without any.
 fn pooled(records: &[Record], quantities: &[Observable], duration: f64) -> f64 {
-    let v: Vec<f64> = records.iter().flat_map(|r| quantities.iter().filter_map(move |q| q.value(r, duration))).collect();
+    let v: Vec<f64> = records.iter().flat_map(|r| quantities.iter().filter_map(move |q| q.value(r, NO_SWITCHES, duration))).collect();
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
@@ -194,8 +198,8 @@ fn pooled(records: &[Record], quantities: &[Observable], duration: f64) -> f64 {
 fn bias_over_se(records: &[Record], reference: &[Record], n_run: u64, duration: f64) -> f64 {
     let mut worst: f64 = 0.0;
     for q in Observable::table1() {
-        let r: Vec<f64> = reference.iter().filter_map(|x| q.value(x, duration)).collect();
-        let o: Vec<f64> = records.iter().filter_map(|x| q.value(x, duration)).collect();
+        let r: Vec<f64> = reference.iter().filter_map(|x| q.value(x, NO_SWITCHES, duration)).collect();
+        let o: Vec<f64> = records.iter().filter_map(|x| q.value(x, NO_SWITCHES, duration)).collect();
         if r.len() < 2 || o.is_empty() {
             continue;
         }

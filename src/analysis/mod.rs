@@ -1,40 +1,55 @@
 //! The `analyze` stage: a dataset in, tidy statistics tables out.
 //!
-//! One streaming pass over the dataset (see [`frame`]) accumulates, in realization order, the
-//! mergeable moments of every series, the exact distributions of the counts, and dyadic histogram
-//! sketches of the continuous series and of the requested pairs ([`sketch`]). The histograms, the
-//! mode, the independence tests and the growth regressions are then computed from those
-//! summaries, and everything is written atomically into ADIR.
+//! polars computes ([`query`]): one lazy query over `scan_parquet` of the part files, on the
+//! streaming engine, aggregates per jackknife group the power sums and ranges of every analysed
+//! observable ([`crate::observables`], the one home of what is measured and of the censoring
+//! rule), their counts on dyadic histogram grids, the exact distributions of the counts, the
+//! joint counts of the requested pairs and the running sums of the convergence table, and
+//! checks every value on the way. Rust finishes on those small tables: central moments and their
+//! jackknife intervals ([`jackknife`]), the sketches and histograms ([`sketch`], [`density`]),
+//! kernel-density modes, independence tests ([`independence`]), growth regressions ([`growth`]);
+//! everything is written atomically into ADIR ([`output`]).
 //!
-//! **Truncated intervals.** The interval running at t_a is cut there; its length is a censored
-//! observation, not a draw of D_k or H_k, so it is *excluded* from the statistics of D_k / H_k
-//! (column `n_truncated_excluded` counts them). Start instants T_k, L_k are never censored and
-//! are always included.
+//! **Censored intervals.** The interval running at t_a is cut there; its length is a censored
+//! observation, not a draw of D_k or H_k, so it is left out of D_k / H_k (column
+//! `n_truncated_excluded` counts them); see [`crate::observables`] for the one rule.
 
 pub mod accum;
 pub mod density;
-pub mod frame;
 pub mod growth;
 pub mod independence;
 pub mod jackknife;
 pub mod input;
 pub mod output;
 pub mod paper;
-pub mod series;
+mod query;
 pub mod sketch;
 pub mod summary;
 pub mod sweep;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 use accum::{Histogram, Moments};
-use frame::Batch;
 use growth::{Line, Renewal};
 use independence::Independence;
 use input::{Dataset, InputError};
 use sketch::{Sketch, Sketch2};
-use series::{Pair, Series, Variable};
+
+use crate::observables::Observable;
+
+/// A pair of observables for a joint histogram, written `A,B` (e.g. `T_1,T_2` or `D1,D2`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Pair(pub Observable, pub Observable);
+
+impl FromStr for Pair {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Pair, String> {
+        let (a, b) = s.split_once(',').ok_or_else(|| format!("--pair {s:?}: expected A,B, e.g. D1,D2"))?;
+        Ok(Pair(a.parse()?, b.parse()?))
+    }
+}
 
 /// How to analyse.
 #[derive(Debug, Clone)]
@@ -49,7 +64,7 @@ pub struct Options {
     pub permutations: u32,
     /// Analyse a dataset with missing realization ranges (recorded in `summary.json`).
     pub allow_partial: bool,
-    /// Show a progress bar on stderr while reading.
+    /// Show progress on stderr while reading.
     pub progress: bool,
 }
 
@@ -79,11 +94,10 @@ impl Options {
 
 impl Default for Options {
     fn default() -> Self {
-        let pair = |a: &str, b: &str| Pair(a.parse().unwrap(), b.parse().unwrap());
         Options {
             max_index: DEFAULT_MAX_INDEX,
             bins: None,
-            pairs: vec![pair("T1", "T2"), pair("D1", "D2")],
+            pairs: vec![Pair(Observable::StickStart(1), Observable::StickStart(2)), Pair(Observable::StickDuration(1), Observable::StickDuration(2))],
             permutations: DEFAULT_PERMUTATIONS,
             allow_partial: false,
             progress: false,
@@ -105,10 +119,10 @@ pub enum AnalysisError {
     Out(#[from] crate::outdir::OutDirError),
 }
 
-/// Statistics of one series.
+/// Statistics of one observable.
 #[derive(Debug, Clone)]
 pub struct SeriesStats {
-    pub series: Series,
+    pub series: Observable,
     pub moments: Moments,
     pub truncated: u64,
     pub mode: Option<f64>,
@@ -129,11 +143,11 @@ impl SeriesStats {
     /// outward to integers.
     pub fn mode_interval(&self) -> Option<jackknife::Interval> {
         let i = jackknife::interval(self.mode, &self.loo_mode)?;
-        Some(if self.series.var.is_count() { (i.0.floor(), i.1.ceil()) } else { i })
+        Some(if self.series.is_count() { (i.0.floor(), i.1.ceil()) } else { i })
     }
 }
 
-/// A joint histogram on the two series' 1-D bins.
+/// A joint histogram on the two observables' 1-D bins.
 #[derive(Debug, Clone)]
 pub struct Joint {
     pub pair: Pair,
@@ -146,7 +160,8 @@ pub struct Joint {
 /// OLS of a statistic of T_k or L_k over k.
 #[derive(Debug, Clone)]
 pub struct GrowthFit {
-    pub var: Variable,
+    /// the family (T or L), at k = 1
+    pub family: Observable,
     pub statistic: &'static str,
     pub line: Line,
     /// 95 % jackknife interval of the slope
@@ -165,44 +180,38 @@ pub struct Analysis {
     pub convergence: Vec<Convergence>,
 }
 
-/// The running mean of one series against the number of realizations read, at a geometric grid
-/// of realization counts (10 per decade from 10, and the last): (realizations, values, mean,
-/// standard error of the mean).
+/// The running mean of one observable against the number of realizations read, at a geometric
+/// grid of realization counts (10 per decade from 10, and the last): (realizations, values,
+/// mean, standard error of the mean).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Convergence {
-    pub series: Series,
+    pub series: Observable,
     pub points: Vec<(u64, u64, f64, Option<f64>)>,
 }
 
-/// The series of the convergence figure.
-pub const CONVERGENCE: [(Variable, Option<u32>); 4] = [(Variable::St, None), (Variable::T, Some(1)), (Variable::D, Some(1)), (Variable::H, Some(1))];
+/// The observables of the convergence figure.
+pub const CONVERGENCE: [Observable; 4] = [Observable::Sticks, Observable::StickStart(1), Observable::StickDuration(1), Observable::SlipDuration(1)];
 
-/// The next checkpoint of the convergence grid after `n` realizations: round(10^(j/10)) ≥ 10.
-fn next_checkpoint(n: u64) -> u64 {
-    let mut j = 10.0;
-    loop {
-        let c = 10f64.powf(j / 10.0).round() as u64;
-        if c > n {
-            return c;
-        }
-        j += 1.0;
-    }
+/// The checkpoints of the convergence grid up to `n` realizations: round(10^(j/10)) for j ≥ 10.
+fn checkpoints(n: u64) -> Vec<u64> {
+    (10..).map(|j| 10f64.powf(j as f64 / 10.0).round() as u64).take_while(|&c| c <= n).collect()
 }
 
 impl Analysis {
-    pub fn get(&self, series: Series) -> Option<&SeriesStats> {
+    pub fn get(&self, series: Observable) -> Option<&SeriesStats> {
         self.stats.iter().find(|s| s.series == series)
     }
 }
 
-/// The series analysed for a dataset.
-fn series_list(opts: &Options, switch_times: bool) -> Vec<Series> {
-    let mut out: Vec<Series> = Vec::new();
-    for var in Variable::INDEXED {
-        if var == Variable::Y && !switch_times {
+/// The observables analysed for a dataset: T_k, L_k, D_k, H_k (and Y_k with switch times) for
+/// k ≤ max_index, those of the pairs, the counts and the stick fraction.
+fn series_list(opts: &Options, switch_times: bool) -> Vec<Observable> {
+    let mut out: Vec<Observable> = Vec::new();
+    for family in Observable::FAMILIES {
+        if family.needs_switch_times() && !switch_times {
             continue;
         }
-        out.extend((1..=opts.max_index).map(|k| Series::at(var, k)));
+        out.extend((1..=opts.max_index).filter_map(|k| family.at(k)));
     }
     for p in &opts.pairs {
         for s in [p.0, p.1] {
@@ -211,78 +220,9 @@ fn series_list(opts: &Options, switch_times: bool) -> Vec<Series> {
             }
         }
     }
-    out.extend(Variable::COUNTS.map(Series::count));
-    out.push(Series::count(Variable::StickTime));
+    out.extend(Observable::COUNTS);
+    out.push(Observable::StickFraction);
     out
-}
-
-/// Whether row `r`'s value of series `s` is the truncated last interval (see the module docs).
-fn truncated(s: &Series, b: &Batch, r: usize) -> bool {
-    let (nt, nl) = (b.n_stick[r] as u64, b.n_slip[r] as u64);
-    match (s.var, s.index) {
-        (Variable::D, Some(k)) => crate::events::censored(true, u64::from(k), nt, nl, b.last_truncated[r]),
-        (Variable::H, Some(k)) => crate::events::censored(false, u64::from(k), nt, nl, b.last_truncated[r]),
-        _ => false,
-    }
-}
-
-/// Value of series `i` in row `r`, unless absent or truncated.
-fn value(series: &[Series], i: usize, b: &Batch, r: usize) -> Option<f64> {
-    b.values[i][r].filter(|_| !truncated(&series[i], b, r))
-}
-
-/// Call `value(i, g, x)` for every present, non-truncated value of series `i` in the batch, g
-/// the row's jackknife group (and `cut(i)` for each truncated one), series by series, rows in
-/// dataset order.
-fn for_each_value(series: &[Series], b: &Batch, mut value: impl FnMut(usize, usize, f64), mut cut: impl FnMut(usize)) {
-    for (i, s) in series.iter().enumerate() {
-        for (r, v) in b.values[i].iter().enumerate() {
-            match *v {
-                Some(_) if truncated(s, b, r) => cut(i),
-                Some(x) => value(i, jackknife::group(b.first + r as u64), x),
-                None => {}
-            }
-        }
-    }
-}
-
-/// Stream the dataset through `state`, file by file in realization order; a failure names the
-/// file. `progress` shows a bar of realizations read.
-fn pass<S>(data: &Dataset, series: &[Series], progress: bool, mut state: S, step: fn(&mut S, &[Series], &Batch)) -> Result<S, AnalysisError> {
-    let bar = if progress { indicatif::ProgressBar::new(data.rows) } else { indicatif::ProgressBar::hidden() };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template("analyze {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}").expect("valid template"),
-    );
-    for (i, path) in data.files.iter().enumerate() {
-        let part = frame::FilePart { path, rows: data.file_rows[i], first: data.file_starts[i], stamp: data.file_stamps[i], horizon: data.scenario.run.duration };
-        frame::stream_file(&part, series, data.switch_times, &mut |b: &Batch| {
-            step(&mut state, series, b);
-            bar.inc(b.n_stick.len() as u64);
-        })
-        .map_err(|e| AnalysisError::Read { path: path.clone(), message: e.to_string() })?;
-    }
-    bar.finish_and_clear();
-    Ok(state)
-}
-
-/// Everything one pass over the data accumulates.
-struct Accumulated {
-    moments: Vec<Moments>,
-    n_cut: Vec<u64>,
-    /// exact distributions of the counts S_T, S_L, Q
-    pmf: Vec<BTreeMap<i64, u64>>,
-    /// sketches of the continuous series (None for counts)
-    sketches: Vec<Option<Sketch>>,
-    /// (x series, y series, joint sketch) per requested pair
-    joints: Vec<(usize, usize, Sketch2)>,
-    /// per jackknife group: moments, and sketches or count distributions
-    group_moments: Vec<Vec<Moments>>,
-    group_sketches: Vec<Option<Vec<Sketch>>>,
-    group_pmf: Vec<Vec<BTreeMap<i64, u64>>>,
-    /// per convergence series: (series position, running moments, next checkpoint, points)
-    convergence: Vec<(usize, Moments, u64, Vec<(u64, u64, f64, Option<f64>)>)>,
-    /// realizations read so far
-    read: u64,
 }
 
 /// Analyse the dataset below `dir` (one scenario; see [`sweep`] for parameter sweeps).
@@ -292,98 +232,120 @@ pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
 
 /// Analyse one checked dataset.
 pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, AnalysisError> {
+    Ok(analyze_cells(vec![data], opts)?.remove(0))
+}
+
+/// Analyse checked datasets (the cells of a sweep) in one scan.
+pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis>, AnalysisError> {
     opts.check()?;
-    if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.var == Variable::Y) && !data.switch_times) {
+    let switch_times = cells[0].switch_times;
+    if let Some(d) = cells.iter().find(|d| d.switch_times != switch_times) {
+        return Err(AnalysisError::Read { path: d.files[0].clone(), message: "the cells differ in whether they store switch_times; analyse them separately".into() });
+    }
+    if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.needs_switch_times()) && !switch_times) {
         return Err(AnalysisError::Options(format!(
             "--pair {},{}: the dataset has no switch_times (simulate with output.switch_times = true)",
             p.0, p.1
         )));
     }
-    let series = series_list(opts, data.switch_times);
-    let n = series.len();
-    let scale = data.scenario.run.duration;
-    let index_of = |s: &Series| series.iter().position(|x| x == s).expect("pair series are analysed");
-
-    // One pass: moments, exact PMFs of the counts, dyadic sketches (see `sketch`).
-    let start = Accumulated {
-        moments: vec![Moments::default(); n],
-        n_cut: vec![0; n],
-        pmf: vec![BTreeMap::new(); n],
-        sketches: series.iter().map(|s| (!s.var.is_count()).then(|| Sketch::new(scale))).collect(),
-        joints: opts.pairs.iter().map(|p| (index_of(&p.0), index_of(&p.1), Sketch2::new(scale))).collect(),
-        group_moments: vec![vec![Moments::default(); jackknife::GROUPS]; n],
-        group_sketches: series.iter().map(|s| (!s.var.is_count()).then(|| vec![Sketch::new(scale); jackknife::GROUPS])).collect(),
-        group_pmf: vec![vec![BTreeMap::new(); jackknife::GROUPS]; n],
-        convergence: CONVERGENCE
-            .iter()
-            .filter_map(|(v, k)| series.iter().position(|s| s.var == *v && s.index == *k))
-            .map(|i| (i, Moments::default(), next_checkpoint(0), Vec::new()))
-            .collect(),
-        read: 0,
+    let series = series_list(opts, switch_times);
+    let index_of = |s: &Observable| series.iter().position(|x| x == s).expect("pair series are analysed");
+    let pairs: Vec<(usize, usize)> = opts.pairs.iter().map(|p| (index_of(&p.0), index_of(&p.1))).collect();
+    let convergence: Vec<usize> = CONVERGENCE.iter().filter_map(|o| series.iter().position(|s| s == o)).collect();
+    let most = cells.iter().map(|d| d.rows).max().unwrap_or(0);
+    let grid = checkpoints(most);
+    let plan = query::Plan { series: &series, pairs: &pairs, convergence: &convergence, checkpoints: &grid };
+    let refs: Vec<&Dataset> = cells.iter().collect();
+    let failed = |e: polars::prelude::PolarsError| {
+        // polars appends the query plan to its messages: one line is what a user reads
+        let full = e.to_string();
+        let message = full.split("Resolved plan").next().unwrap_or(&full).lines().next().unwrap_or_default().trim().to_string();
+        // a message naming a file already says where; otherwise name the dataset's first file
+        let path = refs.iter().flat_map(|d| &d.files).find(|f| message.contains(&*f.to_string_lossy())).cloned();
+        match path {
+            Some(path) => AnalysisError::Read { message: message.replacen(&format!("{}: ", path.display()), "", 1), path },
+            None => AnalysisError::Read { path: refs[0].files[0].clone(), message },
+        }
     };
-    let acc = pass(&data, &series, opts.progress, start, |st, series, b| {
-        let Accumulated { moments, n_cut, pmf, sketches, joints, group_moments, group_sketches, group_pmf, convergence, read } = st;
-        // running means, in realization order, recorded at the checkpoints
-        for (i, m, next, points) in convergence.iter_mut() {
-            for r in 0..b.n_stick.len() {
-                if let Some(x) = value(series, *i, b, r) {
-                    m.add(x);
-                }
-                let count = *read + r as u64 + 1;
-                if count == *next {
-                    points.push((count, m.n, m.mean, m.mean_se()));
-                    *next = next_checkpoint(count);
-                }
-            }
+    let spinner = progress(opts.progress, refs.iter().map(|d| d.rows).sum());
+    let pilots = query::pilots(&refs, &plan).map_err(failed)?;
+    let aggregates = query::aggregate(&refs, &plan, &pilots).map_err(failed)?;
+    spinner.finish_and_clear();
+    let mut out = Vec::with_capacity(cells.len());
+    for ((data, agg), pilot) in cells.into_iter().zip(aggregates).zip(&pilots) {
+        if agg.rows != data.rows {
+            return Err(AnalysisError::Read { path: data.files[0].clone(), message: format!("{} rows read, the footers declare {}", agg.rows, data.rows) });
         }
-        *read += b.n_stick.len() as u64;
-        for_each_value(
-            series,
-            b,
-            |i, g, x| {
-                moments[i].add(x);
-                group_moments[i][g].add(x);
-                match (&mut sketches[i], &mut group_sketches[i]) {
-                    (Some(sketch), Some(groups)) => {
-                        sketch.add(x);
-                        groups[g].add(x);
-                    }
-                    _ => {
-                        *pmf[i].entry(x as i64).or_default() += 1;
-                        *group_pmf[i][g].entry(x as i64).or_default() += 1;
-                    }
-                }
-            },
-            |i| n_cut[i] += 1,
-        );
-        for (i, j, sketch) in joints.iter_mut() {
-            for r in 0..b.n_stick.len() {
-                if let (Some(x), Some(y)) = (value(series, *i, b, r), value(series, *j, b, r)) {
-                    sketch.add(x, y);
-                }
-            }
-        }
-    })?;
+        out.push(finish(data, opts, &series, &pairs, &grid, &agg, pilot));
+    }
+    Ok(out)
+}
 
-    // Histogram grids: power-of-two widths no finer than any sketch holding the series.
+/// A spinner with the elapsed time while polars reads (`show`), hidden otherwise.
+fn progress(show: bool, rows: u64) -> indicatif::ProgressBar {
+    if !show {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new_spinner();
+    bar.set_style(indicatif::ProgressStyle::with_template("analyze {spinner} {msg} {elapsed}").expect("valid template"));
+    bar.set_message(format!("reading {rows} realizations"));
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar
+}
+
+/// The largest value an observable takes in a window t_a (the scale its sketch starts from).
+fn scale(o: Observable, t_a: f64) -> f64 {
+    if o == Observable::StickFraction {
+        1.0
+    } else {
+        t_a
+    }
+}
+
+/// The analysis of one cell from what the scan aggregated.
+fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize, usize)], grid: &[u64], agg: &query::Aggregates, pilot: &query::Pilot) -> Analysis {
+    let n = series.len();
+    let t_a = data.scenario.run.duration;
+    let groups = 0..jackknife::GROUPS;
+    let group_moments: Vec<Vec<Moments>> = (0..n).map(|i| agg.sums[i].iter().map(|s| s.moments(pilot.center[i])).collect()).collect();
+    let moments: Vec<Moments> = group_moments.iter().map(|g| g.iter().fold(Moments::default(), |a, m| a.merge(m))).collect();
+    // per group: the sketch of a continuous observable, the distribution of a count
+    let group_sketches: Vec<Option<Vec<Sketch>>> = (0..n)
+        .map(|i| (!series[i].is_count()).then(|| agg.bins[i].iter().map(|b| Sketch::from_counts(scale(series[i], t_a), pilot.exp[i], b)).collect()))
+        .collect();
+    let group_pmf: Vec<Vec<BTreeMap<i64, u64>>> = (0..n)
+        .map(|i| if series[i].is_count() { agg.bins[i].iter().map(|b| b.iter().copied().collect()).collect() } else { vec![BTreeMap::new(); jackknife::GROUPS] })
+        .collect();
+    let merge_pmf = |a: &BTreeMap<i64, u64>, b: &BTreeMap<i64, u64>| {
+        let mut m = a.clone();
+        for (v, c) in b {
+            *m.entry(*v).or_default() += c;
+        }
+        m
+    };
+    let sketches: Vec<Option<Sketch>> = (0..n).map(|i| group_sketches[i].as_ref().map(|g| g.iter().fold(Sketch::new(scale(series[i], t_a)), |a, s| a.merge(s)))).collect();
+    let pmf: Vec<BTreeMap<i64, u64>> = group_pmf.iter().map(|g| g.iter().fold(BTreeMap::new(), |a, p| merge_pmf(&a, p))).collect();
+    let joints: Vec<Sketch2> = pairs.iter().enumerate().map(|(p, &(i, _))| Sketch2::from_counts(scale(series[i], t_a), pilot.joint[p], &agg.joint[p])).collect();
+
+    // Histogram grids: power-of-two widths no finer than any sketch holding the observable.
     let hist: Vec<Histogram> = (0..n)
         .map(|i| {
-            let m = &acc.moments[i];
-            match &acc.sketches[i] {
+            let m = &moments[i];
+            match &sketches[i] {
                 None => {
                     // unit bins centred on the integers, filled from the exact distribution
                     let (lo, hi) = if m.n > 0 { (m.min, m.max) } else { (0.0, 0.0) };
                     let mut h = Histogram::new(lo - 0.5, hi + 0.5, (hi - lo) as usize + 1);
-                    for (&v, &c) in &acc.pmf[i] {
+                    for (&v, &c) in &pmf[i] {
                         h.counts[(v - lo as i64) as usize] += c;
                     }
                     h
                 }
                 Some(sketch) => {
                     let mut finest = sketch.exponent();
-                    for (x, y, joint) in &acc.joints {
-                        let (ex, ey) = joint.exponents();
-                        finest = finest.max(if *x == i { ex } else { i32::MIN }).max(if *y == i { ey } else { i32::MIN });
+                    for (p, &(x, y)) in pairs.iter().enumerate() {
+                        let (ex, ey) = joints[p].exponents();
+                        finest = finest.max(if x == i { ex } else { i32::MIN }).max(if y == i { ey } else { i32::MIN });
                     }
                     sketch.histogram(density::grid_exponent(m, opts.bins, finest))
                 }
@@ -395,33 +357,23 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
         .iter()
         .enumerate()
         .map(|(i, s)| {
-            let m = acc.moments[i];
+            let m = moments[i];
             let pmf_mode = |pmf: &BTreeMap<i64, u64>| pmf.iter().max_by(|a, b| a.1.cmp(b.1).then(b.0.cmp(a.0))).map(|(v, _)| *v as f64);
-            let mode = match &acc.sketches[i] {
+            let mode = match &sketches[i] {
                 Some(sketch) => density::kde_mode(&sketch.fine(), &m),
-                None => pmf_mode(&acc.pmf[i]),
+                None => pmf_mode(&pmf[i]),
             };
-            let loo_moments = jackknife::leave_one_out(&acc.group_moments[i], &Moments::default(), Moments::merge);
-            let loo_mode = match &acc.group_sketches[i] {
-                Some(groups) => jackknife::leave_one_out(groups, &Sketch::new(scale), Sketch::merge)
+            let loo_moments = jackknife::leave_one_out(&group_moments[i], &Moments::default(), Moments::merge);
+            let loo_mode = match &group_sketches[i] {
+                Some(groups) => jackknife::leave_one_out(groups, &Sketch::new(scale(*s, t_a)), Sketch::merge)
                     .iter()
                     .zip(&loo_moments)
                     .map(|(sk, lm)| density::kde_mode(&sk.fine(), lm))
                     .collect(),
-                None => acc.group_pmf[i]
-                    .iter()
-                    .map(|gp| {
-                        // the whole distribution minus the group's (exact for counts)
-                        let mut rest = acc.pmf[i].clone();
-                        for (v, c) in gp {
-                            *rest.entry(*v).or_default() -= c;
-                        }
-                        rest.retain(|_, c| *c > 0);
-                        pmf_mode(&rest)
-                    })
-                    .collect(),
+                None => jackknife::leave_one_out(&group_pmf[i], &BTreeMap::new(), merge_pmf).iter().map(pmf_mode).collect(),
             };
-            SeriesStats { series: *s, moments: m, truncated: acc.n_cut[i], mode, histogram: hist[i].clone(), loo_moments, loo_mode }
+            let truncated = agg.sums[i].iter().map(|g| g.cut).sum();
+            SeriesStats { series: *s, moments: m, truncated, mode, histogram: hist[i].clone(), loo_moments, loo_mode }
         })
         .collect();
 
@@ -431,45 +383,38 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
     let joints = opts
         .pairs
         .iter()
-        .zip(&acc.joints)
-        .map(|(p, (i, j, sketch))| {
-            let counts = sketch.table(&hist[*i], &hist[*j]);
-            Joint {
-                pair: *p,
-                x: hist[*i].clone(),
-                y: hist[*j].clone(),
-                test: independence::test(&counts, permutations, data.scenario.run.seed),
-                counts,
-            }
+        .zip(pairs)
+        .zip(&joints)
+        .map(|((p, &(i, j)), sketch)| {
+            let counts = sketch.table(&hist[i], &hist[j]);
+            Joint { pair: *p, x: hist[i].clone(), y: hist[j].clone(), test: independence::test(&counts, permutations, data.scenario.run.seed), counts }
         })
         .collect();
 
     // The growth lines and the renewal check, from the whole sample's moments (`None`) or from
     // those without jackknife group g (`Some(g)`).
     let moments_of = |s: &SeriesStats, g: Option<usize>| g.map_or(s.moments, |g| s.loo_moments[g]);
-    let fit = |var: Variable, statistic: &str, g: Option<usize>| -> Option<Line> {
+    let fit = |family: Observable, statistic: &str, g: Option<usize>| -> Option<Line> {
         let f: fn(&Moments) -> Option<f64> = if statistic == "mean" { |m| (m.n > 0).then_some(m.mean) } else { Moments::variance };
-        let pts: Vec<(f64, f64)> = stats
-            .iter()
-            .filter(|s| s.series.var == var && s.series.index.is_some_and(|k| k <= opts.max_index))
-            .filter_map(|s| Some((s.series.index? as f64, f(&moments_of(s, g))?)))
+        let pts: Vec<(f64, f64)> = (1..=opts.max_index)
+            .filter_map(|k| stats.iter().find(|s| Some(s.series) == family.at(k)))
+            .filter_map(|s| Some((s.series.index()? as f64, f(&moments_of(s, g))?)))
             .collect();
         growth::ols(&pts)
     };
-    let groups = 0..jackknife::GROUPS;
     let mut growth = Vec::new();
-    for var in [Variable::T, Variable::L] {
+    for family in [Observable::StickStart(1), Observable::SlipStart(1)] {
         for statistic in ["mean", "variance"] {
-            if let Some(line) = fit(var, statistic, None) {
-                let loo: Vec<Option<f64>> = groups.clone().map(|g| fit(var, statistic, Some(g)).map(|l| l.slope)).collect();
-                growth.push(GrowthFit { var, statistic, slope_interval: jackknife::interval(Some(line.slope), &loo), line });
+            if let Some(line) = fit(family, statistic, None) {
+                let loo: Vec<Option<f64>> = groups.clone().map(|g| fit(family, statistic, Some(g)).map(|l| l.slope)).collect();
+                growth.push(GrowthFit { family, statistic, slope_interval: jackknife::interval(Some(line.slope), &loo), line });
             }
         }
     }
-    let st = stats.iter().find(|s| s.series == Series::count(Variable::St));
+    let st = stats.iter().find(|s| s.series == Observable::Sticks);
     let renewal_at = |g: Option<usize>| -> Option<Renewal> {
         let st = moments_of(st?, g);
-        growth::renewal(data.scenario.run.duration, &fit(Variable::T, "mean", g)?, &fit(Variable::T, "variance", g)?, st.mean, st.variance().unwrap_or(0.0))
+        growth::renewal(t_a, &fit(Observable::StickStart(1), "mean", g)?, &fit(Observable::StickStart(1), "variance", g)?, st.mean, st.variance().unwrap_or(0.0))
     };
     let renewal = renewal_at(None).map(|r| {
         let loo: Vec<Option<Renewal>> = groups.clone().map(|g| renewal_at(Some(g))).collect();
@@ -479,17 +424,36 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
             ..r
         }
     });
-    let convergence = acc
-        .convergence
+
+    // The running means at the checkpoints: cumulative sums of the buckets between them.
+    let convergence = CONVERGENCE
         .iter()
-        .map(|(i, m, _, points)| {
-            let mut points = points.clone();
-            if points.last().is_none_or(|p| p.0 < acc.read) {
-                points.push((acc.read, m.n, m.mean, m.mean_se()));
+        .filter_map(|o| series.iter().position(|s| s == o))
+        .enumerate()
+        .map(|(slot, i)| {
+            let c = pilot.center[i];
+            let (mut n, mut s1, mut s2) = (0u64, 0.0, 0.0);
+            let mut points = Vec::new();
+            let at = |read: u64, n: u64, s1: f64, s2: f64| {
+                let mean = if n > 0 { c + s1 / n as f64 } else { 0.0 };
+                let var = (n > 1).then(|| ((s2 - s1 * s1 / n as f64) / (n - 1) as f64).max(0.0));
+                (read, n, mean, var.map(|v| (v / n as f64).sqrt()))
+            };
+            for (b, &(bn, b1, b2)) in agg.convergence[slot].iter().enumerate() {
+                (n, s1, s2) = (n + bn, s1 + b1, s2 + b2);
+                if let Some(&read) = grid.get(b).filter(|&&r| r <= data.rows) {
+                    points.push(at(read, n, s1, s2));
+                }
             }
-            Convergence { series: series[*i], points }
+            // the last point is the whole sample's
+            let whole = moments[i];
+            match points.last_mut() {
+                Some(p) if p.0 == data.rows => *p = (data.rows, whole.n, whole.mean, whole.mean_se()),
+                _ => points.push((data.rows, whole.n, whole.mean, whole.mean_se())),
+            }
+            Convergence { series: series[i], points }
         })
         .collect();
     let options = Options { permutations, ..opts.clone() };
-    Ok(Analysis { dataset: data, options, stats, joints, growth, renewal, convergence })
+    Analysis { dataset: data, options, stats, joints, growth, renewal, convergence }
 }

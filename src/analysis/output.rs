@@ -44,8 +44,8 @@ fn moments_table(a: &Analysis) -> Table {
     let mut t = Table::default();
     let s = &a.stats;
     let float = |g: &dyn Fn(&super::SeriesStats) -> Option<f64>| Col::Float(s.iter().map(|x| f(g(x))).collect());
-    t.push("variable", Col::Str(s.iter().map(|x| x.series.var.name().to_string()).collect()))
-        .push("index", Col::Int(s.iter().map(|x| x.series.index.map(i64::from)).collect()))
+    t.push("variable", Col::Str(s.iter().map(|x| x.series.variable().to_string()).collect()))
+        .push("index", Col::Int(s.iter().map(|x| x.series.index().map(i64::from)).collect()))
         .push("n", Col::Int(s.iter().map(|x| Some(x.moments.n as i64)).collect()))
         .push("n_truncated_excluded", Col::Int(s.iter().map(|x| Some(x.truncated as i64)).collect()))
         .push("mean", float(&|x| (x.moments.n > 0).then_some(x.moments.mean)))
@@ -80,8 +80,8 @@ fn histogram_table(a: &Analysis) -> Table {
         let h = &s.histogram;
         for i in 0..h.bins() {
             let (l, r) = h.edges(i);
-            var.push(s.series.var.name().to_string());
-            idx.push(s.series.index.map(i64::from));
+            var.push(s.series.variable().to_string());
+            idx.push(s.series.index().map(i64::from));
             bin.push(Some(i as i64));
             count.push(Some(h.counts[i] as i64));
             lo.push(Some(l));
@@ -180,7 +180,7 @@ fn independence_table(a: &Analysis) -> Table {
 fn growth_table(a: &Analysis) -> Table {
     let g = &a.growth;
     let mut t = Table::default();
-    t.push("variable", Col::Str(g.iter().map(|x| x.var.name().to_string()).collect()))
+    t.push("variable", Col::Str(g.iter().map(|x| x.family.variable().to_string()).collect()))
         .push("statistic", Col::Str(g.iter().map(|x| x.statistic.to_string()).collect()))
         .push("slope", Col::Float(g.iter().map(|x| f(Some(x.line.slope))).collect()))
         .push("intercept", Col::Float(g.iter().map(|x| f(Some(x.line.intercept))).collect()))
@@ -196,8 +196,8 @@ fn convergence_table(a: &Analysis) -> Table {
     let rows: Vec<(&super::Convergence, &(u64, u64, f64, Option<f64>))> = a.convergence.iter().flat_map(|c| c.points.iter().map(move |p| (c, p))).collect();
     let half = |p: &(u64, u64, f64, Option<f64>)| p.3.map(|se| 1.96 * se);
     let mut t = Table::default();
-    t.push("variable", Col::Str(rows.iter().map(|(c, _)| c.series.var.name().to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|(c, _)| c.series.index.map(i64::from)).collect()))
+    t.push("variable", Col::Str(rows.iter().map(|(c, _)| c.series.variable().to_string()).collect()))
+        .push("index", Col::Int(rows.iter().map(|(c, _)| c.series.index().map(i64::from)).collect()))
         .push("realizations", Col::Int(rows.iter().map(|(_, p)| Some(p.0 as i64)).collect()))
         .push("n", Col::Int(rows.iter().map(|(_, p)| Some(p.1 as i64)).collect()))
         .push("mean", Col::Float(rows.iter().map(|(_, p)| f((p.1 > 0).then_some(p.2))).collect()))
@@ -218,10 +218,10 @@ pub fn summary(a: &Analysis) -> Summary {
     let counts = a
         .stats
         .iter()
-        .filter(|s| s.series.var.is_count())
+        .filter(|s| s.series.is_count())
         .map(|s| {
             let m = &s.moments;
-            let paper = paper::COUNTS.iter().find(|c| c.0 == s.series.var).filter(|_| paper_scene);
+            let paper = paper::COUNTS.iter().find(|c| c.0 == s.series).filter(|_| paper_scene);
             let count = CountSummary {
                 n: m.n,
                 mean: f(Some(m.mean)),
@@ -239,7 +239,7 @@ pub fn summary(a: &Analysis) -> Summary {
         .growth
         .iter()
         .map(|g| GrowthSummary {
-            variable: g.var.name().into(),
+            variable: g.family.variable().into(),
             statistic: g.statistic.into(),
             slope: f(Some(g.line.slope)),
             intercept: f(Some(g.line.intercept)),

@@ -1,38 +1,38 @@
 //! The paper's reported numbers (Lima & Sampaio, Table 1 and section 4), for comparison only.
 
 use crate::table::Table;
-use super::series::Variable;
+use crate::observables::Observable;
 
 /// (variable, k, mean, variance, mode, skewness, kurtosis) from Table 1.
-pub const TABLE1: &[(Variable, u32, [f64; 5])] = &[
-    (Variable::T, 1, [0.36, 0.13, 0.16, 2.11, 9.73]),
-    (Variable::T, 2, [0.96, 0.29, 0.63, 1.14, 5.01]),
-    (Variable::T, 3, [1.55, 0.46, 1.44, 0.83, 4.06]),
-    (Variable::T, 4, [2.14, 0.62, 1.71, 0.71, 3.83]),
-    (Variable::T, 5, [2.74, 0.79, 2.83, 0.66, 3.71]),
-    (Variable::T, 6, [3.34, 0.95, 2.30, 0.62, 3.82]),
-    (Variable::L, 1, [0.56, 0.16, 0.19, 1.59, 7.25]),
-    (Variable::L, 2, [1.17, 0.34, 0.73, 1.03, 4.59]),
-    (Variable::L, 3, [1.75, 0.49, 1.88, 0.79, 3.96]),
-    (Variable::L, 4, [2.34, 0.65, 2.075, 0.71, 3.79]),
-    (Variable::L, 5, [2.94, 0.81, 2.73, 0.63, 3.65]),
-    (Variable::L, 6, [3.54, 0.98, 3.02, 0.616, 3.77]),
-    (Variable::D, 1, [0.20, 0.04, 0.19, 1.72, 6.76]),
-    (Variable::D, 2, [0.20, 0.04, 0.01, 1.87, 7.65]),
-    (Variable::D, 3, [0.20, 0.04, 0.01, 1.92, 8.23]),
-    (Variable::D, 4, [0.20, 0.04, 0.01, 1.97, 9.07]),
-    (Variable::D, 5, [0.20, 0.04, 0.07, 1.83, 7.40]),
-    (Variable::D, 6, [0.20, 0.04, 0.01, 1.75, 7.09]),
-    (Variable::H, 1, [0.39, 0.13, 0.016, 1.79, 8.80]),
-    (Variable::H, 2, [0.38, 0.12, 0.001, 1.75, 8.15]),
-    (Variable::H, 3, [0.39, 0.12, 0.001, 1.77, 8.36]),
-    (Variable::H, 4, [0.39, 0.13, 0.001, 1.77, 8.04]),
-    (Variable::H, 5, [0.40, 0.13, 0.014, 1.94, 9.84]),
-    (Variable::H, 6, [0.39, 0.13, 0.013, 1.97, 9.99]),
+pub const TABLE1: &[(Observable, [f64; 5])] = &[
+    (Observable::StickStart(1), [0.36, 0.13, 0.16, 2.11, 9.73]),
+    (Observable::StickStart(2), [0.96, 0.29, 0.63, 1.14, 5.01]),
+    (Observable::StickStart(3), [1.55, 0.46, 1.44, 0.83, 4.06]),
+    (Observable::StickStart(4), [2.14, 0.62, 1.71, 0.71, 3.83]),
+    (Observable::StickStart(5), [2.74, 0.79, 2.83, 0.66, 3.71]),
+    (Observable::StickStart(6), [3.34, 0.95, 2.30, 0.62, 3.82]),
+    (Observable::SlipStart(1), [0.56, 0.16, 0.19, 1.59, 7.25]),
+    (Observable::SlipStart(2), [1.17, 0.34, 0.73, 1.03, 4.59]),
+    (Observable::SlipStart(3), [1.75, 0.49, 1.88, 0.79, 3.96]),
+    (Observable::SlipStart(4), [2.34, 0.65, 2.075, 0.71, 3.79]),
+    (Observable::SlipStart(5), [2.94, 0.81, 2.73, 0.63, 3.65]),
+    (Observable::SlipStart(6), [3.54, 0.98, 3.02, 0.616, 3.77]),
+    (Observable::StickDuration(1), [0.20, 0.04, 0.19, 1.72, 6.76]),
+    (Observable::StickDuration(2), [0.20, 0.04, 0.01, 1.87, 7.65]),
+    (Observable::StickDuration(3), [0.20, 0.04, 0.01, 1.92, 8.23]),
+    (Observable::StickDuration(4), [0.20, 0.04, 0.01, 1.97, 9.07]),
+    (Observable::StickDuration(5), [0.20, 0.04, 0.07, 1.83, 7.40]),
+    (Observable::StickDuration(6), [0.20, 0.04, 0.01, 1.75, 7.09]),
+    (Observable::SlipDuration(1), [0.39, 0.13, 0.016, 1.79, 8.80]),
+    (Observable::SlipDuration(2), [0.38, 0.12, 0.001, 1.75, 8.15]),
+    (Observable::SlipDuration(3), [0.39, 0.12, 0.001, 1.77, 8.36]),
+    (Observable::SlipDuration(4), [0.39, 0.13, 0.001, 1.77, 8.04]),
+    (Observable::SlipDuration(5), [0.40, 0.13, 0.014, 1.94, 9.84]),
+    (Observable::SlipDuration(6), [0.39, 0.13, 0.013, 1.97, 9.99]),
 ];
 
 /// (variable, mean, variance) of the counts, section 4.
-pub const COUNTS: &[(Variable, f64, f64)] = &[(Variable::St, 16.71, 7.94), (Variable::Sl, 16.54, 7.89)];
+pub const COUNTS: &[(Observable, f64, f64)] = &[(Observable::Sticks, 16.71, 7.94), (Observable::Slips, 16.54, 7.89)];
 
 /// One cell of the comparison: ours with its 95 % interval (or ± se) against the paper's
 /// printed value; ✓ when the paper's value lies inside our interval widened by half a unit of its
@@ -139,21 +139,19 @@ pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
     let bounds = |stat: &str| (col(&format!("{stat}_lo")), col(&format!("{stat}_hi")));
     let iv: Vec<(&[Option<f64>], &[Option<f64>])> = ["mean", "variance", "mode", "skewness", "kurtosis"].iter().map(|s| bounds(s)).collect();
     let mut rows = Vec::new();
-    let wanted = TABLE1.iter().map(|(v, k, p)| (*v, Some(*k), Some(*p))).chain(
-        COUNTS.iter().map(|(v, m, s2)| (*v, None, Some([*m, *s2, f64::NAN, f64::NAN, f64::NAN]))),
-    );
-    for (v, k, p) in wanted {
-        let Some(r) = (0..vars.len()).find(|&r| vars[r] == v.name() && idx.get(r).copied().flatten() == k.map(i64::from)) else { continue };
+    let wanted = TABLE1.iter().map(|(o, p)| (*o, Some(*p))).chain(COUNTS.iter().map(|(o, m, s2)| (*o, Some([*m, *s2, f64::NAN, f64::NAN, f64::NAN]))));
+    for (o, p) in wanted {
+        let Some(r) = (0..vars.len()).find(|&r| vars[r] == o.variable() && idx.get(r).copied().flatten() == o.index().map(i64::from)) else { continue };
         let pv = |i: usize| p.filter(|_| compare).map(|p| p[i]).filter(|x| x.is_finite());
         let interval = |i: usize| iv[i].0.get(r).copied().flatten().zip(iv[i].1.get(r).copied().flatten());
         let cell = |ours: Option<f64>, se: Option<f64>, i: usize| Cell { ours, se, interval: interval(i), paper: pv(i) };
         // a column the table lacks reads as no value, never as an index out of bounds
         let at = |c: &[Option<f64>]| c.get(r).copied().flatten();
         // (a count's mode interval is stored rounded outward to integers, `SeriesStats::mode_interval`)
-        let count = v.is_count();
+        let count = o.is_count();
         let mode_cell = cell(at(mode), None, 2);
         rows.push(Row {
-            label: k.map_or(v.name().to_string(), |k| format!("{}_{k}", v.name())),
+            label: o.name(),
             n: n.get(r).copied().flatten().unwrap_or(0),
             cells: [
                 cell(at(mean), at(mse), 0),

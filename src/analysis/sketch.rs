@@ -33,11 +33,6 @@ struct Axis {
     len: usize,
 }
 
-/// Index of the bin of width `2^exp` holding `x` (exact: scaling by a power of two is exact).
-fn index(x: f64, exp: i32) -> f64 {
-    (x * (-exp as f64).exp2()).floor()
-}
-
 impl Axis {
     /// The smallest shift k ≥ 0 such that indices `a ≤ b` (at `exp`) fit in `cap` bins at `exp + k`.
     fn shift_for(a: f64, b: f64, cap: usize) -> i32 {
@@ -47,6 +42,21 @@ impl Axis {
         }
         k
     }
+
+    /// The axis of the sketch of values whose bins at `exp` span indices `a ..= b`: the finest
+    /// width 2^E, E ≥ `exp`, on which they fit in `cap` bins. (Fitting is monotone in E: if the
+    /// span fits in `cap` ≥ 2 bins at E, it fits at E + 1.)
+    fn fitting(exp: i32, a: f64, b: f64, cap: usize) -> Axis {
+        let k = Axis::shift_for(a, b, cap);
+        let lo = (a * (-k as f64).exp2()).floor();
+        Axis { exp: exp + k, lo, len: ((b * (-k as f64).exp2()).floor() - lo) as usize + 1 }
+    }
+}
+
+/// The exponent of the sketch of values spanning `[lo, hi]` (`lo ≤ hi`, both ≥ 0) that starts at
+/// `start`: the smallest E ≥ `start` on which they fit in `cap` bins.
+pub fn exponent_for(lo: f64, hi: f64, start: i32, cap: usize) -> i32 {
+    Axis::fitting(start, (lo * (-start as f64).exp2()).floor(), (hi * (-start as f64).exp2()).floor(), cap).exp
 }
 
 /// Where old bin `j` of an axis lands after shifting by `k` and re-basing at `new_lo`.
@@ -54,7 +64,14 @@ fn remap(axis: &Axis, j: usize, k: i32, new_lo: f64) -> usize {
     (((axis.lo + j as f64) * (-k as f64).exp2()).floor() - new_lo) as usize
 }
 
-/// A 1-D sketch.
+/// The range of bin indices in sparse counts (None when there are none).
+fn span<'a>(indices: impl Iterator<Item = &'a i64>) -> Option<(f64, f64)> {
+    indices.fold(None, |r, &i| Some(r.map_or((i, i), |(a, b): (i64, i64)| (a.min(i), b.max(i))))).map(|(a, b)| (a as f64, b as f64))
+}
+
+/// A 1-D sketch: counts on bins of width 2^exp, the finest power of two ≥ the start on which the
+/// values fit in [`CAP_1D`] bins. It is what adding the values one at a time, doubling the
+/// width whenever the range outgrows the cap, ends with, whatever their order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sketch {
     axis: Axis,
@@ -62,36 +79,26 @@ pub struct Sketch {
 }
 
 impl Sketch {
+    /// The empty sketch for values of magnitude up to `scale`.
     pub fn new(scale: f64) -> Sketch {
         Sketch { axis: Axis { exp: start_exponent(scale), lo: 0.0, len: 0 }, counts: Vec::new() }
     }
 
-    pub fn exponent(&self) -> i32 {
-        self.axis.exp
+    /// The sketch of values given as counts on the grid of width `2^exp` (bin `i` = [i w, (i+1) w)),
+    /// `exp` at least the start exponent of `scale`.
+    pub fn from_counts(scale: f64, exp: i32, bins: &[(i64, u64)]) -> Sketch {
+        let Some((a, b)) = span(bins.iter().filter(|(_, c)| *c > 0).map(|(i, _)| i)) else { return Sketch::new(scale) };
+        let axis = Axis::fitting(exp, a, b, CAP_1D);
+        let k = axis.exp - exp;
+        let mut counts = vec![0u64; axis.len];
+        for &(i, c) in bins {
+            counts[((i as f64 * (-k as f64).exp2()).floor() - axis.lo) as usize] += c;
+        }
+        Sketch { axis, counts }
     }
 
-    pub fn add(&mut self, x: f64) {
-        let i = index(x, self.axis.exp);
-        if self.counts.is_empty() {
-            self.axis.lo = i;
-            self.axis.len = 1;
-            self.counts.push(1);
-            return;
-        }
-        let (a, b) = (i.min(self.axis.lo), i.max(self.axis.lo + self.axis.len as f64 - 1.0));
-        let k = Axis::shift_for(a, b, CAP_1D);
-        if k > 0 || a < self.axis.lo || b >= self.axis.lo + self.axis.len as f64 {
-            let new_lo = (a * (-k as f64).exp2()).floor();
-            let new_len = ((b * (-k as f64).exp2()).floor() - new_lo) as usize + 1;
-            let mut counts = vec![0u64; new_len];
-            for (j, &c) in self.counts.iter().enumerate() {
-                counts[remap(&self.axis, j, k, new_lo)] += c;
-            }
-            self.axis = Axis { exp: self.axis.exp + k, lo: new_lo, len: new_len };
-            self.counts = counts;
-        }
-        let j = (index(x, self.axis.exp) - self.axis.lo) as usize;
-        self.counts[j] += 1;
+    pub fn exponent(&self) -> i32 {
+        self.axis.exp
     }
 
     /// The sketch of the union of both samples (parts of a dataset reduced independently): both
@@ -150,7 +157,8 @@ impl Sketch {
     }
 }
 
-/// A 2-D sketch of pairs (x, y).
+/// A 2-D sketch of pairs (x, y): per axis the finest power-of-two width ≥ the start on which the
+/// pairs' range fits in [`CAP_2D`] bins.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sketch2 {
     x: Axis,
@@ -160,53 +168,26 @@ pub struct Sketch2 {
 }
 
 impl Sketch2 {
-    pub fn new(scale: f64) -> Sketch2 {
-        let axis = Axis { exp: start_exponent(scale), lo: 0.0, len: 0 };
-        Sketch2 { x: axis, y: axis, counts: Vec::new() }
+    /// The sketch of pairs given as counts on the grid of widths `2^ex` × `2^ey`.
+    pub fn from_counts(scale: f64, (ex, ey): (i32, i32), bins: &[((i64, i64), u64)]) -> Sketch2 {
+        let occupied = || bins.iter().filter(|(_, c)| *c > 0);
+        let (Some((ax, bx)), Some((ay, by))) = (span(occupied().map(|((i, _), _)| i)), span(occupied().map(|((_, j), _)| j))) else {
+            let axis = Axis { exp: start_exponent(scale), lo: 0.0, len: 0 };
+            return Sketch2 { x: axis, y: axis, counts: Vec::new() };
+        };
+        let (x, y) = (Axis::fitting(ex, ax, bx, CAP_2D), Axis::fitting(ey, ay, by, CAP_2D));
+        let (kx, ky) = (x.exp - ex, y.exp - ey);
+        let mut counts = vec![0u64; x.len * y.len];
+        for &((i, j), c) in bins {
+            let bi = ((i as f64 * (-kx as f64).exp2()).floor() - x.lo) as usize;
+            let bj = ((j as f64 * (-ky as f64).exp2()).floor() - y.lo) as usize;
+            counts[bi * y.len + bj] += c;
+        }
+        Sketch2 { x, y, counts }
     }
 
     pub fn exponents(&self) -> (i32, i32) {
         (self.x.exp, self.y.exp)
-    }
-
-    /// The axis covering the current one and index `i`, with some room to grow, and its shift.
-    fn grown(axis: &Axis, i: f64) -> (Axis, i32) {
-        if axis.len == 0 {
-            return (Axis { exp: axis.exp, lo: i, len: 1 }, 0);
-        }
-        let (a, b) = (i.min(axis.lo), i.max(axis.lo + axis.len as f64 - 1.0));
-        // leave a margin of 1/8 of the span on the side that grew, to avoid re-layouts per value
-        let margin = ((b - a + 1.0) / 8.0).floor();
-        let (a, b) = (if i < axis.lo { a - margin } else { a }, if i > axis.lo { b + margin } else { b });
-        let k = Axis::shift_for(a, b, CAP_2D);
-        let new_lo = (a * (-k as f64).exp2()).floor();
-        let new_len = ((b * (-k as f64).exp2()).floor() - new_lo) as usize + 1;
-        (Axis { exp: axis.exp + k, lo: new_lo, len: new_len }, k)
-    }
-
-    pub fn add(&mut self, x: f64, y: f64) {
-        let (ix, iy) = (index(x, self.x.exp), index(y, self.y.exp));
-        let inside = |a: &Axis, i: f64| a.len > 0 && i >= a.lo && i < a.lo + a.len as f64;
-        if !inside(&self.x, ix) || !inside(&self.y, iy) {
-            let (nx, kx) = if inside(&self.x, ix) { (self.x, 0) } else { Self::grown(&self.x, ix) };
-            let (ny, ky) = if inside(&self.y, iy) { (self.y, 0) } else { Self::grown(&self.y, iy) };
-            let mut counts = vec![0u64; nx.len * ny.len];
-            for i in 0..self.x.len {
-                let ri = remap(&self.x, i, kx, nx.lo);
-                for j in 0..self.y.len {
-                    let c = self.counts[i * self.y.len + j];
-                    if c > 0 {
-                        counts[ri * ny.len + remap(&self.y, j, ky, ny.lo)] += c;
-                    }
-                }
-            }
-            self.x = nx;
-            self.y = ny;
-            self.counts = counts;
-        }
-        let i = (index(x, self.x.exp) - self.x.lo) as usize;
-        let j = (index(y, self.y.exp) - self.y.lo) as usize;
-        self.counts[i * self.y.len + j] += 1;
     }
 
     /// Counts on the grids of the given 1-D histograms, whose widths are powers of two at least
@@ -240,12 +221,28 @@ mod tests {
         }
     }
 
+    /// The bin of `x` on the grid of width 2^`exp` (what the analysis query computes).
+    fn index(x: f64, exp: i32) -> f64 {
+        (x * (-exp as f64).exp2()).floor()
+    }
+
+    /// The sketch of values, from their counts on the start grid of `scale`.
+    fn of(x: &[f64], scale: f64) -> Sketch {
+        of_at(x, scale, start_exponent(scale))
+    }
+
+    /// The sketch of values from their counts on the grid of width 2^`exp`.
+    fn of_at(x: &[f64], scale: f64, exp: i32) -> Sketch {
+        let mut bins = std::collections::BTreeMap::new();
+        x.iter().for_each(|&v| *bins.entry(index(v, exp) as i64).or_insert(0u64) += 1);
+        Sketch::from_counts(scale, exp, &bins.into_iter().collect::<Vec<_>>())
+    }
+
     #[test]
     fn sketch_histograms_are_exact_counts_on_dyadic_grids() {
         let mut u = lcg(1);
         let x: Vec<f64> = (0..50_000).map(|_| 3.0 * u() * u()).collect();
-        let mut s = Sketch::new(10.0);
-        x.iter().for_each(|&v| s.add(v));
+        let s = of(&x, 10.0);
         assert!(s.counts.len() <= CAP_1D && s.counts.len() > CAP_1D / 2);
         for exp in [s.exponent(), s.exponent() + 3, -3] {
             let h = s.histogram(exp);
@@ -261,16 +258,28 @@ mod tests {
     }
 
     #[test]
+    fn the_sketch_is_the_finest_fitting_grid_whatever_grid_its_counts_come_on() {
+        // the pilot's promise (`query`): counts on any grid at least as fine give the same sketch
+        let mut u = lcg(4);
+        let x: Vec<f64> = (0..20_000).map(|_| 7.0 * u() * u() * u()).collect();
+        let whole = of(&x, 10.0);
+        let (lo, hi) = x.iter().fold((f64::INFINITY, 0f64), |(a, b), &v| (a.min(v), b.max(v)));
+        assert_eq!(whole.exponent(), exponent_for(lo, hi, start_exponent(10.0), CAP_1D));
+        let span = |e: i32| (index(hi, e) - index(lo, e)) as usize + 1;
+        assert!(span(whole.exponent()) <= CAP_1D && span(whole.exponent() - 1) > CAP_1D, "the finest grid that fits");
+        for e in [start_exponent(10.0) + 7, whole.exponent() - 3, whole.exponent()] {
+            assert_eq!(of_at(&x, 10.0, e), whole, "counts on 2^{e}");
+        }
+    }
+
+    #[test]
     fn merged_parts_equal_the_whole_on_every_common_grid() {
         let mut u = lcg(3);
         let x: Vec<f64> = (0..30_000).map(|i| if i < 20_000 { 2.0 * u() } else { 5.0 + 40.0 * u() * u() }).collect();
-        let (mut whole, mut a, mut b) = (Sketch::new(50.0), Sketch::new(50.0), Sketch::new(50.0));
-        x.iter().for_each(|&v| whole.add(v));
-        x[..20_000].iter().for_each(|&v| a.add(v));
-        x[20_000..].iter().for_each(|&v| b.add(v));
+        let (whole, a, b) = (of(&x, 50.0), of(&x[..20_000], 50.0), of(&x[20_000..], 50.0));
         let merged = a.merge(&b);
-        assert!(merged.counts.len() <= CAP_1D);
-        for exp in [merged.exponent().max(whole.exponent()), -2, 0, 3] {
+        assert_eq!(merged, whole, "the merge of the parts' sketches is the whole's");
+        for exp in [merged.exponent(), -2, 0, 3] {
             assert_eq!(merged.histogram(exp), whole.histogram(exp), "exp {exp}");
         }
     }
@@ -279,12 +288,12 @@ mod tests {
     fn joint_table_marginals_equal_the_one_dimensional_histograms() {
         let mut u = lcg(2);
         let pairs: Vec<(f64, f64)> = (0..20_000).map(|_| { let a = u(); (a, a + u()) }).collect();
-        let (mut sx, mut sy, mut sj) = (Sketch::new(10.0), Sketch::new(10.0), Sketch2::new(10.0));
-        for &(a, b) in &pairs {
-            sx.add(a);
-            sy.add(b);
-            sj.add(a, b);
-        }
+        let (xs, ys): (Vec<f64>, Vec<f64>) = pairs.iter().copied().unzip();
+        let (sx, sy) = (of(&xs, 10.0), of(&ys, 10.0));
+        let e = start_exponent(10.0);
+        let mut bins = std::collections::BTreeMap::new();
+        pairs.iter().for_each(|&(a, b)| *bins.entry((index(a, e) as i64, index(b, e) as i64)).or_insert(0u64) += 1);
+        let sj = Sketch2::from_counts(10.0, (e, e), &bins.into_iter().collect::<Vec<_>>());
         let (ex, ey) = sj.exponents();
         let (hx, hy) = (sx.histogram(ex.max(-5)), sy.histogram(ey.max(-5)));
         let t = sj.table(&hx, &hy);

@@ -13,8 +13,8 @@ use std::path::Path;
 use super::accum::Moments;
 use crate::table::{Col, Table};
 use super::input::open_cells;
-use super::series::{Series, Variable};
-use super::{analyze_dataset, output, Analysis, AnalysisError, Options};
+use super::{analyze_cells, output, Analysis, AnalysisError, Options};
+use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 
 /// The summary of one sweep cell.
@@ -35,8 +35,9 @@ pub struct CellSummary {
     pub mean_t_slope: Option<f64>,
 }
 
-fn pooled(a: &Analysis, var: Variable) -> Option<f64> {
-    let m = a.stats.iter().filter(|s| s.series.var == var && s.series.index.is_some()).fold(Moments::default(), |acc, s| acc.merge(&s.moments));
+/// The mean of a duration family's values over every analysed index k (D_1..D_K pooled).
+fn pooled(a: &Analysis, family: Observable) -> Option<f64> {
+    let m = a.stats.iter().filter(|s| s.series.index().is_some() && s.series.variable() == family.variable()).fold(Moments::default(), |acc, s| acc.merge(&s.moments));
     (m.n > 0).then_some(m.mean)
 }
 
@@ -74,20 +75,19 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
         .filter_map(|part| part.split_once('='))
         .map(|(k, v)| (k.to_string(), v.parse().unwrap_or(f64::NAN)))
         .collect();
-    let st = a.get(Series::count(Variable::St)).map(|s| s.moments).unwrap_or_default();
-    let stick_stats = a.get(Series::count(Variable::StickTime));
+    let st = a.get(Observable::Sticks).map(|s| s.moments).unwrap_or_default();
+    let stick_stats = a.get(Observable::StickFraction);
     let stick = stick_stats.map(|s| s.moments).unwrap_or_default();
-    let t_a = a.dataset.scenario.run.duration;
-    let line = |stat: &str| a.growth.iter().find(|g| g.var == Variable::T && g.statistic == stat).map(|g| g.line.clone());
+    let line = |stat: &str| a.growth.iter().find(|g| g.family == Observable::StickStart(1) && g.statistic == stat).map(|g| g.line.clone());
     CellSummary {
         keys,
         realizations: a.dataset.rows,
         mean_st: st.mean,
         mean_st_se: st.mean_se(),
-        stick_fraction: stick.mean / t_a,
-        stick_fraction_interval: stick_stats.and_then(|s| s.interval(|m| (m.n > 0).then_some(m.mean))).map(|(lo, hi)| (lo / t_a, hi / t_a)),
-        mean_d: pooled(a, Variable::D),
-        mean_h: pooled(a, Variable::H),
+        stick_fraction: stick.mean,
+        stick_fraction_interval: stick_stats.and_then(|s| s.interval(|m| (m.n > 0).then_some(m.mean))),
+        mean_d: pooled(a, Observable::StickDuration(1)),
+        mean_h: pooled(a, Observable::SlipDuration(1)),
         var_t_slope: line("variance").map(|l| l.slope),
         var_t_slope_se: line("variance").and_then(|l| l.slope_se),
         mean_t_slope: line("mean").map(|l| l.slope),
@@ -122,9 +122,11 @@ pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String
     let staged = StagedDir::new(out, Kind::Analysis, "--out", &[dir])?;
     let mut cells = open_cells(dir, opts.allow_partial)?;
     cells.sort_by(|a, b| cell_order(&a.0, &b.0));
-    let mut done = Vec::with_capacity(cells.len());
-    for (path, data) in cells {
-        let a = analyze_dataset(data, opts)?;
+    let (paths, datasets): (Vec<String>, Vec<_>) = cells.into_iter().unzip();
+    // every cell in one scan
+    let analyses = analyze_cells(datasets, opts)?;
+    let mut done = Vec::with_capacity(paths.len());
+    for (path, a) in paths.into_iter().zip(analyses) {
         let cell_dir = staged.path().join(&path);
         std::fs::create_dir_all(&cell_dir).map_err(|e| AnalysisError::Write { path: out.join(&path), message: e.to_string() })?;
         output::write_into(&a, &cell_dir, &out.join(&path))?;

@@ -446,10 +446,10 @@ pub fn convergence_figure(inp: &Inputs) -> Option<Figure> {
     let (mean, lo, hi) = (t.floats("mean")?, t.floats("mean_lo")?, t.floats("mean_hi")?);
     let panels: Vec<Panel> = crate::analysis::CONVERGENCE
         .iter()
-        .map(|(var, k)| {
-            let rows: Vec<usize> = (0..t.height()).filter(|&r| vars[r] == var.name() && idx[r] == k.map(i64::from)).collect();
+        .map(|o| {
+            let rows: Vec<usize> = (0..t.height()).filter(|&r| vars[r] == o.variable() && idx[r] == o.index().map(i64::from)).collect();
             let line = |col: &[Option<f64>]| rows.iter().filter_map(|&r| Some((n[r]? as f64, col[r]?))).collect::<Vec<_>>();
-            let name = k.map_or(var.name().to_string(), |k| format!("{}_{k}", var.name()));
+            let name = o.name();
             Panel {
                 title: format!("running mean of {name}"),
                 x_label: "realizations".into(),

@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use polars::prelude::*;
+use stickslip::observables::Observable;
 use stickslip::analysis::{self, output, Options};
 use stickslip::dataset::{Layout, PartWriter, Rows};
 use stickslip::ensemble::Outcome;
@@ -173,16 +174,16 @@ fn paper_table_1_is_reproduced_within_the_stated_tolerances() {
     let tmp = tempfile::tempdir().unwrap();
     simulate_into(tmp.path(), &["run.realizations=5000"]);
     let a = analysis::analyze(tmp.path(), &Options::default()).unwrap();
-    for &(var, k, p) in analysis::paper::TABLE1 {
-        let s = a.get(analysis::series::Series::at(var, k)).unwrap();
+    for &(o, p) in analysis::paper::TABLE1 {
+        let s = a.get(o).unwrap();
         let (mean, variance) = (s.moments.mean, s.moments.variance().unwrap());
         assert!((mean / p[0] - 1.0).abs() < 0.10, "{}: mean {mean:.3} vs paper {}", s.series, p[0]);
         assert!((variance / p[1] - 1.0).abs() < 0.15, "{}: variance {variance:.3} vs paper {}", s.series, p[1]);
     }
-    let st = a.get(analysis::series::Series::count(analysis::series::Variable::St)).unwrap();
+    let st = a.get(Observable::Sticks).unwrap();
     assert!((st.moments.mean / 16.71 - 1.0).abs() < 0.03, "E[S_T] = {}", st.moments.mean);
     // the paper's Fig. 7: Var T_k linear in k
-    let var_t = a.growth.iter().find(|g| g.var == analysis::series::Variable::T && g.statistic == "variance").unwrap();
+    let var_t = a.growth.iter().find(|g| g.family == Observable::StickStart(1) && g.statistic == "variance").unwrap();
     assert!(var_t.line.r2 > 0.99, "R² = {}", var_t.line.r2);
     // renewal check within 3 %
     let r = a.renewal.as_ref().unwrap();
@@ -252,9 +253,8 @@ fn count_modes_and_their_intervals_are_integers() {
     let o = crate::common::stickslip(&["simulate", "--out", "d", "--realizations", "3000", "-q"], tmp.path());
     assert!(o.status.success());
     let a = analysis::analyze(&tmp.path().join("d"), &Options::default()).unwrap();
-    use stickslip::analysis::series::{Series, Variable};
-    for (name, var) in [("S_T", Variable::St), ("S_L", Variable::Sl)] {
-        let s = a.get(Series::count(var)).unwrap();
+    for (name, o) in [("S_T", Observable::Sticks), ("S_L", Observable::Slips)] {
+        let s = a.get(o).unwrap();
         let (lo, hi) = s.mode_interval().expect("an interval");
         let mode = s.mode.unwrap();
         assert!([mode, lo, hi].iter().all(|x| x.fract() == 0.0) && lo <= mode && mode <= hi, "{name}: {mode} [{lo} – {hi}]");

@@ -19,7 +19,7 @@ fn analysed(dir: &std::path::Path, seed: u64, n: u64) -> analysis::Analysis {
 fn intervals_cover_a_large_sample_reference() {
     let tmp = tempfile::tempdir().unwrap();
     let reference = analysed(&tmp.path().join("ref"), 999_999, 200_000);
-    let names = ["T_1", "T_2", "D_1", "H_1", "L_1", "S_T", "stick_time"];
+    let names = ["T_1", "T_2", "D_1", "H_1", "L_1", "S_T", "stick_fraction"];
     let pick = |a: &analysis::Analysis| -> Vec<SeriesStats> {
         names.iter().map(|n| a.stats.iter().find(|s| s.series.to_string() == *n).unwrap_or_else(|| panic!("{n}")).clone()).collect()
     };

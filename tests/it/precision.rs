@@ -77,7 +77,7 @@ fn the_cap_is_reported_and_bad_targets_are_refused() {
     assert!(o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("cap of 2000"), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(metadata(&tmp.path().join("c"), "stickslip.target_se_met").as_deref(), Some("false"));
-    let o = stickslip(&["simulate", "--out", "s", "--target-se", "Q=0.1", "-q"], tmp.path());
+    let o = stickslip(&["simulate", "--out", "s", "--target-se", "Z=0.1", "-q"], tmp.path());
     assert_eq!(o.status.code(), Some(2));
     assert!(!tmp.path().join("s").exists());
 }
