@@ -32,6 +32,7 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 use accum::{Histogram, Moments};
+use rayon::prelude::*;
 use growth::{Line, Renewal};
 use independence::Independence;
 use input::{Dataset, InputError};
@@ -268,8 +269,8 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
         }
     };
     let spinner = progress(opts.progress, refs.iter().map(|d| d.rows).sum());
-    let pilots = query::pilots(&refs, &plan).map_err(failed)?;
-    let aggregates = query::aggregate(&refs, &plan, &pilots).map_err(failed)?;
+    let mut pilots = query::pilots(&refs, &plan).map_err(failed)?;
+    let aggregates = query::aggregate(&refs, &plan, &mut pilots).map_err(failed)?;
     spinner.finish_and_clear();
     let mut out = Vec::with_capacity(cells.len());
     for ((data, agg), pilot) in cells.into_iter().zip(aggregates).zip(&pilots) {
@@ -307,7 +308,7 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
     let n = series.len();
     let t_a = data.scenario.run.duration;
     let groups = 0..jackknife::GROUPS;
-    let group_moments: Vec<Vec<Moments>> = (0..n).map(|i| agg.sums[i].iter().map(|s| s.moments(pilot.center[i])).collect()).collect();
+    let group_moments: Vec<Vec<Moments>> = (0..n).map(|i| agg.sums[i].iter().map(|s| s.moments(pilot, i)).collect()).collect();
     let moments: Vec<Moments> = group_moments.iter().map(|g| g.iter().fold(Moments::default(), |a, m| a.merge(m))).collect();
     // per group: the sketch of a continuous observable, the distribution of a count
     let group_sketches: Vec<Option<Vec<Sketch>>> = (0..n)
@@ -353,8 +354,9 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
         })
         .collect();
 
+    // (kernel-density modes on every leave-one-group-out sketch: the observables in parallel)
     let stats: Vec<SeriesStats> = series
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(i, s)| {
             let m = moments[i];
@@ -382,7 +384,7 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
     let permutations = opts.permutations.min((2e7 / rows as f64).max(19.0) as u32);
     let joints = opts
         .pairs
-        .iter()
+        .par_iter()
         .zip(pairs)
         .zip(&joints)
         .map(|((p, &(i, j)), sketch)| {
@@ -431,18 +433,14 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
         .filter_map(|o| series.iter().position(|s| s == o))
         .enumerate()
         .map(|(slot, i)| {
-            let c = pilot.center[i];
-            let (mut n, mut s1, mut s2) = (0u64, 0.0, 0.0);
+            // the running sums (integers, exact) up to each checkpoint, and their moments
+            let mut running = query::Sums::default();
             let mut points = Vec::new();
-            let at = |read: u64, n: u64, s1: f64, s2: f64| {
-                let mean = if n > 0 { c + s1 / n as f64 } else { 0.0 };
-                let var = (n > 1).then(|| ((s2 - s1 * s1 / n as f64) / (n - 1) as f64).max(0.0));
-                (read, n, mean, var.map(|v| (v / n as f64).sqrt()))
-            };
-            for (b, &(bn, b1, b2)) in agg.convergence[slot].iter().enumerate() {
-                (n, s1, s2) = (n + bn, s1 + b1, s2 + b2);
+            for (b, bucket) in agg.convergence[slot].iter().enumerate() {
+                running.add(bucket);
                 if let Some(&read) = grid.get(b).filter(|&&r| r <= data.rows) {
-                    points.push(at(read, n, s1, s2));
+                    let m = running.moments(pilot, i);
+                    points.push((read, m.n, m.mean, m.mean_se()));
                 }
             }
             // the last point is the whole sample's

@@ -260,3 +260,28 @@ fn count_modes_and_their_intervals_are_integers() {
         assert!([mode, lo, hi].iter().all(|x| x.fract() == 0.0) && lo <= mode && mode <= hi, "{name}: {mode} [{lo} – {hi}]");
     }
 }
+
+#[test]
+fn the_tables_are_the_same_bytes_for_any_thread_count_and_morsel_size() {
+    // polars sums in whatever order its threads meet the rows; the analysis' sums are exact
+    // (integers), so its tables must not change in a single bit
+    let tmp = tempfile::tempdir().unwrap();
+    simulate_into(&tmp.path().join("d"), &["run.realizations=4000"]);
+    let run = |out: &str, env: &[(&str, &str)]| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"));
+        cmd.args(["analyze", "d", "--out", out, "-q"]).current_dir(tmp.path());
+        for (k, v) in env {
+            cmd.env(k, v);
+        }
+        assert!(cmd.status().unwrap().success(), "{out}");
+    };
+    run("a", &[]);
+    run("b", &[("POLARS_MAX_THREADS", "1"), ("RAYON_NUM_THREADS", "1"), ("POLARS_IDEAL_MORSEL_SIZE", "300")]);
+    run("c", &[("POLARS_IDEAL_MORSEL_SIZE", "777")]);
+    for table in ["moments", "histograms", "joint_histograms", "independence", "growth", "convergence"] {
+        let a = std::fs::read(tmp.path().join(format!("a/{table}.parquet"))).unwrap();
+        for other in ["b", "c"] {
+            assert!(a == std::fs::read(tmp.path().join(format!("{other}/{table}.parquet"))).unwrap(), "{table}: {other} differs");
+        }
+    }
+}
