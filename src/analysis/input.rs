@@ -36,9 +36,6 @@ pub struct Dataset {
     pub missing: Vec<std::ops::Range<u64>>,
     pub scenario: Scenario,
     pub switch_times: bool,
-    /// Some part declares a column the analysis reads (or a list's elements) nullable: the
-    /// values are then also checked for nulls (a column declared required cannot hold one).
-    pub nullable: bool,
     /// The directory of the trajectory tables beside the dataset ([`crate::trajectory::dir_for`]),
     /// when the simulation sampled trajectories.
     pub trajectories: Option<PathBuf>,
@@ -117,7 +114,6 @@ struct Part {
     rows: u64,
     scenario: String,
     switch_times: bool,
-    nullable: bool,
     /// `stickslip.realizations`: the whole run's size
     total: u64,
     /// `stickslip.realization_range`
@@ -152,11 +148,6 @@ fn check(path: &Path) -> Result<Part, InputError> {
     }
     let scenario = get(meta::SCENARIO).ok_or_else(|| bad(path, format!("no {} in its metadata", meta::SCENARIO)))?;
     let switch_times = schema.field_with_name("switch_times").is_ok();
-    let nullable = REQUIRED.iter().map(|(name, _)| *name).chain(switch_times.then_some("switch_times")).any(|name| {
-        schema.field_with_name(name).is_ok_and(|f| {
-            f.is_nullable() || matches!(f.data_type(), DataType::List(e) | DataType::LargeList(e) if e.is_nullable())
-        })
-    });
     let number = |key: &str| -> Result<u64, InputError> {
         get(key).and_then(|v| v.trim().parse().ok()).ok_or_else(|| bad(path, format!("no valid {key} in its metadata")))
     };
@@ -181,7 +172,7 @@ fn check(path: &Path) -> Result<Part, InputError> {
             return Err(bad(path, "its stickslip.shard_block does not hold its realization_range"));
         }
     }
-    Ok(Part { rows, scenario, switch_times, nullable, total, range, block, stamp })
+    Ok(Part { rows, scenario, switch_times, total, range, block, stamp })
 }
 
 /// Find and check the dataset below `dir` (a single scenario, complete).
@@ -283,7 +274,6 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         [SAMPLES, EVENTS].iter().all(|f| recorded_scenario(&d.join(f)).as_deref() == Some(toml.as_str()))
     });
     let rows: u64 = parts.iter().map(|(_, p)| p.rows).sum();
-    let nullable = parts.iter().any(|(_, p)| p.nullable);
     // shards that stopped at their own targets: the run is what they simulated
     let expected_rows = if parts.iter().any(|(_, p)| p.block.is_some()) { rows + missing.iter().map(|r| r.end - r.start).sum::<u64>() } else { total };
     Ok(Dataset {
@@ -296,7 +286,6 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         missing,
         scenario,
         switch_times,
-        nullable,
         trajectories,
     })
 }
