@@ -635,6 +635,12 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
             out[s as usize / GROUPS].joint[p].push(((x, y), n as u64));
         }
     }
+    // counts of the same bin from several runs are added up, so the tables stay as small as
+    // the histograms, whatever the number of runs
+    for agg in out.iter_mut() {
+        agg.bins.iter_mut().flatten().for_each(compact);
+        agg.joint.iter_mut().for_each(compact);
+    }
     if !plan.convergence.is_empty() {
         let df = frames.next().expect("the convergence sums");
         let ints = |name: &str| -> PolarsResult<Vec<i64>> { Ok(df.column(name)?.cast(&DataType::Int64)?.i64()?.iter().map(|v| v.unwrap_or(0)).collect()) };
@@ -649,6 +655,18 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
         }
     }
     Ok(())
+}
+
+/// Sort counts by key and add up those of the same key.
+fn compact<K: Ord + Copy>(counts: &mut Vec<(K, u64)>) {
+    counts.sort_unstable_by_key(|(k, _)| *k);
+    counts.dedup_by(|next, kept| {
+        let same = next.0 == kept.0;
+        if same {
+            kept.1 += next.1;
+        }
+        same
+    });
 }
 
 /// The error naming the first file, row and column that break a rule (the main query found one):
