@@ -290,6 +290,22 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
     })
 }
 
+/// The name of the row number column of [`scan`].
+pub(crate) const ROW: &str = "__row";
+
+/// The scan of one part file, its rows numbered from 0 (hive partitioning off: a sweep's
+/// `key=value/` directories are cells, not columns).
+pub(crate) fn scan(path: &Path, n_rows: Option<usize>, row_index: bool) -> polars::prelude::PolarsResult<polars::prelude::LazyFrame> {
+    use polars::prelude::*;
+    let args = ScanArgsParquet {
+        n_rows,
+        row_index: row_index.then(|| RowIndex { name: ROW.into(), offset: 0 }),
+        hive_options: HiveOptions { enabled: Some(false), ..Default::default() },
+        ..Default::default()
+    };
+    LazyFrame::scan_parquet(PlRefPath::new(path.to_string_lossy().as_ref()), args)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

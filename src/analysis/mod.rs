@@ -16,6 +16,7 @@
 
 pub mod accum;
 pub mod density;
+mod exact;
 pub mod growth;
 pub mod independence;
 pub mod jackknife;
@@ -23,6 +24,7 @@ pub mod input;
 pub mod output;
 pub mod paper;
 mod query;
+mod rules;
 pub mod sketch;
 pub mod summary;
 pub mod sweep;
@@ -308,7 +310,7 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
     let n = series.len();
     let t_a = data.scenario.run.duration;
     let groups = 0..jackknife::GROUPS;
-    let group_moments: Vec<Vec<Moments>> = (0..n).map(|i| agg.sums[i].iter().map(|s| s.moments(pilot, i)).collect()).collect();
+    let group_moments: Vec<Vec<Moments>> = (0..n).map(|i| agg.sums[i].iter().map(|s| s.moments(pilot.center[i], &exact::quanta(pilot.bound[i], pilot.rows))).collect()).collect();
     let moments: Vec<Moments> = group_moments.iter().map(|g| g.iter().fold(Moments::default(), |a, m| a.merge(m))).collect();
     // per group: the sketch of a continuous observable, the distribution of a count
     let group_sketches: Vec<Option<Vec<Sketch>>> = (0..n)
@@ -434,12 +436,12 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
         .enumerate()
         .map(|(slot, i)| {
             // the running sums (integers, exact) up to each checkpoint, and their moments
-            let mut running = query::Sums::default();
+            let mut running = exact::Sums::default();
             let mut points = Vec::new();
             for (b, bucket) in agg.convergence[slot].iter().enumerate() {
                 running.add(bucket);
                 if let Some(&read) = grid.get(b).filter(|&&r| r <= data.rows) {
-                    let m = running.moments(pilot, i);
+                    let m = running.moments(pilot.center[i], &exact::quanta(pilot.bound[i], pilot.rows));
                     points.push((read, m.n, m.mean, m.mean_se()));
                 }
             }

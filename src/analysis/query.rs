@@ -28,14 +28,15 @@
 //! counts. The pilot decides only how fine the counts are, never what they are.
 //!
 //! **Validation** is in the same scan: the rules are flags summed per group; only when one is
-//! broken does [`locate`] look for the first offending file, row and column, to name them.
-
-use std::path::Path;
+//! broken does [`locate`] look for the first offending file, row and column, to name them
+//! ([`super::rules`]). The power sums are exact integers ([`super::exact`]).
 
 use polars::prelude::*;
 
-use super::input::{Dataset, Stamp};
+use super::exact::{exact_parts, part_of, parts, quanta, term, Sums};
+use super::input::{scan, Dataset, Stamp, ROW};
 use super::jackknife::GROUPS;
+use super::rules::{locate, rules};
 use super::sketch;
 use crate::observables::Observable;
 
@@ -63,158 +64,6 @@ pub(crate) struct Pilot {
     pub joint: Vec<(i32, i32)>,
     /// the cell's realizations (the n of the exact sums)
     pub rows: u64,
-}
-
-/// Power sums that do not depend on the order of addition.
-///
-/// polars adds in whatever order its threads and morsels meet the rows, and floating-point
-/// addition is not associative: summed as floats, Σd^p would change in its last bits with the
-/// thread count or the shard split. So each term t = d^p (|d| ≤ B, n rows) is cut into two
-/// integers, summed exactly as int64 — the sums, being exact, are the same for any order:
-///
-/// ```text
-///     q = B^p / R,  R = 2^61 / n,   v = t / q  (|v| ≤ R),
-///     hi = trunc(v),   lo = trunc((v − hi)·R)  (|lo| < R),     Σt = q (Σhi + Σlo / R)
-/// ```
-///
-/// Each sum stays below n R = 2^61 in magnitude. A term loses less than q/R = B^p n²/2^122
-/// (below 2^-69 B^p for n ≤ 10^8) or the rounding of v, whichever is larger: double precision.
-pub(crate) fn quanta(bound: f64, rows: u64) -> [(f64, f64); 4] {
-    let r = 2f64.powi(61) / rows.max(1) as f64;
-    [1, 2, 3, 4].map(|p| (bound.powi(p) / r, r))
-}
-
-/// Σt from the two integer sums (see [`quanta`]).
-fn exact(hi: i64, lo: i64, (q, r): (f64, f64)) -> f64 {
-    q * (hi as f64 + lo as f64 / r)
-}
-
-fn term(i: usize, p: usize, part: char) -> String {
-    format!("__{part}{i}_{p}")
-}
-fn parts(i: usize) -> String {
-    format!("__p{i}")
-}
-
-/// The integer parts [hi, lo] of d^p for p = 1..4 (see [`quanta`]).
-fn split(d: f64, q: &[(f64, f64); 4]) -> [[i64; 2]; 4] {
-    let d2 = d * d;
-    let mut out = [[0; 2]; 4];
-    for (p, t) in [d, d2, d2 * d, d2 * d2].into_iter().enumerate() {
-        let (qp, r) = q[p];
-        let v = t / qp;
-        // `as` truncates toward zero (and saturates); |v| ≤ R ≤ 2^61 by the bound
-        let hi = v as i64;
-        out[p] = [hi, ((v - hi as f64) * r) as i64];
-    }
-    out
-}
-
-/// The integer parts `hi` and `lo` of (x − c)^p for p = 1..4 (see [`quanta`]) as a struct of
-/// eight int64 fields `h1, l1, …, h4, l4`, in one pass over the column (a polars expression of
-/// arithmetic and casts would allocate a column per operation).
-fn exact_parts(x: Expr, c: f64, q: [(f64, f64); 4]) -> Expr {
-    x.map(
-        move |column: Column| {
-            let values = column.f64()?;
-            let mut parts: Vec<Vec<i64>> = vec![Vec::with_capacity(values.len()); 8];
-            let mut validity = Vec::new();
-            for arr in values.downcast_iter() {
-                for &x in arr.values().iter() {
-                    for (p, [hi, lo]) in split(x - c, &q).into_iter().enumerate() {
-                        parts[2 * p].push(hi);
-                        parts[2 * p + 1].push(lo);
-                    }
-                }
-                validity.push(arr.validity().cloned());
-            }
-            let fields: Vec<Column> = parts
-                .into_iter()
-                .enumerate()
-                .map(|(k, v)| {
-                    let mut offset = 0;
-                    let chunks: Vec<_> = values
-                        .downcast_iter()
-                        .zip(&validity)
-                        .map(|(arr, valid)| {
-                            let n = arr.len();
-                            let a = polars_arrow::array::PrimitiveArray::<i64>::from_vec(v[offset..offset + n].to_vec()).with_validity(valid.clone());
-                            offset += n;
-                            a
-                        })
-                        .collect();
-                    let name = format!("{}{}", if k % 2 == 0 { 'h' } else { 'l' }, k / 2 + 1);
-                    Int64Chunked::from_chunk_iter(name.as_str().into(), chunks).into_column()
-                })
-                .collect();
-            Ok(StructChunked::from_columns(column.name().clone(), values.len(), &fields)?.into_column())
-        },
-        |_, field| {
-            let fields = (1..=4).flat_map(|p| ['h', 'l'].map(|k| Field::new(format!("{k}{p}").into(), DataType::Int64))).collect();
-            Ok(Field::new(field.name().clone(), DataType::Struct(fields)))
-        },
-    )
-}
-
-/// Field `part` (`h` or `l`) of power `p` of an [`exact_parts`] struct column.
-fn part_of(column: &str, p: usize, part: char) -> Expr {
-    col(column).struct_().field_by_name(&format!("{part}{p}"))
-}
-
-/// The power sums of one observable in one jackknife group: n, Σ(x−c)^p for p = 1..4, range,
-/// and how many values were censored.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Sums {
-    pub n: u64,
-    /// the integer sums (Σhi, Σlo) of (x − c)^p, p = 1..4 ([`quanta`])
-    pub parts: [[i64; 2]; 4],
-    pub min: f64,
-    pub max: f64,
-    pub cut: u64,
-}
-
-impl Default for Sums {
-    fn default() -> Self {
-        Sums { n: 0, parts: [[0; 2]; 4], min: f64::INFINITY, max: f64::NEG_INFINITY, cut: 0 }
-    }
-}
-
-impl Sums {
-    /// Add the sums of more realizations (exact: integer sums).
-    pub(crate) fn add(&mut self, o: &Sums) {
-        self.n += o.n;
-        for p in 0..4 {
-            for k in 0..2 {
-                self.parts[p][k] += o.parts[p][k];
-            }
-        }
-        self.min = self.min.min(o.min);
-        self.max = self.max.max(o.max);
-        self.cut += o.cut;
-    }
-
-    /// The central moments from the power sums about the pilot's centre c (exact algebra: with
-    /// δ = S1/n the offset of the mean from c, M2 = S2 − n δ², M3 = S3 − 3δ S2 + 2n δ³,
-    /// M4 = S4 − 4δ S3 + 6δ² S2 − 3n δ⁴).
-    pub fn moments(&self, pilot: &Pilot, i: usize) -> crate::stats::Moments {
-        if self.n == 0 {
-            return crate::stats::Moments::default();
-        }
-        let (c, q) = (pilot.center[i], quanta(pilot.bound[i], pilot.rows));
-        let n = self.n as f64;
-        let [s1, s2, s3, s4] = [0, 1, 2, 3].map(|p| exact(self.parts[p][0], self.parts[p][1], q[p]));
-        let d = s1 / n;
-        let (d2, d3, d4) = (d * d, d * d * d, d * d * d * d);
-        crate::stats::Moments {
-            n: self.n,
-            mean: c + d,
-            m2: (s2 - n * d2).max(0.0),
-            m3: s3 - 3.0 * d * s2 + 2.0 * n * d3,
-            m4: (s4 - 4.0 * d * s3 + 6.0 * d2 * s2 - 3.0 * n * d4).max(0.0),
-            min: self.min,
-            max: self.max,
-        }
-    }
 }
 
 /// What the scan aggregated for one cell.
@@ -257,7 +106,6 @@ const CHUNK_ROWS: u64 = 1 << 19;
 /// Column names inside the queries.
 const CELL: &str = "__cell";
 const GROUP: &str = "__group";
-const ROW: &str = "__row";
 const BUCKET: &str = "__bucket";
 /// cell × GROUPS + group: one int64 key (one-column keys hash fastest)
 const SLOT: &str = "__slot";
@@ -278,83 +126,6 @@ fn cut(i: usize) -> String {
 }
 fn flag(f: usize) -> String {
     format!("__f{f}")
-}
-
-/// The scan of one part file, its rows numbered from 0 (hive partitioning off: a sweep's
-/// `key=value/` directories are cells, not columns).
-fn scan(path: &Path, n_rows: Option<usize>, row_index: bool) -> PolarsResult<LazyFrame> {
-    let args = ScanArgsParquet {
-        n_rows,
-        row_index: row_index.then(|| RowIndex { name: ROW.into(), offset: 0 }),
-        hive_options: HiveOptions { enabled: Some(false), ..Default::default() },
-        ..Default::default()
-    };
-    LazyFrame::scan_parquet(PlRefPath::new(path.to_string_lossy().as_ref()), args)
-}
-
-/// One validation rule of a part file: the per-row flag of its breach (the message is made by
-/// [`row_problem`] once a breach is found).
-struct Rule {
-    bad: Expr,
-}
-
-/// The validation rules (see [`locate`] for the messages): realization ids are the part's
-/// declared consecutive range; counts are non-negative and equal their lists' lengths; event
-/// times are finite and in [0, t_a]; start instants do not decrease; no nulls.
-fn rules(first: u64, horizon: f64, switch_times: bool) -> Vec<Rule> {
-    let mut out = vec![Rule { bad: col("realization").neq(lit(first as i64) + col(ROW).cast(DataType::Int64)).fill_null(lit(true)) }];
-    let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
-    if switch_times {
-        counted.push(("n_switches", ["switch_times"].as_slice()));
-    }
-    // a duration cut at t_a is t_a − start, rounded: a relative 1e-12 of slack
-    let top = horizon * (1.0 + 1e-12);
-    for (count, cols) in counted {
-        for &c in cols {
-            out.push(Rule { bad: list_rule(c, count, top, c.ends_with("_start") || c == "switch_times") });
-        }
-    }
-    out.push(Rule { bad: col("last_truncated").is_null() });
-    out
-}
-
-/// The rule of a list column and its count as one pass over the values (polars' list kernels
-/// took a fifth of the analysis): true where the list is null, its length differs from the
-/// count, an element is null, not finite or outside [0, `top`], or (`ordered`) an element is
-/// below the one before it. (A null element is looked for whatever the schema declares.)
-fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool) -> Expr {
-    use polars_arrow::array::{Array, PrimitiveArray};
-    col(list).map_many(
-        move |cols: &mut [Column]| {
-            let lists = cols[0].list()?.rechunk();
-            let counts = cols[1].cast(&DataType::Int64)?;
-            let counts = counts.i64()?.rechunk();
-            let (arr, n) = (lists.downcast_iter().next(), counts.downcast_iter().next());
-            let bad: BooleanChunked = match (arr, n) {
-                (Some(arr), Some(n)) => {
-                    let values = arr.values().as_any().downcast_ref::<PrimitiveArray<f64>>().ok_or_else(|| polars_err!(SchemaMismatch: "column `{list}` is not a list of float64"))?;
-                    let offsets = arr.offsets().as_slice();
-                    (0..arr.len())
-                        .map(|r| {
-                            let (a, b) = (offsets[r] as usize, offsets[r + 1] as usize);
-                            if !arr.is_valid(r) || !n.is_valid(r) || n.value(r) != (b - a) as i64 {
-                                return true;
-                            }
-                            if values.validity().is_some_and(|v| (a..b).any(|i| !v.get_bit(i))) {
-                                return true;
-                            }
-                            let xs = &values.values()[a..b];
-                            xs.iter().any(|x| !(*x >= 0.0 && *x <= top)) || (ordered && xs.windows(2).any(|w| w[1] < w[0]))
-                        })
-                        .collect()
-                }
-                _ => BooleanChunked::full_null("".into(), 0),
-            };
-            Ok(bad.with_name(list.into()).into_column())
-        },
-        &[col(count)],
-        |_, fields| Ok(Field::new(fields[0].name().clone(), DataType::Boolean)),
-    )
 }
 
 /// The bin of `x` on the grid of width 2^`exp` (x ≥ 0: the cast truncates, which is the floor).
@@ -667,114 +438,4 @@ fn compact<K: Ord + Copy>(counts: &mut Vec<(K, u64)>) {
         }
         same
     });
-}
-
-/// The error naming the first file, row and column that break a rule (the main query found one):
-/// each file is scanned again for its first offending row, which is checked in Rust for the
-/// message ([`row_problem`]).
-fn locate(cells: &[&Dataset]) -> PolarsError {
-    for data in cells {
-        for f in 0..data.files.len() {
-            let rules = rules(data.file_starts[f], data.scenario.run.duration, data.switch_times);
-            let any = rules.iter().map(|r| r.bad.clone()).reduce(|a, b| a.or(b)).expect("rules");
-            let found = scan(&data.files[f], None, true).and_then(|lf| lf.filter(any).limit(1).collect());
-            let df = match found {
-                Ok(df) if df.height() == 0 => continue,
-                Ok(df) => df,
-                Err(e) => return polars_err!(ComputeError: "{}: {e}", data.files[f].display()),
-            };
-            let why = row_problem(&df, data.file_starts[f], data.scenario.run.duration, data.switch_times).unwrap_or_else(|| "a value breaks the dataset's rules".into());
-            return polars_err!(ComputeError: "{}: {why}", data.files[f].display());
-        }
-    }
-    polars_err!(ComputeError: "a value breaks the dataset's rules, but no file shows it when read again (did a file change?)")
-}
-
-/// The message for the first broken rule of a one-row frame (row `__row` of a part whose first
-/// realization is `first`): row, realization, column, and what is wrong.
-fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool) -> Option<String> {
-    let int = |name: &str| df.column(name).ok()?.cast(&DataType::Int64).ok()?.i64().ok()?.get(0);
-    let row = int(ROW)? as u64;
-    let id = int("realization");
-    let at = |c: &str, why: String| Some(format!("row {} (realization {}), column `{c}`: {why}", first + row, id.map_or("null".into(), |i| i.to_string())));
-    if id != Some((first + row) as i64) {
-        return at("realization", format!("expected realization {} (the part's declared range), found {}", first + row, id.map_or("null".into(), |i| i.to_string())));
-    }
-    let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
-    if switch_times {
-        counted.push(("n_switches", ["switch_times"].as_slice()));
-    }
-    for (count, cols) in counted {
-        let n = int(count);
-        for &c in cols {
-            let list = df.column(c).ok()?.list().ok()?.get_as_series(0);
-            let Some(list) = list else { return at(c, "a null list (lists are never null; an empty list is [])".into()) };
-            let values: Vec<Option<f64>> = list.cast(&DataType::Float64).ok()?.f64().ok()?.iter().collect();
-            match n {
-                Some(n) if n >= 0 && values.len() as i64 == n => {}
-                Some(n) => return at(c, format!("{} values, but `{count}` = {n}", values.len())),
-                None => return at(count, "a null count".into()),
-            }
-            if values.iter().any(Option::is_none) {
-                return at(c, "a null element inside a list".into());
-            }
-            let values: Vec<f64> = values.into_iter().flatten().collect();
-            if let Some(x) = values.iter().find(|x| !(**x >= 0.0 && **x <= horizon * (1.0 + 1e-12))) {
-                return at(c, format!("value {} (event times and durations lie in [0, t_a = {horizon}] s)", crate::scenario::short(*x)));
-            }
-            if (c.ends_with("_start") || c == "switch_times") && values.windows(2).any(|w| w[1] < w[0]) {
-                return at(c, "values decrease (start instants are in increasing order)".into());
-            }
-        }
-    }
-    df.column("last_truncated").ok().filter(|c| c.null_count() > 0).and_then(|_| at("last_truncated", "a null value".into()))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Σ d^p of `d` in the order given, through the integer parts.
-    fn sums(d: &[f64], bound: f64) -> [f64; 4] {
-        let q = quanta(bound, d.len() as u64);
-        let mut acc = [[0i64; 2]; 4];
-        for &x in d {
-            for (p, [hi, lo]) in split(x, &q).into_iter().enumerate() {
-                acc[p][0] += hi;
-                acc[p][1] += lo;
-            }
-        }
-        [0, 1, 2, 3].map(|p| exact(acc[p][0], acc[p][1], q[p]))
-    }
-
-    #[test]
-    fn exact_power_sums_do_not_depend_on_the_order_and_keep_double_precision() {
-        let mut s = 88172645463325252u64;
-        let mut u = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
-        // deviations spanning magnitudes, as durations about a centre do
-        let d: Vec<f64> = (0..100_000).map(|_| (u() - 0.3) * 10f64.powf(-4.0 * u())).collect();
-        let forward = sums(&d, 1.0);
-        let mut shuffled = d.clone();
-        shuffled.reverse();
-        shuffled.rotate_left(31_337);
-        assert_eq!(forward, sums(&shuffled, 1.0), "the same bits in any order");
-        // an independent reference: the powers summed in a compensated (Neumaier) sum
-        for p in 0..4 {
-            let (mut sum, mut c) = (0f64, 0f64);
-            for &x in &d {
-                let t = x.powi(p as i32 + 1);
-                let y = sum + t;
-                c += if sum.abs() >= t.abs() { (sum - y) + t } else { (t - y) + sum };
-                sum = y;
-            }
-            let reference = sum + c;
-            let scale: f64 = d.iter().map(|x| x.abs().powi(p as i32 + 1)).sum();
-            assert!((forward[p] - reference).abs() <= 1e-15 * scale, "p = {}: {} vs {reference}", p + 1, forward[p]);
-        }
-    }
 }

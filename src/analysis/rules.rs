@@ -1,0 +1,132 @@
+//! The rules every value of a dataset obeys, as per-row flags for the analysis query, and the
+//! message naming the first file, row and column that breaks one.
+
+use polars::prelude::*;
+
+use super::input::{scan, Dataset, ROW};
+
+/// One validation rule of a part file: the per-row flag of its breach (the message is made by
+/// [`row_problem`] once a breach is found).
+pub(crate) struct Rule {
+    pub bad: Expr,
+}
+
+/// The validation rules (see [`locate`] for the messages): realization ids are the part's
+/// declared consecutive range; counts are non-negative and equal their lists' lengths; event
+/// times are finite and in [0, t_a]; start instants do not decrease; no nulls.
+pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool) -> Vec<Rule> {
+    let mut out = vec![Rule { bad: col("realization").neq(lit(first as i64) + col(ROW).cast(DataType::Int64)).fill_null(lit(true)) }];
+    let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
+    if switch_times {
+        counted.push(("n_switches", ["switch_times"].as_slice()));
+    }
+    // a duration cut at t_a is t_a − start, rounded: a relative 1e-12 of slack
+    let top = horizon * (1.0 + 1e-12);
+    for (count, cols) in counted {
+        for &c in cols {
+            out.push(Rule { bad: list_rule(c, count, top, c.ends_with("_start") || c == "switch_times") });
+        }
+    }
+    out.push(Rule { bad: col("last_truncated").is_null() });
+    out
+}
+
+/// The rule of a list column and its count as one pass over the values (polars' list kernels
+/// took a fifth of the analysis): true where the list is null, its length differs from the
+/// count, an element is null, not finite or outside [0, `top`], or (`ordered`) an element is
+/// below the one before it. (A null element is looked for whatever the schema declares.)
+fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool) -> Expr {
+    use polars_arrow::array::{Array, PrimitiveArray};
+    col(list).map_many(
+        move |cols: &mut [Column]| {
+            let lists = cols[0].list()?.rechunk();
+            let counts = cols[1].cast(&DataType::Int64)?;
+            let counts = counts.i64()?.rechunk();
+            let (arr, n) = (lists.downcast_iter().next(), counts.downcast_iter().next());
+            let bad: BooleanChunked = match (arr, n) {
+                (Some(arr), Some(n)) => {
+                    let values = arr.values().as_any().downcast_ref::<PrimitiveArray<f64>>().ok_or_else(|| polars_err!(SchemaMismatch: "column `{list}` is not a list of float64"))?;
+                    let offsets = arr.offsets().as_slice();
+                    (0..arr.len())
+                        .map(|r| {
+                            let (a, b) = (offsets[r] as usize, offsets[r + 1] as usize);
+                            if !arr.is_valid(r) || !n.is_valid(r) || n.value(r) != (b - a) as i64 {
+                                return true;
+                            }
+                            if values.validity().is_some_and(|v| (a..b).any(|i| !v.get_bit(i))) {
+                                return true;
+                            }
+                            let xs = &values.values()[a..b];
+                            xs.iter().any(|x| !(*x >= 0.0 && *x <= top)) || (ordered && xs.windows(2).any(|w| w[1] < w[0]))
+                        })
+                        .collect()
+                }
+                _ => BooleanChunked::full_null("".into(), 0),
+            };
+            Ok(bad.with_name(list.into()).into_column())
+        },
+        &[col(count)],
+        |_, fields| Ok(Field::new(fields[0].name().clone(), DataType::Boolean)),
+    )
+}
+
+/// The error naming the first file, row and column that break a rule (the main query found one):
+/// each file is scanned again for its first offending row, which is checked in Rust for the
+/// message ([`row_problem`]).
+pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
+    for data in cells {
+        for f in 0..data.files.len() {
+            let rules = rules(data.file_starts[f], data.scenario.run.duration, data.switch_times);
+            let any = rules.iter().map(|r| r.bad.clone()).reduce(|a, b| a.or(b)).expect("rules");
+            let found = scan(&data.files[f], None, true).and_then(|lf| lf.filter(any).limit(1).collect());
+            let df = match found {
+                Ok(df) if df.height() == 0 => continue,
+                Ok(df) => df,
+                Err(e) => return polars_err!(ComputeError: "{}: {e}", data.files[f].display()),
+            };
+            let why = row_problem(&df, data.file_starts[f], data.scenario.run.duration, data.switch_times).unwrap_or_else(|| "a value breaks the dataset's rules".into());
+            return polars_err!(ComputeError: "{}: {why}", data.files[f].display());
+        }
+    }
+    polars_err!(ComputeError: "a value breaks the dataset's rules, but no file shows it when read again (did a file change?)")
+}
+
+/// The message for the first broken rule of a one-row frame (row `__row` of a part whose first
+/// realization is `first`): row, realization, column, and what is wrong.
+fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool) -> Option<String> {
+    let int = |name: &str| df.column(name).ok()?.cast(&DataType::Int64).ok()?.i64().ok()?.get(0);
+    let row = int(ROW)? as u64;
+    let id = int("realization");
+    let at = |c: &str, why: String| Some(format!("row {} (realization {}), column `{c}`: {why}", first + row, id.map_or("null".into(), |i| i.to_string())));
+    if id != Some((first + row) as i64) {
+        return at("realization", format!("expected realization {} (the part's declared range), found {}", first + row, id.map_or("null".into(), |i| i.to_string())));
+    }
+    let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
+    if switch_times {
+        counted.push(("n_switches", ["switch_times"].as_slice()));
+    }
+    for (count, cols) in counted {
+        let n = int(count);
+        for &c in cols {
+            let list = df.column(c).ok()?.list().ok()?.get_as_series(0);
+            let Some(list) = list else { return at(c, "a null list (lists are never null; an empty list is [])".into()) };
+            let values: Vec<Option<f64>> = list.cast(&DataType::Float64).ok()?.f64().ok()?.iter().collect();
+            match n {
+                Some(n) if n >= 0 && values.len() as i64 == n => {}
+                Some(n) => return at(c, format!("{} values, but `{count}` = {n}", values.len())),
+                None => return at(count, "a null count".into()),
+            }
+            if values.iter().any(Option::is_none) {
+                return at(c, "a null element inside a list".into());
+            }
+            let values: Vec<f64> = values.into_iter().flatten().collect();
+            if let Some(x) = values.iter().find(|x| !(**x >= 0.0 && **x <= horizon * (1.0 + 1e-12))) {
+                return at(c, format!("value {} (event times and durations lie in [0, t_a = {horizon}] s)", crate::scenario::short(*x)));
+            }
+            if (c.ends_with("_start") || c == "switch_times") && values.windows(2).any(|w| w[1] < w[0]) {
+                return at(c, "values decrease (start instants are in increasing order)".into());
+            }
+        }
+    }
+    df.column("last_truncated").ok().filter(|c| c.null_count() > 0).and_then(|_| at("last_truncated", "a null value".into()))
+}
