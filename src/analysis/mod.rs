@@ -1,6 +1,6 @@
 //! The `analyze` stage: a dataset in, tidy statistics tables out.
 //!
-//! polars computes ([`query`]): one lazy query over `scan_parquet` of the part files, on the
+//! polars computes (`query.rs`): one lazy query over `scan_parquet` of the part files, on the
 //! streaming engine, aggregates per jackknife group the power sums and ranges of every analysed
 //! observable ([`crate::observables`], the one home of what is measured and of the censoring
 //! rule), their counts on dyadic histogram grids, the exact distributions of the counts, the
