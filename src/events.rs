@@ -44,14 +44,6 @@ pub struct Record {
     in_stick: bool,
 }
 
-/// Whether the k-th stick (`stick`) or slip duration is the interval cut at t_a, which is censored
-/// and left out of D_k and H_k (`analyze`, `simulate --target-se`): the last interval was cut,
-/// it is the k-th of its kind, and it is the last one (a final stick when S_T > S_L, a final slip
-/// when S_T = S_L).
-pub fn censored(stick: bool, k: u64, n_stick: u64, n_slip: u64, last_truncated: bool) -> bool {
-    last_truncated && if stick { n_stick == k && n_stick > n_slip } else { n_slip == k && n_stick == n_slip }
-}
-
 impl Record {
     /// Forget the previous realization, keeping the buffers.
     pub fn clear(&mut self) {

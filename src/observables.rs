@@ -115,6 +115,10 @@ impl Observable {
     pub const SCALARS: [Observable; 6] =
         [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
 
+    /// The scalar quantities `analyze` reports beside the indexed families (its moments table has
+    /// a row for each; a new scalar listed here is analysed with no other change).
+    pub const ANALYSED_SCALARS: [Observable; 4] = [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction];
+
     /// Every quantity, the indexed families for k ≤ `max_index` (what the consistency test runs
     /// through: a new quantity is covered once it is listed here).
     pub fn every(max_index: u32) -> Vec<Observable> {
@@ -130,6 +134,16 @@ impl Observable {
     /// Whether it needs the `switch_times` column.
     pub fn needs_switch_times(self) -> bool {
         matches!(self, Observable::SwitchTime(_))
+    }
+
+    /// The bound of its values in a window t_a [s]: every time and duration lies in [0, t_a], the
+    /// fraction in [0, 1]. For a count, which has none, t_a (the analysis bins counts by value).
+    pub fn scale(self, t_a: f64) -> f64 {
+        if self == Observable::StickFraction {
+            1.0
+        } else {
+            t_a
+        }
     }
 
     /// Its unit: `s`, or `1` for counts and fractions.
@@ -245,7 +259,8 @@ fn last_cut(stick: bool) -> Expr {
 /// interval was cut, it is the k-th of its kind, and it is the last one (a final stick when
 /// S_T > S_L, a final slip when S_T = S_L). The one censoring rule (module docs).
 pub fn censored(r: &Record, stick: bool, k: u32) -> bool {
-    crate::events::censored(stick, u64::from(k), r.n_stick() as u64, r.n_slip() as u64, r.last_truncated)
+    let (n_stick, n_slip, k) = (r.n_stick(), r.n_slip(), k as usize);
+    r.last_truncated && if stick { n_stick == k && n_stick > n_slip } else { n_slip == k && n_stick == n_slip }
 }
 
 impl fmt::Display for Observable {

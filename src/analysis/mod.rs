@@ -207,7 +207,7 @@ impl Analysis {
 }
 
 /// The observables analysed for a dataset: T_k, L_k, D_k, H_k (and Y_k with switch times) for
-/// k ≤ max_index, those of the pairs, the counts and the stick fraction.
+/// k ≤ max_index, those of the pairs, and [`Observable::ANALYSED_SCALARS`].
 fn series_list(opts: &Options, switch_times: bool) -> Vec<Observable> {
     let mut out: Vec<Observable> = Vec::new();
     for family in Observable::FAMILIES {
@@ -223,8 +223,7 @@ fn series_list(opts: &Options, switch_times: bool) -> Vec<Observable> {
             }
         }
     }
-    out.extend(Observable::COUNTS);
-    out.push(Observable::StickFraction);
+    out.extend(Observable::ANALYSED_SCALARS);
     out
 }
 
@@ -296,15 +295,6 @@ fn progress(show: bool, rows: u64) -> indicatif::ProgressBar {
     bar
 }
 
-/// The largest value an observable takes in a window t_a (the scale its sketch starts from).
-fn scale(o: Observable, t_a: f64) -> f64 {
-    if o == Observable::StickFraction {
-        1.0
-    } else {
-        t_a
-    }
-}
-
 /// The analysis of one cell from what the scan aggregated.
 fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize, usize)], grid: &[u64], agg: &query::Aggregates, pilot: &query::Pilot) -> Analysis {
     let n = series.len();
@@ -314,7 +304,7 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
     let moments: Vec<Moments> = group_moments.iter().map(|g| g.iter().fold(Moments::default(), |a, m| a.merge(m))).collect();
     // per group: the sketch of a continuous observable, the distribution of a count
     let group_sketches: Vec<Option<Vec<Sketch>>> = (0..n)
-        .map(|i| (!series[i].is_count()).then(|| agg.bins[i].iter().map(|b| Sketch::from_counts(scale(series[i], t_a), pilot.exp[i], b)).collect()))
+        .map(|i| (!series[i].is_count()).then(|| agg.bins[i].iter().map(|b| Sketch::from_counts(series[i].scale(t_a), pilot.exp[i], b)).collect()))
         .collect();
     let group_pmf: Vec<Vec<BTreeMap<i64, u64>>> = (0..n)
         .map(|i| if series[i].is_count() { agg.bins[i].iter().map(|b| b.iter().copied().collect()).collect() } else { vec![BTreeMap::new(); jackknife::GROUPS] })
@@ -326,9 +316,9 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
         }
         m
     };
-    let sketches: Vec<Option<Sketch>> = (0..n).map(|i| group_sketches[i].as_ref().map(|g| g.iter().fold(Sketch::new(scale(series[i], t_a)), |a, s| a.merge(s)))).collect();
+    let sketches: Vec<Option<Sketch>> = (0..n).map(|i| group_sketches[i].as_ref().map(|g| g.iter().fold(Sketch::new(series[i].scale(t_a)), |a, s| a.merge(s)))).collect();
     let pmf: Vec<BTreeMap<i64, u64>> = group_pmf.iter().map(|g| g.iter().fold(BTreeMap::new(), |a, p| merge_pmf(&a, p))).collect();
-    let joints: Vec<Sketch2> = pairs.iter().enumerate().map(|(p, &(i, _))| Sketch2::from_counts(scale(series[i], t_a), pilot.joint[p], &agg.joint[p])).collect();
+    let joints: Vec<Sketch2> = pairs.iter().enumerate().map(|(p, &(i, _))| Sketch2::from_counts(series[i].scale(t_a), pilot.joint[p], &agg.joint[p])).collect();
 
     // Histogram grids: power-of-two widths no finer than any sketch holding the observable.
     let hist: Vec<Histogram> = (0..n)
@@ -369,7 +359,7 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
             };
             let loo_moments = jackknife::leave_one_out(&group_moments[i], &Moments::default(), Moments::merge);
             let loo_mode = match &group_sketches[i] {
-                Some(groups) => jackknife::leave_one_out(groups, &Sketch::new(scale(*s, t_a)), Sketch::merge)
+                Some(groups) => jackknife::leave_one_out(groups, &Sketch::new(s.scale(t_a)), Sketch::merge)
                     .iter()
                     .zip(&loo_moments)
                     .map(|(sk, lm)| density::kde_mode(&sk.fine(), lm))

@@ -187,10 +187,10 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
         let all = concat(files, UnionArgs { maintain_order: true, ..Default::default() })?;
         let df = all.slice(0, PILOT_ROWS as IdxSize).select(cols).collect_with_engine(Engine::Streaming)?.unwrap_single();
         let groups: Vec<i64> = df.column(GROUP)?.i64()?.into_no_null_iter().collect();
-        let e0 = sketch::start_exponent(t_a);
         let values = |i: usize| -> PolarsResult<Vec<Option<f64>>> { Ok(df.column(&value(i))?.f64()?.iter().collect()) };
         // the finest sketch exponent of the pilot's values without each group (and of all)
-        let finest = |xs: &[Option<f64>], cap: usize| -> i32 {
+        let finest = |xs: &[Option<f64>], o: Observable, cap: usize| -> i32 {
+            let e0 = sketch::start_exponent(o.scale(t_a));
             (0..=GROUPS as i64)
                 .filter_map(|g| {
                     let kept = xs.iter().zip(&groups).filter(|(_, h)| **h != g).filter_map(|(x, _)| *x);
@@ -209,14 +209,14 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
             // |x − c| ≤ the observable's scale for times, durations and the fraction; for a
             // count, twice the pilot's reach (the scan checks it; see `aggregate`)
             let reach = present.iter().fold(0f64, |r, x| r.max((x - center).abs()));
-            pilot.bound.push(if plan.series[i].is_count() { 2.0 * reach + 16.0 } else { 1.01 * super::scale(plan.series[i], t_a) });
+            pilot.bound.push(if plan.series[i].is_count() { 2.0 * reach + 16.0 } else { 1.01 * plan.series[i].scale(t_a) });
             pilot.center.push(center);
-            pilot.exp.push(finest(&xs, sketch::CAP_1D));
+            pilot.exp.push(finest(&xs, plan.series[i], sketch::CAP_1D));
             all.push(xs);
         }
         for &(i, j) in plan.pairs {
             let both = |a: &[Option<f64>], b: &[Option<f64>]| a.iter().zip(b).map(|(x, y)| x.and(*y).and(*x)).collect::<Vec<_>>();
-            pilot.joint.push((finest(&both(&all[i], &all[j]), sketch::CAP_2D), finest(&both(&all[j], &all[i]), sketch::CAP_2D)));
+            pilot.joint.push((finest(&both(&all[i], &all[j]), plan.series[i], sketch::CAP_2D), finest(&both(&all[j], &all[i]), plan.series[j], sketch::CAP_2D)));
         }
         out.push(pilot);
     }
