@@ -136,10 +136,22 @@ fn bin_expr(x: Expr, exp: i32) -> Expr {
 /// The frame of one part file for the main query (see the module docs), in two stages so that
 /// each observable's expression is evaluated once per row and the second stage reads its column.
 #[allow(clippy::too_many_arguments)]
-fn file_frame(data: &Dataset, file: usize, cell: usize, (offset, rows): (u64, u64), position: u64, plan: &Plan, pilot: &Pilot, n_rules: &mut usize) -> PolarsResult<LazyFrame> {
+fn file_frame(data: &Dataset, file: usize, cell: usize, (offset, rows): (u64, u64), position: u64, plan: &Plan, pilot: &Pilot, batch: &Batch, n_rules: &mut usize) -> PolarsResult<LazyFrame> {
     let t_a = data.scenario.run.duration;
-    let rules = rules(data.file_starts[file], t_a, data.switch_times);
+    let rules = if batch.extras { rules(data.file_starts[file], t_a, data.switch_times) } else { Vec::new() };
     *n_rules = rules.len();
+    // the observables whose values this batch needs: its own, and those of the pairs and the
+    // convergence table in the batch that does them
+    let mut members: Vec<usize> = batch.owned.clone();
+    let mut summed: Vec<usize> = batch.owned.clone();
+    if batch.extras {
+        members.extend(plan.pairs.iter().flat_map(|&(i, j)| [i, j]).chain(plan.convergence.iter().copied()));
+        summed.extend(plan.convergence.iter().copied());
+    }
+    for v in [&mut members, &mut summed] {
+        v.sort_unstable();
+        v.dedup();
+    }
     // 1. per realization: its slot (cell and group), convergence bucket, observables, censoring
     // and rules
     let group = (col("realization") % lit(GROUPS as i64)).cast(DataType::Int64);
@@ -148,9 +160,11 @@ fn file_frame(data: &Dataset, file: usize, cell: usize, (offset, rows): (u64, u6
     let k = col(ROW).cast(DataType::Int64) + lit(position as i64 + 1);
     let bucket = plan.checkpoints.iter().fold(lit(0i64), |acc, &c| acc + k.clone().gt(lit(c as i64)).cast(DataType::Int64));
     cols.push(bucket.cast(DataType::Int64).alias(BUCKET));
-    for (i, o) in plan.series.iter().enumerate() {
-        cols.push(o.expr(t_a).alias(value(i)));
-        if let Some(censored) = o.censored_expr() {
+    for &i in &members {
+        cols.push(plan.series[i].expr(t_a).alias(value(i)));
+    }
+    for &i in &batch.owned {
+        if let Some(censored) = plan.series[i].censored_expr() {
             cols.push(censored.alias(cut(i)));
         }
     }
@@ -160,13 +174,15 @@ fn file_frame(data: &Dataset, file: usize, cell: usize, (offset, rows): (u64, u6
     let frame = scan(&data.files[file], None, true)?.slice(offset as i64, rows as IdxSize).select(cols);
     // 2. histogram bins and the integer parts of the power sums
     let mut next = Vec::new();
-    for (i, o) in plan.series.iter().enumerate() {
+    for &i in &batch.owned {
         let x = col(value(i));
-        let b = if o.is_count() { x.clone().cast(DataType::Int64) } else { bin_expr(x.clone(), pilot.exp[i]) };
+        let b = if plan.series[i].is_count() { x.cast(DataType::Int64) } else { bin_expr(x, pilot.exp[i]) };
         next.push((col(SLOT) * lit(1i64 << KEY_BITS) + b).alias(bin(i)));
-        next.push(exact_parts(x.clone(), pilot.center[i], quanta(pilot.bound[i], pilot.rows)).alias(parts(i)));
     }
-    for (p, &(i, j)) in plan.pairs.iter().enumerate() {
+    for &i in &summed {
+        next.push(exact_parts(col(value(i)), pilot.center[i], quanta(pilot.bound[i], pilot.rows)).alias(parts(i)));
+    }
+    for (p, &(i, j)) in plan.pairs.iter().enumerate().filter(|_| batch.extras) {
         let (ex, ey) = pilot.joint[p];
         next.push(bin_expr(col(value(i)), ex).alias(jbin(p, 'x')));
         next.push(bin_expr(col(value(j)), ey).alias(jbin(p, 'y')));
@@ -287,19 +303,43 @@ fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot]) -> PolarsRe
     Ok(out)
 }
 
+/// Observables per query: polars' planning grows faster than linearly with the number of
+/// aggregations (`--max-index 200`, 804 observables in one query: 30 s and 5 GB on 3,000
+/// realizations), so more observables are split over queries over the same rows.
+const SERIES_PER_QUERY: usize = 64;
+
+/// The observables one query aggregates, and whether it also does the rest: row counts,
+/// validation, pairs and the convergence table.
+struct Batch {
+    owned: Vec<usize>,
+    extras: bool,
+}
+
 /// Run the main query over one run of rows, adding what it aggregates to `out`.
 fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usize, usize, u64, u64, u64)], out: &mut [Aggregates]) -> PolarsResult<()> {
+    let n = plan.series.len();
+    for (b, start) in (0..n.max(1)).step_by(SERIES_PER_QUERY).enumerate() {
+        let batch = Batch { owned: (start..(start + SERIES_PER_QUERY).min(n)).collect(), extras: b == 0 };
+        aggregate_batch(cells, plan, pilots, run, &batch, out)?;
+    }
+    Ok(())
+}
+
+/// One query of [`aggregate_run`].
+fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usize, usize, u64, u64, u64)], batch: &Batch, out: &mut [Aggregates]) -> PolarsResult<()> {
     let mut frames = Vec::new();
     let mut n_rules = 0;
     for &(c, f, offset, rows, position) in run {
-        frames.push(file_frame(cells[c], f, c, (offset, rows), position, plan, &pilots[c], &mut n_rules)?);
+        frames.push(file_frame(cells[c], f, c, (offset, rows), position, plan, &pilots[c], batch, &mut n_rules)?);
     }
+    let (pairs, convergence): (&[(usize, usize)], &[usize]) = if batch.extras { (plan.pairs, plan.convergence) } else { (&[], &[]) };
     let args = UnionArgs { parallel: true, rechunk: false, to_supertypes: false, diagonal: false, strict: true, from_partitioned_ds: false, maintain_order: false };
     let base = concat(frames, args)?;
     // per slot (cell and group): the power sums, ranges, censored counts, pair ranges and
     // broken rules
     let mut aggs = vec![len().cast(DataType::Int64).alias("__rows")];
-    for (i, o) in plan.series.iter().enumerate() {
+    for &i in &batch.owned {
+        let o = plan.series[i];
         aggs.extend([col(value(i)).count().cast(DataType::Int64).alias(format!("n{i}")), col(value(i)).min().alias(format!("lo{i}")), col(value(i)).max().alias(format!("hi{i}"))]);
         for p in 1..=4 {
             aggs.extend(['h', 'l'].map(|part| part_of(&parts(i), p, part).sum().alias(term(i, p, part))));
@@ -308,7 +348,7 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
             aggs.push(col(cut(i)).cast(DataType::Int64).sum().alias(format!("cut{i}")));
         }
     }
-    for (p, &(i, j)) in plan.pairs.iter().enumerate() {
+    for (p, &(i, j)) in pairs.iter().enumerate() {
         let both = col(value(i)).is_not_null().and(col(value(j)).is_not_null());
         for (axis, s) in [('x', i), ('y', j)] {
             let v = when(both.clone()).then(col(value(s))).otherwise(lit(NULL).cast(DataType::Float64));
@@ -323,17 +363,17 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
     // per (slot, bin): histogram counts, on one int64 key (one-column keys hash fastest); each
     // branch projects first: a group_by or filter on the wide shared frame copies every column
     let count = || [len().cast(DataType::Int64).alias("__n")];
-    for i in 0..plan.series.len() {
+    for &i in &batch.owned {
         plans.push(base.clone().select([col(bin(i))]).group_by([col(bin(i))]).agg(count()).logical_plan);
     }
     // per (slot, bin x, bin y): joint counts
-    for p in 0..plan.pairs.len() {
+    for p in 0..pairs.len() {
         let (x, y) = (jbin(p, 'x'), jbin(p, 'y'));
         plans.push(base.clone().select([col(SLOT), col(&x), col(&y)]).group_by([col(SLOT), col(&x), col(&y)]).agg(count()).logical_plan);
     }
     // per (cell, bucket): the convergence sums
     let mut conv = Vec::new();
-    for &i in plan.convergence {
+    for &i in convergence {
         conv.push(col(value(i)).count().cast(DataType::Int64).alias(format!("n{i}")));
         for p in 1..=2 {
             conv.extend(['h', 'l'].map(|part| part_of(&parts(i), p, part).sum().alias(term(i, p, part))));
@@ -356,10 +396,10 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
         return Err(locate(cells));
     }
     let rows = ints("__rows")?;
-    for r in 0..df.height() {
+    for r in (0..df.height()).filter(|_| batch.extras) {
         out[cell_of[r] as usize].rows += rows[r] as u64;
     }
-    for p in 0..plan.pairs.len() {
+    for p in 0..pairs.len() {
         let cols: Vec<Vec<Option<f64>>> = ["xlo", "xhi", "ylo", "yhi"].iter().map(|s| floats(&format!("p{p}{s}"))).collect::<PolarsResult<_>>()?;
         for r in 0..df.height() {
             let Some(v) = [0, 1, 2, 3].map(|k| cols[k][r]).into_iter().collect::<Option<Vec<f64>>>() else { continue };
@@ -370,7 +410,8 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
             });
         }
     }
-    for (i, o) in plan.series.iter().enumerate() {
+    for &i in &batch.owned {
+        let o = plan.series[i];
         let (n, lo, hi) = (ints(&format!("n{i}"))?, floats(&format!("lo{i}"))?, floats(&format!("hi{i}"))?);
         let parts = |p: usize, part: char| ints(&term(i, p, part));
         let s: Vec<[Vec<i64>; 2]> = (1..=4).map(|p| Ok([parts(p, 'h')?, parts(p, 'l')?])).collect::<PolarsResult<_>>()?;
@@ -386,7 +427,7 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
             out[cell_of[r] as usize].sums[i][group_of[r] as usize].add(&sums);
         }
     }
-    for i in 0..plan.series.len() {
+    for &i in &batch.owned {
         let df = frames.next().expect("a histogram");
         let (key, n): (Vec<Option<i64>>, Vec<Option<i64>>) = (df.column(&bin(i))?.i64()?.iter().collect(), df.column("__n")?.i64()?.iter().collect());
         for r in 0..df.height() {
@@ -396,7 +437,7 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
             out[slot / GROUPS].bins[i][slot % GROUPS].push((b, n as u64));
         }
     }
-    for p in 0..plan.pairs.len() {
+    for p in 0..pairs.len() {
         let df = frames.next().expect("a joint histogram");
         let col_i = |name: &str| -> PolarsResult<Vec<Option<i64>>> { Ok(df.column(name)?.i64()?.iter().collect()) };
         let (s, x, y, n) = (col_i(SLOT)?, col_i(&jbin(p, 'x'))?, col_i(&jbin(p, 'y'))?, col_i("__n")?);
@@ -412,11 +453,11 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
         agg.bins.iter_mut().flatten().for_each(compact);
         agg.joint.iter_mut().for_each(compact);
     }
-    if !plan.convergence.is_empty() {
+    if !convergence.is_empty() {
         let df = frames.next().expect("the convergence sums");
         let ints = |name: &str| -> PolarsResult<Vec<i64>> { Ok(df.column(name)?.cast(&DataType::Int64)?.i64()?.iter().map(|v| v.unwrap_or(0)).collect()) };
         let (c, b) = (ints(CELL)?, ints(BUCKET)?);
-        for (slot, &i) in plan.convergence.iter().enumerate() {
+        for (slot, &i) in convergence.iter().enumerate() {
             let n = ints(&format!("n{i}"))?;
             let (h1, l1, h2, l2) = (ints(&term(i, 1, 'h'))?, ints(&term(i, 1, 'l'))?, ints(&term(i, 2, 'h'))?, ints(&term(i, 2, 'l'))?);
             for r in 0..df.height() {
