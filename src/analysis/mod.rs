@@ -241,8 +241,16 @@ pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, Analys
 pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis>, AnalysisError> {
     opts.check()?;
     let switch_times = cells[0].switch_times;
-    if let Some(d) = cells.iter().find(|d| d.switch_times != switch_times) {
-        return Err(AnalysisError::Read { path: d.files[0].clone(), message: "the cells differ in whether they store switch_times; analyse them separately".into() });
+    if cells.iter().any(|d| d.switch_times != switch_times) {
+        // cells that store switch_times have the Y_k observables, the others not: one scan each
+        let (with, without): (Vec<(usize, Dataset)>, Vec<(usize, Dataset)>) = cells.into_iter().enumerate().partition(|(_, d)| d.switch_times);
+        let mut out: Vec<(usize, Analysis)> = Vec::new();
+        for part in [with, without] {
+            let (order, data): (Vec<usize>, Vec<Dataset>) = part.into_iter().unzip();
+            out.extend(order.into_iter().zip(analyze_cells(data, opts)?));
+        }
+        out.sort_by_key(|(i, _)| *i);
+        return Ok(out.into_iter().map(|(_, a)| a).collect());
     }
     if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.needs_switch_times()) && !switch_times) {
         return Err(AnalysisError::Options(format!(

@@ -11,7 +11,7 @@
 //! sinks):
 //!
 //! - per (cell, group): n, Σd, Σd², Σd³, Σd⁴, min, max, the censored count of every observable,
-//!   the range of every pair, and the number of rows breaking each rule;
+//!   and the number of rows breaking each rule;
 //! - per (cell, group, bin): counts of every continuous observable on the dyadic grid of width
 //!   2^e (bin ⌊x·2^−e⌋, exact: scaling by a power of two is exact), and of every count
 //!   observable per value;
@@ -76,8 +76,6 @@ pub(crate) struct Aggregates {
     pub bins: Vec<Vec<Vec<(i64, u64)>>>,
     /// [pair]: ((bin x, bin y) at the pilot's joint exponents, count)
     pub joint: Vec<Vec<((i64, i64), u64)>>,
-    /// [pair]: (min x, max x, min y, max y) over the realizations with both values
-    pub joint_range: Vec<Option<[f64; 4]>>,
     /// [convergence observable][checkpoint]: the sums of the realizations read after the
     /// previous checkpoint, up to this one (the last entry: up to the last realization; only n
     /// and the powers 1 and 2 are filled)
@@ -91,7 +89,6 @@ impl Aggregates {
             sums: vec![vec![Sums::default(); GROUPS]; plan.series.len()],
             bins: vec![vec![Vec::new(); GROUPS]; plan.series.len()],
             joint: vec![Vec::new(); plan.pairs.len()],
-            joint_range: vec![None; plan.pairs.len()],
             convergence: vec![vec![Sums::default(); plan.checkpoints.len() + 1]; plan.convergence.len()],
         }
     }
@@ -222,10 +219,12 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
             let xs = values(i)?;
             let present: Vec<f64> = xs.iter().filter_map(|x| *x).filter(|x| x.is_finite()).collect();
             let center = if present.is_empty() { 0.0 } else { present.iter().sum::<f64>() / present.len() as f64 };
-            // |x − c| ≤ the observable's scale for times, durations and the fraction; for a
-            // count, twice the pilot's reach (the scan checks it; see `aggregate`)
+            // the bound of |x − c| for the exact sums: three times the pilot's reach (the
+            // integer parts' step is a fixed fraction of the bound, so a bound near the data's
+            // spread, not the scale t_a, keeps small values' digits); the scan checks it and runs
+            // again with the reach it found should a value lie beyond (see `aggregate`)
             let reach = present.iter().fold(0f64, |r, x| r.max((x - center).abs()));
-            pilot.bound.push(if plan.series[i].is_count() { 2.0 * reach + 16.0 } else { 1.01 * plan.series[i].scale(t_a) });
+            pilot.bound.push(3.0 * reach + plan.series[i].scale(t_a) * 2f64.powi(-40));
             pilot.center.push(center);
             pilot.exp.push(finest(&xs, plan.series[i], sketch::CAP_1D));
             all.push(xs);
@@ -335,8 +334,7 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
     let (pairs, convergence): (&[(usize, usize)], &[usize]) = if batch.extras { (plan.pairs, plan.convergence) } else { (&[], &[]) };
     let args = UnionArgs { parallel: true, rechunk: false, to_supertypes: false, diagonal: false, strict: true, from_partitioned_ds: false, maintain_order: false };
     let base = concat(frames, args)?;
-    // per slot (cell and group): the power sums, ranges, censored counts, pair ranges and
-    // broken rules
+    // per slot (cell and group): the power sums, ranges, censored counts and broken rules
     let mut aggs = vec![len().cast(DataType::Int64).alias("__rows")];
     for &i in &batch.owned {
         let o = plan.series[i];
@@ -346,14 +344,6 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
         }
         if o.censored_expr().is_some() {
             aggs.push(col(cut(i)).cast(DataType::Int64).sum().alias(format!("cut{i}")));
-        }
-    }
-    for (p, &(i, j)) in pairs.iter().enumerate() {
-        let both = col(value(i)).is_not_null().and(col(value(j)).is_not_null());
-        for (axis, s) in [('x', i), ('y', j)] {
-            let v = when(both.clone()).then(col(value(s))).otherwise(lit(NULL).cast(DataType::Float64));
-            aggs.push(v.clone().min().alias(format!("p{p}{axis}lo")));
-            aggs.push(v.max().alias(format!("p{p}{axis}hi")));
         }
     }
     for f in 0..n_rules {
@@ -399,17 +389,6 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
     for r in (0..df.height()).filter(|_| batch.extras) {
         out[cell_of[r] as usize].rows += rows[r] as u64;
     }
-    for p in 0..pairs.len() {
-        let cols: Vec<Vec<Option<f64>>> = ["xlo", "xhi", "ylo", "yhi"].iter().map(|s| floats(&format!("p{p}{s}"))).collect::<PolarsResult<_>>()?;
-        for r in 0..df.height() {
-            let Some(v) = [0, 1, 2, 3].map(|k| cols[k][r]).into_iter().collect::<Option<Vec<f64>>>() else { continue };
-            let range = &mut out[cell_of[r] as usize].joint_range[p];
-            *range = Some(match range {
-                None => [v[0], v[1], v[2], v[3]],
-                Some(a) => [a[0].min(v[0]), a[1].max(v[1]), a[2].min(v[2]), a[3].max(v[3])],
-            });
-        }
-    }
     for &i in &batch.owned {
         let o = plan.series[i];
         let (n, lo, hi) = (ints(&format!("n{i}"))?, floats(&format!("lo{i}"))?, floats(&format!("hi{i}"))?);
@@ -434,7 +413,9 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
             // (realizations without a value: the null key)
             let (Some(key), Some(n)) = (key[r], n[r]) else { continue };
             let (slot, b) = ((key >> KEY_BITS) as usize, key & ((1 << KEY_BITS) - 1));
-            out[slot / GROUPS].bins[i][slot % GROUPS].push((b, n as u64));
+            // (the rules keep every value's bin below 2^KEY_BITS; a key outside is a bug, not data)
+            let agg = out.get_mut(slot / GROUPS).ok_or_else(|| polars_err!(ComputeError: "histogram key {key} outside the cells"))?;
+            agg.bins[i][slot % GROUPS].push((b, n as u64));
         }
     }
     for p in 0..pairs.len() {

@@ -5,6 +5,10 @@ use polars::prelude::*;
 
 use super::input::{scan, Dataset, ROW};
 
+/// The largest number of belt changes a part may declare without its list (a count is its own
+/// histogram bin, and bins are packed below 2^42 with the group).
+const Q_LIMIT: i64 = 1 << 40;
+
 /// One validation rule of a part file: the per-row flag of its breach (the message is made by
 /// [`row_problem`] once a breach is found).
 pub(crate) struct Rule {
@@ -12,19 +16,25 @@ pub(crate) struct Rule {
 }
 
 /// The validation rules (see [`locate`] for the messages): realization ids are the part's
-/// declared consecutive range; counts are non-negative and equal their lists' lengths; event
-/// times are finite and in [0, t_a]; start instants do not decrease; no nulls.
+/// declared consecutive range; counts are non-negative and equal their lists' lengths (Q, without
+/// its list, below 2^40); event times are finite and in [0, t_a]; start instants do not
+/// decrease; the stick durations add up to at most t_a; no nulls.
 pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool) -> Vec<Rule> {
     let mut out = vec![Rule { bad: col("realization").neq(lit(first as i64) + col(ROW).cast(DataType::Int64)).fill_null(lit(true)) }];
     let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
     if switch_times {
         counted.push(("n_switches", ["switch_times"].as_slice()));
+    } else {
+        let q = col("n_switches").cast(DataType::Int64);
+        out.push(Rule { bad: q.clone().lt(lit(0i64)).or(q.gt_eq(lit(Q_LIMIT))).fill_null(lit(true)) });
     }
-    // a duration cut at t_a is t_a − start, rounded: a relative 1e-12 of slack
+    // a duration cut at t_a is t_a − start, rounded: a relative 1e-12 of slack; the durations of
+    // intervals that do not overlap add up to t_a at most (with the rounding of each)
     let top = horizon * (1.0 + 1e-12);
     for (count, cols) in counted {
         for &c in cols {
-            out.push(Rule { bad: list_rule(c, count, top, c.ends_with("_start") || c == "switch_times") });
+            let total = (c == "stick_duration").then_some(horizon * (1.0 + 1e-9));
+            out.push(Rule { bad: list_rule(c, count, top, c.ends_with("_start") || c == "switch_times", total) });
         }
     }
     out.push(Rule { bad: col("last_truncated").is_null() });
@@ -34,8 +44,9 @@ pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool) -> Vec<Rule> {
 /// The rule of a list column and its count as one pass over the values (polars' list kernels
 /// took a fifth of the analysis): true where the list is null, its length differs from the
 /// count, an element is null, not finite or outside [0, `top`], or (`ordered`) an element is
-/// below the one before it. (A null element is looked for whatever the schema declares.)
-fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool) -> Expr {
+/// below the one before it, or the elements add up to more than `total`. (A null element is
+/// looked for whatever the schema declares.)
+fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool, total: Option<f64>) -> Expr {
     use polars_arrow::array::{Array, PrimitiveArray};
     col(list).map_many(
         move |cols: &mut [Column]| {
@@ -57,7 +68,9 @@ fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool) -
                                 return true;
                             }
                             let xs = &values.values()[a..b];
-                            xs.iter().any(|x| !(*x >= 0.0 && *x <= top)) || (ordered && xs.windows(2).any(|w| w[1] < w[0]))
+                            xs.iter().any(|x| !(*x >= 0.0 && *x <= top))
+                                || (ordered && xs.windows(2).any(|w| w[1] < w[0]))
+                                || total.is_some_and(|t| xs.iter().sum::<f64>() > t)
                         })
                         .collect()
                 }
@@ -126,6 +139,16 @@ fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool) -> 
             if (c.ends_with("_start") || c == "switch_times") && values.windows(2).any(|w| w[1] < w[0]) {
                 return at(c, "values decrease (start instants are in increasing order)".into());
             }
+            let sum: f64 = values.iter().sum();
+            if c == "stick_duration" && sum > horizon * (1.0 + 1e-9) {
+                return at(c, format!("the sticks last {} s in all, more than t_a = {horizon} s", crate::scenario::short(sum)));
+            }
+        }
+    }
+    if !switch_times {
+        match int("n_switches") {
+            Some(q) if (0..Q_LIMIT).contains(&q) => {}
+            q => return at("n_switches", format!("{} (a count of belt changes, from 0 to 2^40)", q.map_or("null".into(), |q| q.to_string()))),
         }
     }
     df.column("last_truncated").ok().filter(|c| c.null_count() > 0).and_then(|_| at("last_truncated", "a null value".into()))

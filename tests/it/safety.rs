@@ -396,6 +396,9 @@ fn bad_values_in_a_schema_valid_file_are_refused_with_row_and_column() {
         ("count", "n_stick", Box::new(|c| ints_with(c, |i, x| if i == 7 { x + 1 } else { x })), "n_stick"),
         ("huge", "n_stick", Box::new(|c| ints_with(c, |i, x| if i == 0 { 1 << 31 } else { x })), "2147483648"),
         ("ids", "realization", Box::new(|c| ints_with(c, |_, _| 0)), "realization 1"),
+        // issue 21 review: Q without its list, and durations that overlap, break no per-value rule
+        ("q", "n_switches", Box::new(|c| ints_with(c, |i, x| if i == 3 { -1 } else { x })), "-1"),
+        ("overlap", "stick_duration", Box::new(|c| list_with(c, 0, Some(9.99))), "more than t_a"),
     ];
     for (name, column, f, culprit) in cases {
         let dir = t.join(name);
