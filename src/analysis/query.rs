@@ -4,23 +4,29 @@
 //! Cargo.toml.
 //!
 //! **One scan, many aggregations.** The part files of every cell (one plain dataset, or the
-//! cells of a sweep) are scanned into one frame: per realization its cell, its jackknife group
-//! (realization mod 20), the value of every analysed observable ([`Observable::expr`], the one
-//! censoring rule), its deviation d = x − c from a pilot centre c, its histogram bin, and one
-//! flag per validation rule. From that frame, in one streaming pass (the scan is shared by the
-//! sinks):
+//! cells of a sweep) are scanned into one frame: per realization its slot (cell × 20 + its
+//! jackknife group, realization mod 20), the value of every analysed observable
+//! ([`Observable::expr`], the one censoring rule), the integer parts of (x − c)^p about a pilot
+//! centre c ([`super::exact`]), its histogram bin, and one flag per validation rule. From that
+//! frame, in one streaming pass (the scan is shared by the sinks):
 //!
-//! - per (cell, group): n, Σd, Σd², Σd³, Σd⁴, min, max, the censored count of every observable,
-//!   and the number of rows breaking each rule;
+//! - per slot: n, Σ(x − c)^p for p = 1..4, min, max, the censored count of every observable, and
+//!   the number of rows breaking each rule;
 //! - per (cell, group, bin): counts of every continuous observable on the dyadic grid of width
 //!   2^e (bin ⌊x·2^−e⌋, exact: scaling by a power of two is exact), and of every count
 //!   observable per value;
 //! - per (cell, bin x, bin y): the joint counts of every requested pair;
-//! - per (cell, convergence bucket): n, Σd, Σd² of the convergence observables.
+//! - per (cell, convergence bucket): n, Σ(x − c), Σ(x − c)² of the convergence observables.
+//!
+//! The pass is made over runs of at most [`CHUNK_ROWS`] realizations and batches of at most
+//! [`SERIES_PER_QUERY`] observables, whose integer sums and counts add exactly: polars buffers a
+//! shared scan for its slowest sink without a bound, and its planning grows faster than linearly
+//! with the aggregations.
 //!
 //! **The pilot.** The centre c and the exponent e come from a first small query over the first
 //! [`PILOT_ROWS`] rows of each cell: c is their mean (the power sums about a centre near the mean
-//! lose no digits; the central moments follow exactly, [`Sums::moments`]), and e is the finest
+//! lose no digits; the central moments follow exactly, [`Sums::moments`]), the bound of |x − c|
+//! of the exact sums is three times their reach (checked on the whole sample), and e is the finest
 //! exponent any of the analysis's histograms can need: the smallest, over the pilot rows without
 //! each jackknife group, of the sketch exponent of their range ([`super::sketch`]). The whole
 //! sample's range (and each leave-one-group-out range) holds that range, so every histogram the
