@@ -277,10 +277,10 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
             None => AnalysisError::Read { path: refs[0].files[0].clone(), message },
         }
     };
-    let spinner = progress(opts.progress, refs.iter().map(|d| d.rows).sum());
+    let bar = progress(opts.progress, refs.iter().map(|d| d.rows).sum());
     let mut pilots = query::pilots(&refs, &plan).map_err(failed)?;
-    let aggregates = query::aggregate(&refs, &plan, &mut pilots).map_err(failed)?;
-    spinner.finish_and_clear();
+    let aggregates = query::aggregate(&refs, &plan, &mut pilots, &bar).map_err(failed)?;
+    bar.finish_and_clear();
     let mut out = Vec::with_capacity(cells.len());
     for ((data, agg), pilot) in cells.into_iter().zip(aggregates).zip(&pilots) {
         if agg.rows != data.rows {
@@ -291,14 +291,14 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
     Ok(out)
 }
 
-/// A spinner with the elapsed time while polars reads (`show`), hidden otherwise.
+/// A bar of the realizations aggregated (advanced after each run of the query) with the elapsed
+/// time (`show`), hidden otherwise.
 fn progress(show: bool, rows: u64) -> indicatif::ProgressBar {
     if !show {
         return indicatif::ProgressBar::hidden();
     }
-    let bar = indicatif::ProgressBar::new_spinner();
-    bar.set_style(indicatif::ProgressStyle::with_template("analyze {spinner} {msg} {elapsed}").expect("valid template"));
-    bar.set_message(format!("reading {rows} realizations"));
+    let bar = indicatif::ProgressBar::new(rows);
+    bar.set_style(indicatif::ProgressStyle::with_template("analyze {bar:40} {pos}/{len} realizations  {elapsed}  eta {eta}").expect("valid template"));
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
     bar
 }

@@ -259,9 +259,10 @@ fn unchanged(cells: &[&Dataset]) -> PolarsResult<()> {
 /// Run the main query over every cell (module docs); a broken rule is reported by [`locate`].
 /// Should a value lie farther from its centre than the pilot's bound of the exact sums (a count
 /// beyond twice the pilot's reach), the scan is run once more with the bound the data show.
-pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot]) -> PolarsResult<Vec<Aggregates>> {
+pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot], progress: &indicatif::ProgressBar) -> PolarsResult<Vec<Aggregates>> {
     loop {
-        let out = aggregate_once(cells, plan, pilots)?;
+        progress.set_position(0);
+        let out = aggregate_once(cells, plan, pilots, progress)?;
         let mut again = false;
         for (agg, pilot) in out.iter().zip(pilots.iter_mut()) {
             for (i, groups) in agg.sums.iter().enumerate() {
@@ -278,7 +279,7 @@ pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot]) -
     }
 }
 
-fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot]) -> PolarsResult<Vec<Aggregates>> {
+fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], progress: &indicatif::ProgressBar) -> PolarsResult<Vec<Aggregates>> {
     unchanged(cells)?;
     // runs of (cell, file, first row, rows, read position of the file's row 0)
     let mut runs: Vec<Vec<(usize, usize, u64, u64, u64)>> = vec![Vec::new()];
@@ -303,6 +304,7 @@ fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot]) -> PolarsRe
     let mut out: Vec<Aggregates> = cells.iter().map(|_| Aggregates::new(plan)).collect();
     for run in runs.iter().filter(|r| !r.is_empty()) {
         aggregate_run(cells, plan, pilots, run, &mut out)?;
+        progress.inc(run.iter().map(|r| r.3).sum());
     }
     unchanged(cells)?;
     Ok(out)
