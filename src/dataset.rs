@@ -44,22 +44,46 @@ pub const READABLE_VERSIONS: [&str; 2] = ["1", "2"];
 const ROW_GROUP_ROWS: usize = 131_072;
 const ROW_GROUP_BYTES: usize = 128 << 20;
 
+/// The names of the columns the readers use (the contract's), in one place.
+pub mod columns {
+    pub const REALIZATION: &str = "realization";
+    pub const N_SWITCHES: &str = "n_switches";
+    pub const N_STICK: &str = "n_stick";
+    pub const N_SLIP: &str = "n_slip";
+    pub const LAST_TRUNCATED: &str = "last_truncated";
+    pub const STICK_START: &str = "stick_start";
+    pub const STICK_DURATION: &str = "stick_duration";
+    pub const SLIP_START: &str = "slip_start";
+    pub const SLIP_DURATION: &str = "slip_duration";
+    pub const SWITCH_TIMES: &str = "switch_times";
+
+    /// Each list column with the count column of its length, and whether its values are start
+    /// instants (in increasing order); `switch_times` is present only when the scenario asks.
+    pub const LISTS: [(&str, &str, bool); 5] = [
+        (STICK_START, N_STICK, true),
+        (STICK_DURATION, N_STICK, false),
+        (SLIP_START, N_SLIP, true),
+        (SLIP_DURATION, N_SLIP, false),
+        (SWITCH_TIMES, N_SWITCHES, true),
+    ];
+}
+
 /// The columns every part has and their types in schema v2, as the reader checks them (v1 had
 /// int32 counts, read as well); the writer's [`schema`] is tested to agree.
 pub const REQUIRED: &[(&str, &str)] = &[
-    ("realization", "int64"),
-    ("n_switches", "int64"),
-    ("n_stick", "int64"),
-    ("n_slip", "int64"),
-    ("last_truncated", "bool"),
-    ("stick_start", "list<float64>"),
-    ("stick_duration", "list<float64>"),
-    ("slip_start", "list<float64>"),
-    ("slip_duration", "list<float64>"),
+    (columns::REALIZATION, "int64"),
+    (columns::N_SWITCHES, "int64"),
+    (columns::N_STICK, "int64"),
+    (columns::N_SLIP, "int64"),
+    (columns::LAST_TRUNCATED, "bool"),
+    (columns::STICK_START, "list<float64>"),
+    (columns::STICK_DURATION, "list<float64>"),
+    (columns::SLIP_START, "list<float64>"),
+    (columns::SLIP_DURATION, "list<float64>"),
 ];
 
 /// List columns, in schema order.
-pub const LIST_COLUMNS: [&str; 4] = ["stick_start", "stick_duration", "slip_start", "slip_duration"];
+pub const LIST_COLUMNS: [&str; 4] = [columns::STICK_START, columns::STICK_DURATION, columns::SLIP_START, columns::SLIP_DURATION];
 
 /// The optional columns of a dataset: `switch_times`, and the drawn scene keys.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -18,6 +18,7 @@ use std::str::FromStr;
 
 use polars::prelude::{col, lit, when, DataType, Expr, NULL};
 
+use crate::dataset::columns as name;
 use crate::events::Record;
 
 /// A per-realization quantity (see the module docs for the censoring rule).
@@ -200,24 +201,24 @@ impl Observable {
     /// and `switch_times` for Y_k), one float64 value per realization, null where
     /// [`Observable::value`] is None; `duration` is t_a [s].
     pub fn expr(self, duration: f64) -> Expr {
-        let (n_stick, n_slip) = (count_column("n_stick"), count_column("n_slip"));
+        let (n_stick, n_slip) = (count_column(name::N_STICK), count_column(name::N_SLIP));
         let at = |c: &str, k: u32| col(c).list().get(lit(i64::from(k) - 1), true);
         let unless = |censored: Expr, value: Expr| when(censored).then(lit(NULL)).otherwise(value).cast(DataType::Float64);
         let uncensored_mean = |c: &str, count: Expr, last_cut: Expr| col(c).list().slice(lit(0i64), count - last_cut.cast(DataType::Int64)).list().mean();
         let named = match self {
-            Observable::StickStart(k) => at("stick_start", k),
-            Observable::SlipStart(k) => at("slip_start", k),
+            Observable::StickStart(k) => at(name::STICK_START, k),
+            Observable::SlipStart(k) => at(name::SLIP_START, k),
             Observable::StickDuration(k) | Observable::SlipDuration(k) => {
-                let column = if matches!(self, Observable::StickDuration(_)) { "stick_duration" } else { "slip_duration" };
+                let column = if matches!(self, Observable::StickDuration(_)) { name::STICK_DURATION } else { name::SLIP_DURATION };
                 unless(self.censored_expr().expect("a duration"), at(column, k))
             }
-            Observable::SwitchTime(k) => at("switch_times", k),
+            Observable::SwitchTime(k) => at(name::SWITCH_TIMES, k),
             Observable::Sticks => n_stick,
             Observable::Slips => n_slip,
-            Observable::Switches => count_column("n_switches"),
-            Observable::StickFraction => col("stick_duration").list().sum() / lit(duration),
-            Observable::MeanStickDuration => uncensored_mean("stick_duration", n_stick, last_cut(true)),
-            Observable::MeanSlipDuration => uncensored_mean("slip_duration", n_slip, last_cut(false)),
+            Observable::Switches => count_column(name::N_SWITCHES),
+            Observable::StickFraction => col(name::STICK_DURATION).list().sum() / lit(duration),
+            Observable::MeanStickDuration => uncensored_mean(name::STICK_DURATION, n_stick, last_cut(true)),
+            Observable::MeanSlipDuration => uncensored_mean(name::SLIP_DURATION, n_slip, last_cut(false)),
         };
         named.cast(DataType::Float64).alias(self.name())
     }
@@ -226,8 +227,8 @@ impl Observable {
     /// interval cut at t_a (censored, so its value is null); None for every other quantity.
     pub fn censored_expr(self) -> Option<Expr> {
         match self {
-            Observable::StickDuration(k) => Some(last_cut(true).and(count_column("n_stick").eq(lit(i64::from(k))))),
-            Observable::SlipDuration(k) => Some(last_cut(false).and(count_column("n_slip").eq(lit(i64::from(k))))),
+            Observable::StickDuration(k) => Some(last_cut(true).and(count_column(name::N_STICK).eq(lit(i64::from(k))))),
+            Observable::SlipDuration(k) => Some(last_cut(false).and(count_column(name::N_SLIP).eq(lit(i64::from(k))))),
             _ => None,
         }
     }
@@ -251,8 +252,8 @@ fn count_column(name: &str) -> Expr {
 /// Whether the last interval was a stick (`stick`) or a slip cut at t_a: the rule of
 /// [`censored`], as columns.
 fn last_cut(stick: bool) -> Expr {
-    let (n_stick, n_slip) = (count_column("n_stick"), count_column("n_slip"));
-    col("last_truncated").and(if stick { n_stick.gt(n_slip) } else { n_stick.eq(n_slip) })
+    let (n_stick, n_slip) = (count_column(name::N_STICK), count_column(name::N_SLIP));
+    col(name::LAST_TRUNCATED).and(if stick { n_stick.gt(n_slip) } else { n_stick.eq(n_slip) })
 }
 
 /// Whether the k-th stick (`stick`) or slip duration is the interval cut at t_a: the last

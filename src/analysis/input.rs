@@ -147,7 +147,7 @@ fn check(path: &Path) -> Result<Part, InputError> {
         }
     }
     let scenario = get(meta::SCENARIO).ok_or_else(|| bad(path, format!("no {} in its metadata", meta::SCENARIO)))?;
-    let switch_times = schema.field_with_name("switch_times").is_ok();
+    let switch_times = schema.field_with_name(crate::dataset::columns::SWITCH_TIMES).is_ok();
     let number = |key: &str| -> Result<u64, InputError> {
         get(key).and_then(|v| v.trim().parse().ok()).ok_or_else(|| bad(path, format!("no valid {key} in its metadata")))
     };

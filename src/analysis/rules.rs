@@ -4,6 +4,12 @@
 use polars::prelude::*;
 
 use super::input::{scan, Dataset, ROW};
+use crate::dataset::columns::{self as name, LISTS};
+
+/// The list columns of a part, with their count columns and whether they are ordered.
+fn lists(switch_times: bool) -> impl Iterator<Item = (&'static str, &'static str, bool)> {
+    LISTS.into_iter().filter(move |(list, _, _)| switch_times || *list != name::SWITCH_TIMES)
+}
 
 /// The largest number of belt changes a part may declare without its list (a count is its own
 /// histogram bin, and bins are packed below 2^42 with the group).
@@ -20,24 +26,19 @@ pub(crate) struct Rule {
 /// its list, below 2^40); event times are finite and in [0, t_a]; start instants do not
 /// decrease; the stick durations add up to at most t_a; no nulls.
 pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool) -> Vec<Rule> {
-    let mut out = vec![Rule { bad: col("realization").neq(lit(first as i64) + col(ROW).cast(DataType::Int64)).fill_null(lit(true)) }];
-    let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
-    if switch_times {
-        counted.push(("n_switches", ["switch_times"].as_slice()));
-    } else {
-        let q = col("n_switches").cast(DataType::Int64);
+    let mut out = vec![Rule { bad: col(name::REALIZATION).neq(lit(first as i64) + col(ROW).cast(DataType::Int64)).fill_null(lit(true)) }];
+    if !switch_times {
+        let q = col(name::N_SWITCHES).cast(DataType::Int64);
         out.push(Rule { bad: q.clone().lt(lit(0i64)).or(q.gt_eq(lit(Q_LIMIT))).fill_null(lit(true)) });
     }
     // a duration cut at t_a is t_a − start, rounded: a relative 1e-12 of slack; the durations of
     // intervals that do not overlap add up to t_a at most (with the rounding of each)
     let top = horizon * (1.0 + 1e-12);
-    for (count, cols) in counted {
-        for &c in cols {
-            let total = (c == "stick_duration").then_some(horizon * (1.0 + 1e-9));
-            out.push(Rule { bad: list_rule(c, count, top, c.ends_with("_start") || c == "switch_times", total) });
-        }
+    for (list, count, ordered) in lists(switch_times) {
+        let total = (list == name::STICK_DURATION).then_some(horizon * (1.0 + 1e-9));
+        out.push(Rule { bad: list_rule(list, count, top, ordered, total) });
     }
-    out.push(Rule { bad: col("last_truncated").is_null() });
+    out.push(Rule { bad: col(name::LAST_TRUNCATED).is_null() });
     out
 }
 
@@ -109,47 +110,41 @@ pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
 fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool) -> Option<String> {
     let int = |name: &str| df.column(name).ok()?.cast(&DataType::Int64).ok()?.i64().ok()?.get(0);
     let row = int(ROW)? as u64;
-    let id = int("realization");
+    let id = int(name::REALIZATION);
     let at = |c: &str, why: String| Some(format!("row {} (realization {}), column `{c}`: {why}", first + row, id.map_or("null".into(), |i| i.to_string())));
     if id != Some((first + row) as i64) {
-        return at("realization", format!("expected realization {} (the part's declared range), found {}", first + row, id.map_or("null".into(), |i| i.to_string())));
+        return at(name::REALIZATION, format!("expected realization {} (the part's declared range), found {}", first + row, id.map_or("null".into(), |i| i.to_string())));
     }
-    let mut counted = vec![("n_stick", ["stick_start", "stick_duration"].as_slice()), ("n_slip", ["slip_start", "slip_duration"].as_slice())];
-    if switch_times {
-        counted.push(("n_switches", ["switch_times"].as_slice()));
-    }
-    for (count, cols) in counted {
+    for (c, count, ordered) in lists(switch_times) {
         let n = int(count);
-        for &c in cols {
-            let list = df.column(c).ok()?.list().ok()?.get_as_series(0);
-            let Some(list) = list else { return at(c, "a null list (lists are never null; an empty list is [])".into()) };
-            let values: Vec<Option<f64>> = list.cast(&DataType::Float64).ok()?.f64().ok()?.iter().collect();
-            match n {
-                Some(n) if n >= 0 && values.len() as i64 == n => {}
-                Some(n) => return at(c, format!("{} values, but `{count}` = {n}", values.len())),
-                None => return at(count, "a null count".into()),
-            }
-            if values.iter().any(Option::is_none) {
-                return at(c, "a null element inside a list".into());
-            }
-            let values: Vec<f64> = values.into_iter().flatten().collect();
-            if let Some(x) = values.iter().find(|x| !(**x >= 0.0 && **x <= horizon * (1.0 + 1e-12))) {
-                return at(c, format!("value {} (event times and durations lie in [0, t_a = {horizon}] s)", crate::scenario::short(*x)));
-            }
-            if (c.ends_with("_start") || c == "switch_times") && values.windows(2).any(|w| w[1] < w[0]) {
-                return at(c, "values decrease (start instants are in increasing order)".into());
-            }
-            let sum: f64 = values.iter().sum();
-            if c == "stick_duration" && sum > horizon * (1.0 + 1e-9) {
-                return at(c, format!("the sticks last {} s in all, more than t_a = {horizon} s", crate::scenario::short(sum)));
-            }
+        let list = df.column(c).ok()?.list().ok()?.get_as_series(0);
+        let Some(list) = list else { return at(c, "a null list (lists are never null; an empty list is [])".into()) };
+        let values: Vec<Option<f64>> = list.cast(&DataType::Float64).ok()?.f64().ok()?.iter().collect();
+        match n {
+            Some(n) if n >= 0 && values.len() as i64 == n => {}
+            Some(n) => return at(c, format!("{} values, but `{count}` = {n}", values.len())),
+            None => return at(count, "a null count".into()),
+        }
+        if values.iter().any(Option::is_none) {
+            return at(c, "a null element inside a list".into());
+        }
+        let values: Vec<f64> = values.into_iter().flatten().collect();
+        if let Some(x) = values.iter().find(|x| !(**x >= 0.0 && **x <= horizon * (1.0 + 1e-12))) {
+            return at(c, format!("value {} (event times and durations lie in [0, t_a = {horizon}] s)", crate::scenario::short(*x)));
+        }
+        if ordered && values.windows(2).any(|w| w[1] < w[0]) {
+            return at(c, "values decrease (start instants are in increasing order)".into());
+        }
+        let sum: f64 = values.iter().sum();
+        if c == name::STICK_DURATION && sum > horizon * (1.0 + 1e-9) {
+            return at(c, format!("the sticks last {} s in all, more than t_a = {horizon} s", crate::scenario::short(sum)));
         }
     }
     if !switch_times {
-        match int("n_switches") {
+        match int(name::N_SWITCHES) {
             Some(q) if (0..Q_LIMIT).contains(&q) => {}
-            q => return at("n_switches", format!("{} (a count of belt changes, from 0 to 2^40)", q.map_or("null".into(), |q| q.to_string()))),
+            q => return at(name::N_SWITCHES, format!("{} (a count of belt changes, from 0 to 2^40)", q.map_or("null".into(), |q| q.to_string()))),
         }
     }
-    df.column("last_truncated").ok().filter(|c| c.null_count() > 0).and_then(|_| at("last_truncated", "a null value".into()))
+    df.column(name::LAST_TRUNCATED).ok().filter(|col| col.null_count() > 0).and_then(|_| at(name::LAST_TRUNCATED, "a null value".into()))
 }
