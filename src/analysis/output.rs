@@ -58,6 +58,7 @@ fn moments_table(a: &Analysis) -> Table {
         .push("min", float(&|x| (x.moments.n > 0).then_some(x.moments.min)))
         .push("max", float(&|x| (x.moments.n > 0).then_some(x.moments.max)));
     let mean = |m: &super::Moments| (m.n > 0).then_some(m.mean);
+    let rows = a.dataset.rows.max(1) as f64;
     let intervals: [(&str, Box<dyn Fn(&super::SeriesStats) -> Option<(f64, f64)>>); 5] = [
         ("mean", Box::new(move |x| x.interval(mean))),
         ("variance", Box::new(|x| x.interval(super::Moments::variance))),
@@ -69,6 +70,9 @@ fn moments_table(a: &Analysis) -> Table {
         t.push(&format!("{name}_lo"), float(&|x| iv(x).map(|i| i.0)));
         t.push(&format!("{name}_hi"), float(&|x| iv(x).map(|i| i.1)));
     }
+    // no silent survivorship: how many realizations the statistics of each row describe
+    t.push("reached", Col::Int(s.iter().map(|x| Some(x.reached as i64)).collect()))
+        .push("reached_fraction", float(&|x| Some(x.reached as f64 / rows)));
     t
 }
 
@@ -188,7 +192,9 @@ fn growth_table(a: &Analysis) -> Table {
         .push("slope_se", Col::Float(g.iter().map(|x| f(x.line.slope_se)).collect()))
         .push("points", Col::Int(g.iter().map(|x| Some(x.line.points as i64)).collect()))
         .push("slope_lo", Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.0))).collect()))
-        .push("slope_hi", Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.1))).collect()));
+        .push("slope_hi", Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.1))).collect()))
+        .push("k_max", Col::Int(g.iter().map(|x| Some(x.k_max as i64)).collect()))
+        .push("min_reached_fraction", Col::Float(g.iter().map(|_| Some(super::GROWTH_MIN_REACHED)).collect()));
     t
 }
 

@@ -6,7 +6,8 @@
 //! the swept keys, `realizations`, `mean_S_T` (± `mean_S_T_se`), `stick_fraction` (mean time
 //! stuck / t_a), `mean_D` and `mean_H` (D_1..D_K and H_1..H_K pooled: they are identically
 //! distributed), `var_T_slope` (± `var_T_slope_se`, the growth of Var T_k with k), and
-//! `mean_T_slope` (the mean cycle length).
+//! `mean_T_slope` (the mean cycle length), both over the indices that
+//! [`super::GROWTH_MIN_REACHED`] of the cell's realizations reach, and `T_k_max`, the largest.
 
 use std::path::Path;
 
@@ -33,6 +34,9 @@ pub struct CellSummary {
     pub var_t_slope: Option<f64>,
     pub var_t_slope_se: Option<f64>,
     pub mean_t_slope: Option<f64>,
+    /// the largest index k the growth fits use (those [`super::GROWTH_MIN_REACHED`] of the
+    /// realizations reach); None without a fit
+    pub t_k_max: Option<u32>,
 }
 
 /// The mean of a duration family's values over every analysed index k (D_1..D_K pooled).
@@ -91,6 +95,7 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
         var_t_slope: line("variance").map(|l| l.slope),
         var_t_slope_se: line("variance").and_then(|l| l.slope_se),
         mean_t_slope: line("mean").map(|l| l.slope),
+        t_k_max: a.growth.iter().find(|g| g.family == Observable::StickStart(1)).map(|g| g.k_max),
     }
 }
 
@@ -111,7 +116,8 @@ pub fn table(cells: &[CellSummary]) -> Table {
         .push("mean_H", f(&|c| c.mean_h))
         .push("var_T_slope", f(&|c| c.var_t_slope))
         .push("var_T_slope_se", f(&|c| c.var_t_slope_se))
-        .push("mean_T_slope", f(&|c| c.mean_t_slope));
+        .push("mean_T_slope", f(&|c| c.mean_t_slope))
+        .push("T_k_max", Col::Int(cells.iter().map(|c| c.t_k_max.map(i64::from)).collect()));
     t
 }
 

@@ -306,3 +306,33 @@ fn observables_split_over_several_queries_give_the_same_tables() {
         assert!(a.equals_missing(&b), "{table} differs");
     }
 }
+
+#[test]
+fn every_row_says_how_many_realizations_reach_it_and_growth_fits_only_what_most_reach() {
+    // issue 22, item 5: lower friction (μ = 0.2) gives fewer sticks; T_5, T_6 are reached by
+    // fewer realizations, and a slope through them would describe those few (at μ = 0.1 no index
+    // past 1 is reached by 90 %: no fit at all)
+    let set = "model.friction_coefficient=0.2";
+    let n = 3000;
+    let sc = scenario(&[&format!("run.realizations={n}"), set]);
+    let outcomes = outcomes(&sc, n);
+    let tmp = tempfile::tempdir().unwrap();
+    let args = ["simulate", "--out", "d", "--realizations", &n.to_string(), "--set", set, "-q"];
+    assert!(stickslip(&args, tmp.path()).status.success());
+    let a = analysis::analyze(&tmp.path().join("d"), &Options::default()).unwrap();
+    let mut k_max = 0;
+    for k in 1..=6u32 {
+        // counted directly: realizations with at least k sticks (slips)
+        let sticks = outcomes.iter().filter(|o| o.record.n_stick() >= k as usize).count() as u64;
+        let slips = outcomes.iter().filter(|o| o.record.n_slip() >= k as usize).count() as u64;
+        for (o, direct) in [(Observable::StickStart(k), sticks), (Observable::StickDuration(k), sticks), (Observable::SlipStart(k), slips)] {
+            assert_eq!(a.get(o).unwrap().reached, direct, "{o}");
+        }
+        if sticks as f64 >= 0.9 * n as f64 {
+            k_max = k;
+        }
+    }
+    assert!((2..6).contains(&k_max), "the scene must leave T_6 to fewer realizations (k_max {k_max})");
+    let fit = a.growth.iter().find(|g| g.family == Observable::StickStart(1) && g.statistic == "variance").unwrap();
+    assert_eq!((fit.k_max, fit.line.points as u32), (k_max, k_max), "only the indices 90 % reach are fitted");
+}
