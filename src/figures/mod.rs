@@ -242,9 +242,13 @@ pub fn growth_figure(inp: &Inputs) -> Option<Figure> {
             let r = (0..g.height()).find(|&r| vars[r] == var && stats[r] == "variance")?;
             let pts: Vec<(f64, f64)> = (1..=64).filter_map(|k| Some((k as f64, inp.moment(var, Some(k), "variance")?))).collect();
             let (a, b) = (icpt[r]?, slope[r]?);
-            let kmax = pts.last()?.0;
+            // the line over the indices it was fitted on (those most realizations reach); older
+            // tables without `k_max` were fitted on every index shown
+            let fitted = g.ints("k_max").and_then(|k| k[r]).map(|k| k as f64);
+            let kmax = fitted.unwrap_or(pts.last()?.0);
+            let reach = fitted.filter(|&k| k < pts.last().map_or(0.0, |p| p.0)).map_or(String::new(), |k| format!(", fitted on k ≤ {k}"));
             Some(Panel {
-                title: format!("Var {var}_k = {a:.3} + {b:.3} k   (R² = {:.4})", r2[r].unwrap_or(f64::NAN)),
+                title: format!("Var {var}_k = {a:.3} + {b:.3} k   (R² = {:.4}{reach})", r2[r].unwrap_or(f64::NAN)),
                 x_label: "k".into(),
                 y_label: format!("variance of {var}_k [s²]"),
                 points: vec![Series { label: "sample variance".into(), color: 0, points: pts, ..Default::default() }],
