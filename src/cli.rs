@@ -282,9 +282,9 @@ pub struct AnalyzeArgs {
     /// Fixed number of histogram bins (default: Scott's rule, 10..200 bins).
     #[arg(long, value_name = "N")]
     pub bins: Option<usize>,
-    /// Joint histogram + independence test of two observables (T_k, L_k, D_k, H_k, Y_k, S_T,
-    /// S_L, Q, stick_fraction, mean_stick_duration, mean_slip_duration), e.g. --pair D1,D2
-    /// (repeatable; default: T1,T2 and D1,D2).
+    /// Joint histogram + independence test of two observables: T_k, L_k, D_k, H_k, Y_k or a
+    /// scalar such as S_T or stick_fraction (a name it does not know lists them all), e.g.
+    /// --pair D1,D2 (repeatable; default: T1,T2 and D1,D2).
     #[arg(long = "pair", value_name = "A,B")]
     pub pairs: Vec<crate::analysis::Pair>,
     /// Permutations of the mutual-information null distribution.

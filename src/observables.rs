@@ -47,6 +47,9 @@ pub enum Observable {
     MeanStickDuration,
     /// mean of the realization's uncensored slip durations [s]
     MeanSlipDuration,
+    /// the longest stick within [0, t_a] [s], the stick cut at t_a counted for its time in the
+    /// window; 0 for a realization that never sticks
+    LongestStick,
 }
 
 /// Highest index k a name may carry.
@@ -65,6 +68,7 @@ impl Observable {
             Observable::StickFraction => "stick_fraction".into(),
             Observable::MeanStickDuration => "mean_stick_duration".into(),
             Observable::MeanSlipDuration => "mean_slip_duration".into(),
+            Observable::LongestStick => "longest_stick".into(),
         }
     }
 
@@ -83,6 +87,7 @@ impl Observable {
             Observable::StickFraction => "stick_fraction",
             Observable::MeanStickDuration => "mean_stick_duration",
             Observable::MeanSlipDuration => "mean_slip_duration",
+            Observable::LongestStick => "longest_stick",
         }
     }
 
@@ -113,8 +118,8 @@ impl Observable {
     pub const COUNTS: [Observable; 3] = [Observable::Sticks, Observable::Slips, Observable::Switches];
 
     /// The quantities without an index.
-    pub const SCALARS: [Observable; 6] =
-        [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
+    pub const SCALARS: [Observable; 7] =
+        [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration, Observable::LongestStick];
 
     /// The scalar quantities `analyze` reports beside the indexed families (its moments table has
     /// a row for each; a new scalar listed here is analysed with no other change).
@@ -169,6 +174,7 @@ impl Observable {
             Observable::StickFraction => "fraction of [0, t_a] spent stuck, the stick cut at t_a included",
             Observable::MeanStickDuration => "mean duration of the realization's sticks, the censored one left out; none without one",
             Observable::MeanSlipDuration => "mean duration of the realization's slips, the censored one left out; none without one",
+            Observable::LongestStick => "the longest stick within [0, t_a], the stick cut at t_a counted for its time in the window; 0 without a stick",
         }
     }
 
@@ -193,6 +199,7 @@ impl Observable {
             Observable::StickFraction => Some(r.stick_duration.iter().sum::<f64>() / duration),
             Observable::MeanStickDuration => mean(&r.stick_duration, true),
             Observable::MeanSlipDuration => mean(&r.slip_duration, false),
+            Observable::LongestStick => Some(r.stick_duration.iter().fold(0.0, |m: f64, d| m.max(*d))),
         }
     }
 
@@ -219,6 +226,7 @@ impl Observable {
             Observable::StickFraction => col(name::STICK_DURATION).list().sum() / lit(duration),
             Observable::MeanStickDuration => uncensored_mean(name::STICK_DURATION, n_stick, last_cut(true)),
             Observable::MeanSlipDuration => uncensored_mean(name::SLIP_DURATION, n_slip, last_cut(false)),
+            Observable::LongestStick => col(name::STICK_DURATION).list().max().fill_null(lit(0.0)),
         };
         named.cast(DataType::Float64).alias(self.name())
     }
@@ -277,7 +285,8 @@ impl FromStr for Observable {
     /// digits (`T_3`; `T3` too). Anything else is refused, naming what is accepted.
     fn from_str(s: &str) -> Result<Observable, String> {
         let s = s.trim();
-        let known = "S_T, S_L, Q, stick_fraction, mean_stick_duration, mean_slip_duration, or T_k, L_k, D_k, H_k, Y_k with k >= 1";
+        let scalars: Vec<String> = Observable::SCALARS.iter().map(|o| o.name()).collect();
+        let known = format!("{}, or T_k, L_k, D_k, H_k, Y_k with k >= 1", scalars.join(", "));
         if let Some(o) = Observable::SCALARS.into_iter().find(|o| o.name() == s) {
             return Ok(o);
         }
