@@ -51,55 +51,48 @@ fn split(d: f64, q: &[(f64, f64); 4]) -> [[i64; 2]; 4] {
     out
 }
 
+/// The name of field `part` (`h` or `l`) of power `p` in an [`exact_parts`] struct.
+fn field(p: usize, part: char) -> String {
+    format!("{part}{p}")
+}
+
+/// The fields of an [`exact_parts`] struct, in order: `h1, l1, …, h4, l4`.
+fn fields() -> impl Iterator<Item = String> {
+    (1..=4).flat_map(|p| ['h', 'l'].map(|part| field(p, part)))
+}
+
 /// The integer parts `hi` and `lo` of (x − c)^p for p = 1..4 (see [`quanta`]) as a struct of
-/// eight int64 fields `h1, l1, …, h4, l4`, in one pass over the column (a polars expression of
+/// eight int64 fields (see [`fields`]), in one pass over the column (a polars expression of
 /// arithmetic and casts would allocate a column per operation).
 pub(crate) fn exact_parts(x: Expr, c: f64, q: [(f64, f64); 4]) -> Expr {
+    use polars_arrow::array::PrimitiveArray;
     x.map(
         move |column: Column| {
             let values = column.f64()?;
-            let mut parts: Vec<Vec<i64>> = vec![Vec::with_capacity(values.len()); 8];
-            let mut validity = Vec::new();
+            // per field, one array for each chunk of the input, with the chunk's validity
+            let mut chunks: Vec<Vec<PrimitiveArray<i64>>> = vec![Vec::new(); 8];
             for arr in values.downcast_iter() {
+                let mut parts: [Vec<i64>; 8] = std::array::from_fn(|_| Vec::with_capacity(arr.len()));
                 for &x in arr.values().iter() {
                     for (p, [hi, lo]) in split(x - c, &q).into_iter().enumerate() {
                         parts[2 * p].push(hi);
                         parts[2 * p + 1].push(lo);
                     }
                 }
-                validity.push(arr.validity().cloned());
+                for (k, v) in parts.into_iter().enumerate() {
+                    chunks[k].push(PrimitiveArray::from_vec(v).with_validity(arr.validity().cloned()));
+                }
             }
-            let fields: Vec<Column> = parts
-                .into_iter()
-                .enumerate()
-                .map(|(k, v)| {
-                    let mut offset = 0;
-                    let chunks: Vec<_> = values
-                        .downcast_iter()
-                        .zip(&validity)
-                        .map(|(arr, valid)| {
-                            let n = arr.len();
-                            let a = polars_arrow::array::PrimitiveArray::<i64>::from_vec(v[offset..offset + n].to_vec()).with_validity(valid.clone());
-                            offset += n;
-                            a
-                        })
-                        .collect();
-                    let name = format!("{}{}", if k % 2 == 0 { 'h' } else { 'l' }, k / 2 + 1);
-                    Int64Chunked::from_chunk_iter(name.as_str().into(), chunks).into_column()
-                })
-                .collect();
-            Ok(StructChunked::from_columns(column.name().clone(), values.len(), &fields)?.into_column())
+            let columns: Vec<Column> = fields().zip(chunks).map(|(name, c)| Int64Chunked::from_chunk_iter(name.as_str().into(), c).into_column()).collect();
+            Ok(StructChunked::from_columns(column.name().clone(), values.len(), &columns)?.into_column())
         },
-        |_, field| {
-            let fields = (1..=4).flat_map(|p| ['h', 'l'].map(|k| Field::new(format!("{k}{p}").into(), DataType::Int64))).collect();
-            Ok(Field::new(field.name().clone(), DataType::Struct(fields)))
-        },
+        |_, field| Ok(Field::new(field.name().clone(), DataType::Struct(fields().map(|f| Field::new(f.into(), DataType::Int64)).collect()))),
     )
 }
 
 /// Field `part` (`h` or `l`) of power `p` of an [`exact_parts`] struct column.
 pub(crate) fn part_of(column: &str, p: usize, part: char) -> Expr {
-    col(column).struct_().field_by_name(&format!("{part}{p}"))
+    col(column).struct_().field_by_name(&field(p, part))
 }
 
 /// The power sums of one observable in one jackknife group: n, Σ(x−c)^p for p = 1..4, range,

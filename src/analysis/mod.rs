@@ -408,20 +408,19 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
     // The growth lines and the renewal check, from the whole sample's moments (`None`) or from
     // those without jackknife group g (`Some(g)`).
     let moments_of = |s: &SeriesStats, g: Option<usize>| g.map_or(s.moments, |g| s.loo_moments[g]);
+    // the indices the fits use: those enough realizations reach
+    let fitted = |family: Observable| -> Vec<&SeriesStats> {
+        (1..=opts.max_index)
+            .filter_map(|k| stats.iter().find(|s| Some(s.series) == family.at(k)))
+            .filter(|s| s.reached as f64 >= GROWTH_MIN_REACHED * data.rows as f64)
+            .collect()
+    };
     let fit = |family: Observable, statistic: &str, g: Option<usize>| -> Option<Line> {
         let f: fn(&Moments) -> Option<f64> = if statistic == "mean" { |m| (m.n > 0).then_some(m.mean) } else { Moments::variance };
-        let reached_enough = |s: &&SeriesStats| s.reached as f64 >= GROWTH_MIN_REACHED * data.rows as f64;
-        let pts: Vec<(f64, f64)> = (1..=opts.max_index)
-            .filter_map(|k| stats.iter().find(|s| Some(s.series) == family.at(k)))
-            .filter(reached_enough)
-            .filter_map(|s| Some((s.series.index()? as f64, f(&moments_of(s, g))?)))
-            .collect();
+        let pts: Vec<(f64, f64)> = fitted(family).iter().filter_map(|s| Some((s.series.index()? as f64, f(&moments_of(s, g))?))).collect();
         growth::ols(&pts)
     };
-    // the indices the fits use: those enough realizations reach
-    let k_max = |family: Observable| -> u32 {
-        (1..=opts.max_index).filter(|&k| stats.iter().any(|s| Some(s.series) == family.at(k) && s.reached as f64 >= GROWTH_MIN_REACHED * data.rows as f64)).max().unwrap_or(0)
-    };
+    let k_max = |family: Observable| fitted(family).last().and_then(|s| s.series.index()).unwrap_or(0);
     let mut growth = Vec::new();
     for family in [Observable::StickStart(1), Observable::SlipStart(1)] {
         for statistic in ["mean", "variance"] {

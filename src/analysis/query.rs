@@ -385,8 +385,8 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
     let mut frames = frames.into_iter();
 
     let df = frames.next().expect("the sums");
-    let ints = |name: &str| -> PolarsResult<Vec<i64>> { Ok(df.column(name)?.cast(&DataType::Int64)?.i64()?.iter().map(|v| v.unwrap_or(0)).collect()) };
-    let floats = |name: &str| -> PolarsResult<Vec<Option<f64>>> { Ok(df.column(name)?.cast(&DataType::Float64)?.f64()?.iter().collect()) };
+    let ints = |name: &str| int_column(&df, name);
+    let floats = |name: &str| float_column(&df, name);
     let slot = ints(SLOT)?;
     let (cell_of, group_of): (Vec<i64>, Vec<i64>) = slot.iter().map(|s| (s / GROUPS as i64, s % GROUPS as i64)).unzip();
     let broken: Vec<i64> = (0..n_rules).map(|f| Ok(ints(&flag(f))?.iter().sum())).collect::<PolarsResult<_>>()?;
@@ -416,7 +416,7 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
     }
     for &i in &batch.owned {
         let df = frames.next().expect("a histogram");
-        let (key, n): (Vec<Option<i64>>, Vec<Option<i64>>) = (df.column(&bin(i))?.i64()?.iter().collect(), df.column("__n")?.i64()?.iter().collect());
+        let (key, n) = (key_column(&df, &bin(i))?, key_column(&df, "__n")?);
         for r in 0..df.height() {
             // (realizations without a value: the null key)
             let (Some(key), Some(n)) = (key[r], n[r]) else { continue };
@@ -428,8 +428,7 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
     }
     for p in 0..pairs.len() {
         let df = frames.next().expect("a joint histogram");
-        let col_i = |name: &str| -> PolarsResult<Vec<Option<i64>>> { Ok(df.column(name)?.i64()?.iter().collect()) };
-        let (s, x, y, n) = (col_i(SLOT)?, col_i(&jbin(p, 'x'))?, col_i(&jbin(p, 'y'))?, col_i("__n")?);
+        let (s, x, y, n) = (key_column(&df, SLOT)?, key_column(&df, &jbin(p, 'x'))?, key_column(&df, &jbin(p, 'y'))?, key_column(&df, "__n")?);
         for r in 0..df.height() {
             // (realizations without both values: a null bin)
             let (Some(s), Some(x), Some(y), Some(n)) = (s[r], x[r], y[r], n[r]) else { continue };
@@ -439,12 +438,14 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
     // counts of the same bin from several runs are added up, so the tables stay as small as
     // the histograms, whatever the number of runs
     for agg in out.iter_mut() {
-        agg.bins.iter_mut().flatten().for_each(compact);
-        agg.joint.iter_mut().for_each(compact);
+        for &i in &batch.owned {
+            agg.bins[i].iter_mut().for_each(compact);
+        }
+        agg.joint.iter_mut().take(pairs.len()).for_each(compact);
     }
     if !convergence.is_empty() {
         let df = frames.next().expect("the convergence sums");
-        let ints = |name: &str| -> PolarsResult<Vec<i64>> { Ok(df.column(name)?.cast(&DataType::Int64)?.i64()?.iter().map(|v| v.unwrap_or(0)).collect()) };
+        let ints = |name: &str| int_column(&df, name);
         let (c, b) = (ints(CELL)?, ints(BUCKET)?);
         for (slot, &i) in convergence.iter().enumerate() {
             let n = ints(&format!("n{i}"))?;
@@ -456,6 +457,21 @@ fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(us
         }
     }
     Ok(())
+}
+
+/// A column of an aggregated table as integers (null as 0: a sum over no rows).
+fn int_column(df: &DataFrame, name: &str) -> PolarsResult<Vec<i64>> {
+    Ok(df.column(name)?.cast(&DataType::Int64)?.i64()?.iter().map(|v| v.unwrap_or(0)).collect())
+}
+
+/// A column of an aggregated table as floats (null: no value, as a min or max over no rows).
+fn float_column(df: &DataFrame, name: &str) -> PolarsResult<Vec<Option<f64>>> {
+    Ok(df.column(name)?.cast(&DataType::Float64)?.f64()?.iter().collect())
+}
+
+/// A key or count column of a group_by's output (null: the group of rows without a value).
+fn key_column(df: &DataFrame, name: &str) -> PolarsResult<Vec<Option<i64>>> {
+    Ok(df.column(name)?.i64()?.iter().collect())
 }
 
 /// Sort counts by key and add up those of the same key.
