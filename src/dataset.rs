@@ -4,7 +4,11 @@
 //! `realization` index. Columns (see `CONTRACT.md`): `realization` int64, `x0`, `xdot0` float64,
 //! `initial_sign` int32 (belt sign at t = 0), `n_switches` int64 (Q), `n_stick`, `n_slip` int64
 //! (S_T, S_L; schema v2 — v1 had int32 counts), `stick_start`, `stick_duration`, `slip_start`, `slip_duration` list<float64>
-//! (T, D, L, H; non-null lists, `[]` when empty), `last_truncated` bool, and `switch_times`
+//! (T, D, L, H; non-null lists, `[]` when empty), `last_truncated` bool; schema v3 adds the tails'
+//! state: `stick_end` list<utf8> (`flip`, `breakaway`, `horizon` per stick),
+//! `stick_entry_position`, `stick_entry_velocity` list<float64> (x [m] and belt velocity [m/s] at
+//! each stick's start), `longest_stick`, `stick_fraction`, `min_velocity`, `max_velocity`,
+//! `max_slip_speed` float64 (s, 1, m/s; [`crate::events::Record`]); then `switch_times`
 //! list<float64> (Y) only when the scenario asks for it, then one float64 column per random scene
 //! key, named after the key's last component (e.g. `friction_coefficient`), with the value drawn
 //! for the realization.
@@ -22,7 +26,7 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use arrow_array::{ArrayRef, BooleanArray, Float64Array, Int32Array, Int64Array, ListArray, RecordBatch};
+use arrow_array::{ArrayRef, BooleanArray, Float64Array, Int32Array, Int64Array, ListArray, RecordBatch, StringArray};
 use arrow_buffer::{OffsetBuffer, ScalarBuffer};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 use parquet::arrow::ArrowWriter;
@@ -33,12 +37,13 @@ use parquet::schema::types::ColumnPath;
 
 use crate::outdir::{Created, Lock, OutDirError, TempFile};
 use crate::ensemble::Outcome;
+use crate::events::StickEnd;
 
 /// Version of the column layout, recorded in every file.
-pub const SCHEMA_VERSION: &str = "2";
+pub const SCHEMA_VERSION: &str = "3";
 
-/// The schema versions `analyze` reads (v1 had int32 counts).
-pub const READABLE_VERSIONS: [&str; 2] = ["1", "2"];
+/// The schema versions `analyze` reads (v1 had int32 counts; v3 added the tails' columns).
+pub const READABLE_VERSIONS: [&str; 3] = ["1", "2", "3"];
 
 /// Rows per Parquet row group (a row group is also flushed early past [`ROW_GROUP_BYTES`]).
 const ROW_GROUP_ROWS: usize = 131_072;
@@ -56,6 +61,19 @@ pub mod columns {
     pub const SLIP_START: &str = "slip_start";
     pub const SLIP_DURATION: &str = "slip_duration";
     pub const SWITCH_TIMES: &str = "switch_times";
+    pub const STICK_END: &str = "stick_end";
+    pub const STICK_ENTRY_POSITION: &str = "stick_entry_position";
+    pub const STICK_ENTRY_VELOCITY: &str = "stick_entry_velocity";
+    pub const LONGEST_STICK: &str = "longest_stick";
+    pub const STICK_FRACTION: &str = "stick_fraction";
+    pub const MIN_VELOCITY: &str = "min_velocity";
+    pub const MAX_VELOCITY: &str = "max_velocity";
+    pub const MAX_SLIP_SPEED: &str = "max_slip_speed";
+
+    /// The per-stick float lists of schema v3, one value per stick.
+    pub const STICK_LISTS: [&str; 2] = [STICK_ENTRY_POSITION, STICK_ENTRY_VELOCITY];
+    /// The per-realization floats of schema v3.
+    pub const TAIL_SCALARS: [&str; 5] = [LONGEST_STICK, STICK_FRACTION, MIN_VELOCITY, MAX_VELOCITY, MAX_SLIP_SPEED];
 
     /// Each list column with the count column of its length, and whether its values are start
     /// instants (in increasing order); `switch_times` is present only when the scenario asks.
@@ -105,6 +123,9 @@ pub fn schema(layout: &Layout) -> SchemaRef {
     ];
     fields.extend(LIST_COLUMNS.iter().map(|name| list_field(name)));
     fields.push(Field::new("last_truncated", DataType::Boolean, false));
+    fields.push(Field::new(columns::STICK_END, DataType::List(Arc::new(Field::new("element", DataType::Utf8, false))), false));
+    fields.extend(columns::STICK_LISTS.iter().map(|name| list_field(name)));
+    fields.extend(columns::TAIL_SCALARS.iter().map(|name| Field::new(*name, DataType::Float64, false)));
     if layout.switch_times {
         fields.push(list_field("switch_times"));
     }
@@ -152,6 +173,10 @@ pub struct Rows {
     n_slip: Vec<i64>,
     lists: [ListColumn; 4],
     last_truncated: Vec<bool>,
+    /// `stick_end` as codes ([`StickEnd::ALL`]) with its offsets
+    stick_end: (Vec<i32>, Vec<u8>),
+    stick_lists: [ListColumn; 2],
+    tail_scalars: [Vec<f64>; 5],
     switch_times: Option<ListColumn>,
     drawn: Vec<Vec<f64>>,
 }
@@ -169,6 +194,9 @@ impl Rows {
             n_slip: Vec::new(),
             lists: std::array::from_fn(|_| ListColumn::new()),
             last_truncated: Vec::new(),
+            stick_end: (vec![0], Vec::new()),
+            stick_lists: std::array::from_fn(|_| ListColumn::new()),
+            tail_scalars: std::array::from_fn(|_| Vec::new()),
             switch_times: with_switch_times.then(ListColumn::new),
             drawn: vec![Vec::new(); drawn],
         }
@@ -207,6 +235,15 @@ impl Rows {
             col.push(values);
         }
         self.last_truncated.push(rec.last_truncated);
+        self.stick_end.1.extend(rec.stick_end.iter().map(|&e| e as u8));
+        self.stick_end.0.push(i32::try_from(self.stick_end.1.len()).expect("a chunk holds < 2^31 list values"));
+        self.stick_lists[0].push(&rec.stick_entry_position);
+        self.stick_lists[1].push(&rec.stick_entry_velocity);
+        let t_a = out.t_a;
+        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed];
+        for (col, x) in self.tail_scalars.iter_mut().zip(tails) {
+            col.push(x);
+        }
         if let Some(col) = &mut self.switch_times {
             col.push(&belt.switch_times);
         }
@@ -229,6 +266,12 @@ impl Rows {
         ];
         columns.extend(self.lists.into_iter().map(ListColumn::into_array));
         columns.push(Arc::new(BooleanArray::from(self.last_truncated)));
+        let (offsets, codes) = self.stick_end;
+        let names = StringArray::from_iter_values(codes.iter().map(|&c| StickEnd::ALL[c as usize].name()));
+        let field = Arc::new(Field::new("element", DataType::Utf8, false));
+        columns.push(Arc::new(ListArray::new(field, OffsetBuffer::new(ScalarBuffer::from(offsets)), Arc::new(names), None)));
+        columns.extend(self.stick_lists.into_iter().map(ListColumn::into_array));
+        columns.extend(self.tail_scalars.into_iter().map(|v| Arc::new(Float64Array::from(v)) as ArrayRef));
         columns.extend(self.switch_times.map(ListColumn::into_array));
         columns.extend(self.drawn.into_iter().map(|v| Arc::new(Float64Array::from(v)) as ArrayRef));
         RecordBatch::try_new(schema, columns).expect("columns match the schema")
@@ -363,8 +406,8 @@ impl Finished {
 
 fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterProperties {
     let mut floats = vec![ColumnPath::from("x0"), ColumnPath::from("xdot0")];
-    floats.extend(layout.drawn.iter().map(|c| ColumnPath::from(*c)));
-    let lists = LIST_COLUMNS.iter().copied().chain(layout.switch_times.then_some("switch_times"));
+    floats.extend(layout.drawn.iter().chain(&columns::TAIL_SCALARS).map(|c| ColumnPath::from(*c)));
+    let lists = LIST_COLUMNS.iter().copied().chain([columns::STICK_ENTRY_POSITION]).chain(layout.switch_times.then_some("switch_times"));
     floats.extend(lists.map(|c| ColumnPath::new(vec![c.into(), "list".into(), "element".into()])));
     // No dictionaries (the counts are small integers zstd packs anyway; interning cost 2 % of a
     // run); min/max statistics per row group for the integer columns (realization ranges let
@@ -377,7 +420,10 @@ fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterPropert
         .set_coerce_types(true)
         // rows are in realization order (column 0): declared, so readers can rely on it
         .set_sorting_columns(Some(vec![SortingColumn { column_idx: 0, descending: false, nulls_first: false }]))
-        .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()));
+        .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()))
+        // three words, or the few belt velocities, repeated per stick: a dictionary, then zstd
+        .set_column_dictionary_enabled(ColumnPath::new(vec![columns::STICK_END.into(), "list".into(), "element".into()]), true)
+        .set_column_dictionary_enabled(ColumnPath::new(vec![columns::STICK_ENTRY_VELOCITY.into(), "list".into(), "element".into()]), true);
     // Floats are near-incompressible (random initial conditions, event times): stored PLAIN and
     // uncompressed (zstd saved 8 % of the size and cost 12 % of the run), without statistics.
     for col in floats {

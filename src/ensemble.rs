@@ -38,6 +38,8 @@ pub struct Outcome {
     pub params: Params,
     /// Integration steps the solver attempted (0 for `exact`).
     pub steps: u64,
+    /// the window t_a, s
+    pub t_a: f64,
     switches: Vec<f64>,
     velocities: Vec<f64>,
 }
@@ -152,6 +154,7 @@ impl Ensemble {
             .solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);
+        out.t_a = belt.duration;
         Ok(())
     }
 

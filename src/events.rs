@@ -11,12 +11,54 @@
 //! - S_T, S_L: their numbers, S_T − S_L ∈ {0, 1};
 //! - the interval still running at t_a is cut at t_a and flagged by `last_truncated`.
 
+/// What started a slip: the motion at t = 0, a breakaway (the spring force reached the holding
+/// limit) or a belt flip (a change of belt velocity ends any stick).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Release {
+    Start,
+    Breakaway,
+    Flip,
+}
+
+/// How a counted stick ended: the `stick_end` column's strings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StickEnd {
+    /// the belt changed velocity
+    Flip,
+    /// the spring force reached the holding limit
+    Breakaway,
+    /// still stuck at t_a (the duration is censored there)
+    Horizon,
+}
+
+impl StickEnd {
+    /// Every value, in the order of their codes.
+    pub const ALL: [StickEnd; 3] = [StickEnd::Flip, StickEnd::Breakaway, StickEnd::Horizon];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            StickEnd::Flip => "flip",
+            StickEnd::Breakaway => "breakaway",
+            StickEnd::Horizon => "horizon",
+        }
+    }
+}
+
 /// Receives the mode changes of one realization, in time order.
 pub trait Observer {
-    /// A stick begins at time `t` [s] at position `x` [m] (the mass moves with the belt).
-    fn stick(&mut self, t: f64, x: f64);
-    /// A slip interval begins at time `t` [s] from position `x` [m] and velocity `xdot` [m/s].
-    fn slip(&mut self, t: f64, x: f64, xdot: f64);
+    /// A stick begins at time `t` [s] at position `x` [m]; the mass moves with the belt at `v`
+    /// [m/s].
+    fn stick(&mut self, t: f64, x: f64, v: f64);
+    /// A slip interval begins at time `t` [s] from position `x` [m] and velocity `xdot` [m/s];
+    /// `by` says what ended the stick before it (if there was one).
+    fn slip(&mut self, t: f64, x: f64, xdot: f64, by: Release);
+    /// Whether this observer wants [`Observer::motion`] (the solver then computes the ranges).
+    fn wants_motion(&self) -> bool {
+        false
+    }
+    /// The velocity ẋ ranged over [`lo`, `hi`] [m/s] on a piece of motion under belt velocity `v`
+    /// (pieces cover [0, t_a]; they may overlap).
+    fn motion(&mut self, _lo: f64, _hi: f64, _v: f64) {}
     /// The grid step [s] at which this observer wants the motion sampled (None: never; only
     /// trajectory sampling asks).
     fn sample_step(&self) -> Option<f64> {
@@ -28,30 +70,63 @@ pub trait Observer {
 
 /// Observes nothing.
 impl Observer for () {
-    fn stick(&mut self, _t: f64, _x: f64) {}
-    fn slip(&mut self, _t: f64, _x: f64, _xdot: f64) {}
+    fn stick(&mut self, _t: f64, _x: f64, _v: f64) {}
+    fn slip(&mut self, _t: f64, _x: f64, _xdot: f64, _by: Release) {}
 }
 
-/// The counted stick and slip intervals of one realization.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// The counted stick and slip intervals of one realization, how each stick ended and the
+/// state it was entered in, and the extremes of the motion over [0, t_a].
+#[derive(Debug, Clone, PartialEq)]
 pub struct Record {
     pub stick_start: Vec<f64>,
     pub stick_duration: Vec<f64>,
     pub slip_start: Vec<f64>,
     pub slip_duration: Vec<f64>,
+    /// how each counted stick ended
+    pub stick_end: Vec<StickEnd>,
+    /// x [m] and belt velocity [m/s] at each counted stick's start
+    pub stick_entry_position: Vec<f64>,
+    pub stick_entry_velocity: Vec<f64>,
     /// The last counted interval was still running at t_a and was cut there.
     pub last_truncated: bool,
+    /// the least and greatest mass velocity ẋ on [0, t_a], m/s
+    pub min_velocity: f64,
+    pub max_velocity: f64,
+    /// the largest slip speed |v − ẋ| on [0, t_a], m/s (0 for a motion always stuck)
+    pub max_slip_speed: f64,
     in_stick: bool,
+}
+
+impl Default for Record {
+    fn default() -> Record {
+        Record {
+            stick_start: Vec::new(),
+            stick_duration: Vec::new(),
+            slip_start: Vec::new(),
+            slip_duration: Vec::new(),
+            stick_end: Vec::new(),
+            stick_entry_position: Vec::new(),
+            stick_entry_velocity: Vec::new(),
+            last_truncated: false,
+            min_velocity: f64::INFINITY,
+            max_velocity: f64::NEG_INFINITY,
+            max_slip_speed: 0.0,
+            in_stick: false,
+        }
+    }
 }
 
 impl Record {
     /// Forget the previous realization, keeping the buffers.
     pub fn clear(&mut self) {
-        self.stick_start.clear();
-        self.stick_duration.clear();
-        self.slip_start.clear();
-        self.slip_duration.clear();
+        for v in [&mut self.stick_start, &mut self.stick_duration, &mut self.slip_start, &mut self.slip_duration] {
+            v.clear();
+        }
+        self.stick_end.clear();
+        self.stick_entry_position.clear();
+        self.stick_entry_velocity.clear();
         self.last_truncated = false;
+        (self.min_velocity, self.max_velocity, self.max_slip_speed) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
         self.in_stick = false;
     }
 
@@ -59,6 +134,7 @@ impl Record {
     pub fn finish(&mut self, t_end: f64) {
         if self.in_stick {
             self.stick_duration.push(t_end - self.stick_start.last().unwrap());
+            self.stick_end.push(StickEnd::Horizon);
             self.last_truncated = true;
         } else if let Some(&l) = self.slip_start.last() {
             if self.slip_duration.len() < self.slip_start.len() {
@@ -78,25 +154,50 @@ impl Record {
     pub fn n_slip(&self) -> usize {
         self.slip_start.len()
     }
+
+    /// The longest counted stick within [0, t_a] (the one cut at t_a counts with its part
+    /// inside), s; 0 when there is none.
+    pub fn longest_stick(&self) -> f64 {
+        self.stick_duration.iter().fold(0.0, |m, &d| if d > m { d } else { m })
+    }
+
+    /// The fraction of [0, t_a] spent in counted sticks (the cut one with its part inside).
+    pub fn stick_fraction(&self, t_a: f64) -> f64 {
+        self.stick_duration.iter().sum::<f64>() / t_a
+    }
 }
 
 impl Observer for Record {
-    fn stick(&mut self, t: f64, _x: f64) {
+    fn stick(&mut self, t: f64, x: f64, v: f64) {
         if let Some(&l) = self.slip_start.last() {
             if self.slip_duration.len() < self.slip_start.len() {
                 self.slip_duration.push(t - l);
             }
         }
         self.stick_start.push(t);
+        self.stick_entry_position.push(x);
+        self.stick_entry_velocity.push(v);
         self.in_stick = true;
     }
 
-    fn slip(&mut self, t: f64, _x: f64, _xdot: f64) {
+    fn slip(&mut self, t: f64, _x: f64, _xdot: f64, by: Release) {
         if self.in_stick {
             self.stick_duration.push(t - self.stick_start.last().unwrap());
+            self.stick_end.push(if by == Release::Flip { StickEnd::Flip } else { StickEnd::Breakaway });
             self.slip_start.push(t);
             self.in_stick = false;
         }
+    }
+
+    fn wants_motion(&self) -> bool {
+        true
+    }
+
+    #[inline]
+    fn motion(&mut self, lo: f64, hi: f64, v: f64) {
+        self.min_velocity = self.min_velocity.min(lo);
+        self.max_velocity = self.max_velocity.max(hi);
+        self.max_slip_speed = self.max_slip_speed.max((hi - v).abs()).max((lo - v).abs());
     }
 }
 
@@ -107,22 +208,25 @@ mod tests {
     #[test]
     fn counts_from_the_first_stick_and_truncates() {
         let mut r = Record::default();
-        r.slip(0.0, 0.0, 0.0);
-        r.stick(1.0, 0.0);
-        r.slip(1.5, 0.0, 0.0);
-        r.stick(2.0, 0.0);
+        r.slip(0.0, 0.0, 0.0, Release::Start);
+        r.stick(1.0, 0.25, 1.0);
+        r.slip(1.5, 0.0, 0.0, Release::Flip);
+        r.stick(2.0, -0.5, -1.0);
         r.finish(10.0);
         assert_eq!(r.stick_start, [1.0, 2.0]);
         assert_eq!(r.stick_duration, [0.5, 8.0]);
         assert_eq!(r.slip_start, [1.5]);
         assert_eq!(r.slip_duration, [0.5]);
+        assert_eq!(r.stick_end, [StickEnd::Flip, StickEnd::Horizon]);
+        assert_eq!((r.stick_entry_position.as_slice(), r.stick_entry_velocity.as_slice()), (&[0.25, -0.5][..], &[1.0, -1.0][..]));
+        assert_eq!((r.longest_stick(), r.stick_fraction(10.0)), (8.0, 0.85));
         assert!(r.last_truncated);
     }
 
     #[test]
     fn never_sticking_records_nothing() {
         let mut r = Record::default();
-        r.slip(0.0, 0.0, 0.0);
+        r.slip(0.0, 0.0, 0.0, Release::Start);
         r.finish(10.0);
         assert_eq!(r, Record::default());
     }

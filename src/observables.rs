@@ -313,15 +313,15 @@ impl FromStr for Observable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::events::Observer;
+    use crate::events::{Observer, Release};
 
     /// A record built by hand: first stick at 1 s for 0.5 s, a slip of 2 s, a stick at 3.5 s
     /// still running at t_a = 4 s (cut: censored).
     fn record() -> Record {
         let mut r = Record::default();
-        r.stick(1.0, 0.0);
-        r.slip(1.5, 0.0, 1.0);
-        r.stick(3.5, 0.0);
+        r.stick(1.0, 0.0, 1.0);
+        r.slip(1.5, 0.0, 1.0, Release::Breakaway);
+        r.stick(3.5, 0.0, 1.0);
         r.finish(4.0);
         r
     }

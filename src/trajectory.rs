@@ -21,7 +21,7 @@ use parquet::arrow::ArrowWriter;
 use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 
-use crate::events::{Observer, Record};
+use crate::events::{Observer, Record, Release};
 use crate::outdir::{is_marked, resolved, Kind, Lock, OutDirError, TempFile};
 
 /// Records the grid samples the driver hands it.
@@ -39,8 +39,8 @@ impl Sampler {
 }
 
 impl Observer for Sampler {
-    fn stick(&mut self, _t: f64, _x: f64) {}
-    fn slip(&mut self, _t: f64, _x: f64, _xdot: f64) {}
+    fn stick(&mut self, _t: f64, _x: f64, _v: f64) {}
+    fn slip(&mut self, _t: f64, _x: f64, _xdot: f64, _by: Release) {}
     fn sample_step(&self) -> Option<f64> {
         Some(self.step)
     }
@@ -53,13 +53,20 @@ impl Observer for Sampler {
 pub struct Tee<'a, A, B>(pub &'a mut A, pub &'a mut B);
 
 impl<A: Observer, B: Observer> Observer for Tee<'_, A, B> {
-    fn stick(&mut self, t: f64, x: f64) {
-        self.0.stick(t, x);
-        self.1.stick(t, x);
+    fn stick(&mut self, t: f64, x: f64, v: f64) {
+        self.0.stick(t, x, v);
+        self.1.stick(t, x, v);
     }
-    fn slip(&mut self, t: f64, x: f64, xdot: f64) {
-        self.0.slip(t, x, xdot);
-        self.1.slip(t, x, xdot);
+    fn slip(&mut self, t: f64, x: f64, xdot: f64, by: Release) {
+        self.0.slip(t, x, xdot, by);
+        self.1.slip(t, x, xdot, by);
+    }
+    fn wants_motion(&self) -> bool {
+        self.0.wants_motion() || self.1.wants_motion()
+    }
+    fn motion(&mut self, lo: f64, hi: f64, v: f64) {
+        self.0.motion(lo, hi, v);
+        self.1.motion(lo, hi, v);
     }
     fn sample_step(&self) -> Option<f64> {
         self.0.sample_step().or(self.1.sample_step())

@@ -125,6 +125,23 @@ impl SlipForm for Damped {
             k += 1.0;
         }
     }
+
+    /// The ends and the first two turning points ([`Damped::turning_points`]: a maximum and a
+    /// minimum, or one of them): later extrema are smaller by `e^{−aπ/√q}` per half period.
+    fn velocity_range(&self, xdot0: f64, a0: f64, tau: f64, xdot1: f64, _a1: f64) -> (f64, f64) {
+        let velocity = |t: f64| {
+            let (psi, chi) = self.velocity_basis(t);
+            xdot0 * chi + a0 * psi
+        };
+        let (mut lo, mut hi) = (xdot0.min(xdot1), xdot0.max(xdot1));
+        let (first, period) = self.turning_points(a0, -self.omega2 * xdot0 - self.gamma * a0);
+        let turns = [first, first.zip(period).map(|(t, p)| t + p)];
+        for t in turns.into_iter().flatten().filter(|&t| t > 0.0 && t < tau) {
+            let w = velocity(t);
+            (lo, hi) = (lo.min(w), hi.max(w));
+        }
+        (lo, hi)
+    }
 }
 
 impl Damped {
@@ -307,6 +324,29 @@ mod tests {
             let t1 = near.crossing(0.0, -1.0, 20.0, 1.0, 100.0).unwrap().0;
             let tc = crit.crossing(0.0, -1.0, 20.0, 1.0, 100.0).unwrap().0;
             assert!((t1 - tc).abs() < 1e-8, "{t1} vs {tc}");
+        }
+    }
+
+    #[test]
+    fn velocity_range_is_the_extreme_of_a_fine_grid() {
+        // under-damped, critical, over-damped
+        for &c in &[0.5, 4.0, 10.0] {
+            let (f, p) = form(4.0, c);
+            for &(x0, xd0, sig) in &[(0.2, -1.0, 1.0), (-0.9, 3.0, -1.0), (1.25, 0.0, 1.0)] {
+                let a0 = sig * 5.0 - p.omega2 * x0 - p.gamma * xd0;
+                for &tau in &[1e-3, 0.5, 1.2, 2.0, 3.3, 9.0] {
+                    let xd1 = f.state(x0, xd0, a0, tau).1;
+                    let (lo, hi) = f.velocity_range(xd0, a0, tau, xd1, f64::NAN);
+                    let (mut glo, mut ghi) = (f64::INFINITY, f64::NEG_INFINITY);
+                    for i in 0..=20_000 {
+                        let xd = direct(4.0, c, x0, xd0, a0, tau * i as f64 / 20_000.0).1;
+                        (glo, ghi) = (glo.min(xd), ghi.max(xd));
+                    }
+                    let tol = 1e-12 + 1e-7 * (glo.abs() + ghi.abs());
+                    assert!(lo <= glo + 1e-11 && hi >= ghi - 1e-11, "c {c} ({x0}, {xd0}, {tau}): [{lo}, {hi}] vs [{glo}, {ghi}]");
+                    assert!(glo - lo <= tol && hi - ghi <= tol, "c {c} ({x0}, {xd0}, {tau}): [{lo}, {hi}] vs [{glo}, {ghi}]");
+                }
+            }
         }
     }
 

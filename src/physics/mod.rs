@@ -301,6 +301,11 @@ pub trait SlipForm: Copy + Send + Sync + std::fmt::Debug {
     /// `None` if it does not (a touch of the grazing orbit, `ẋ₀ = v` with `a₀ = 0`, is not a
     /// crossing).
     fn crossing(&self, x0: f64, xdot0: f64, a0: f64, v: f64, horizon: f64) -> Option<(f64, f64)>;
+    /// The least and the greatest velocity ẋ over a slip of duration τ from `ẋ₀` with initial
+    /// acceleration `a₀` that ends with velocity `ẋ₁` and acceleration `a₁` (the velocity solves
+    /// a homogeneous equation, so its extrema are at the ends or at its turning points, known in
+    /// closed form).
+    fn velocity_range(&self, xdot0: f64, a0: f64, tau: f64, xdot1: f64, a1: f64) -> (f64, f64);
 }
 
 #[cfg(test)]

@@ -56,6 +56,40 @@ impl SlipForm for Undamped {
     fn crossing(&self, x0: f64, xdot0: f64, a0: f64, v: f64, horizon: f64) -> Option<(f64, f64)> {
         self.belt_speed_crossing(x0, xdot0, a0, v, horizon)
     }
+
+    /// `ẋ(τ) = ẋ₀ cos ωτ + a₀ S(τ) = R cos(ωτ − φ)`, `R = √(ẋ₀² + (a₀/ω)²)`, and
+    /// `ẍ(τ) = a₀ cos ωτ − ω² ẋ₀ S(τ)`. Turning points are π/ω apart, and `ẍ(π/ω) = −a₀`, so each
+    /// half period [0, π/ω], [π/ω, 2π/ω] holds at most one; it lies inside a part of it exactly
+    /// when ẍ changes sign there (from + to −: a maximum, +R; from − to +: a minimum, −R). No
+    /// trigonometric call (the end state is given); without a spring the velocity is linear.
+    fn velocity_range(&self, xdot0: f64, a0: f64, tau: f64, xdot1: f64, a1: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (xdot0.min(xdot1), xdot0.max(xdot1));
+        let theta = self.omega * tau;
+        if self.omega == 0.0 || !(theta > 0.0) {
+            return (lo, hi);
+        }
+        // ẋ² + (ẍ/ω)² = R² along the slip
+        let r = || (xdot0 * xdot0 + (a0 / self.omega) * (a0 / self.omega)).sqrt();
+        if theta >= TAU {
+            return (-r(), r());
+        }
+        let mut turn = |from: f64, to: f64| {
+            if from > 0.0 && to < 0.0 {
+                hi = hi.max(r());
+            } else if from < 0.0 && to > 0.0 {
+                lo = lo.min(-r());
+            }
+        };
+        if theta < PI {
+            turn(a0, a1);
+        } else {
+            turn(a0, -a0);
+            turn(-a0, a1);
+            // ẋ(π/ω) = −ẋ₀ (an extremum itself when a₀ = 0)
+            (lo, hi) = (lo.min(-xdot0), hi.max(-xdot0));
+        }
+        (lo, hi)
+    }
 }
 
 impl Undamped {
@@ -205,6 +239,30 @@ mod tests {
                 assert_eq!((xd - v).signum(), s0);
             }
         }
+    }
+
+    #[test]
+    fn velocity_range_is_the_extreme_of_a_fine_grid() {
+        let (a, friction) = accel(4.0, 5.0);
+        for &(x0, xd0, sig) in &[(0.2, -1.0, 1.0), (-0.9, 3.0, -1.0), (0.4, 0.9, 1.0), (1.25, 0.0, 1.0), (0.0, 0.7, 0.0)] {
+            let a0 = sig * friction - a.omega2 * x0;
+            for &tau in &[1e-3, 0.4, 0.8, 1.2, 1.6, 2.0, 2.6, 3.0, 3.2, 7.0] {
+                let (x1, xd1) = a.slip_state(x0, xd0, a0, tau);
+                let (lo, hi) = a.velocity_range(xd0, a0, tau, xd1, a0 - a.omega2 * (x1 - x0));
+                let (mut glo, mut ghi) = (f64::INFINITY, f64::NEG_INFINITY);
+                for i in 0..=20_000 {
+                    let xd = direct(&a, x0, xd0, a0, tau * i as f64 / 20_000.0).1;
+                    (glo, ghi) = (glo.min(xd), ghi.max(xd));
+                }
+                // the grid's extremes lie inside the range and within the grid's resolution of it
+                let tol = 1e-12 + 1e-7 * (glo.abs() + ghi.abs());
+                assert!(lo <= glo + 1e-12 && hi >= ghi - 1e-12, "({x0}, {xd0}, {tau}): [{lo}, {hi}] vs [{glo}, {ghi}]");
+                assert!(glo - lo <= tol && hi - ghi <= tol, "({x0}, {xd0}, {tau}): [{lo}, {hi}] vs [{glo}, {ghi}]");
+            }
+        }
+        // without a spring: linear
+        let (b, _) = accel(0.0, 5.0);
+        assert_eq!(b.velocity_range(2.0, -5.0, 0.3, 0.5, -5.0), (2.0 - 1.5, 2.0));
     }
 
     #[test]

@@ -32,8 +32,10 @@ pub struct Exact<K> {
     /// no friction at all: crossings of belt speed change nothing and are not looked for
     frictionless: bool,
     phase: Phase,
-    /// the phase the last advance covered and its belt velocity (kept only for sampling)
+    /// the phase the last advance covered and its belt velocity
     piece: (Phase, f64),
+    /// the state `(x, ẋ, ẍ)` where the last advance's slip ended (see [`Exact::slip_end`])
+    end: (f64, f64, f64),
     keep_pieces: bool,
     t: f64,
 }
@@ -41,7 +43,16 @@ pub struct Exact<K> {
 impl<K: SlipForm> Exact<K> {
     pub fn new(p: &Physics) -> Exact<K> {
         let phase = Phase::Stick { t0: 0.0, x0: 0.0 };
-        Exact { p: *p, form: K::new(p), frictionless: p.kinetic == 0.0 && p.breakaway == 0.0, phase, piece: (phase, 0.0), keep_pieces: false, t: 0.0 }
+        Exact {
+            p: *p,
+            form: K::new(p),
+            frictionless: p.kinetic == 0.0 && p.breakaway == 0.0,
+            phase,
+            piece: (phase, 0.0),
+            end: (0.0, 0.0, 0.0),
+            keep_pieces: false,
+            t: 0.0,
+        }
     }
 
     /// The mass is at belt velocity `v` at time `t` and position `x` (the arrival rule).
@@ -84,6 +95,14 @@ impl<K: SlipForm> Exact<K> {
         None
     }
 
+    /// Keep the state `(x, ẋ)` at the end of a slip of duration τ from `(x₀, ẋ₀)` with `a₀`, and
+    /// its acceleration there: the friction is constant along a slip, so
+    /// `ẍ = a₀ − ω² (x − x₀) − γ (ẋ − ẋ₀)` exactly.
+    #[inline(always)]
+    fn slip_end(&mut self, x0: f64, xdot0: f64, a0: f64, x: f64, xdot: f64) {
+        self.end = (x, xdot, a0 - self.p.omega2 * (x - x0) - self.p.gamma * (xdot - xdot0));
+    }
+
     fn state_in(&self, phase: Phase, t: f64, v: f64) -> (f64, f64) {
         match phase {
             Phase::Stick { t0, x0 } => (x0 + v * (t - t0), v),
@@ -102,9 +121,7 @@ impl<K: SlipForm> Method for Exact<K> {
 
     #[inline(always)]
     fn advance(&mut self, t1: f64, v: f64) -> Stop {
-        if self.keep_pieces {
-            self.piece = (self.phase, v);
-        }
+        self.piece = (self.phase, v);
         match self.phase {
             Phase::Stick { t0, x0 } => {
                 let t_b = t0 + self.p.stick_duration(x0, v);
@@ -119,10 +136,14 @@ impl<K: SlipForm> Method for Exact<K> {
                     if let Some((tau, x1)) = self.form.crossing(x0, xdot0, a0, v, t1 - t0) {
                         if t0 + tau < t1 {
                             self.t = t0 + tau;
+                            self.slip_end(x0, xdot0, a0, x1, v);
                             return self.at_belt_speed(t0 + tau, x1, v);
                         }
                     }
                 }
+                // the state at the segment's end (the switch goes on from it)
+                let (x, xdot) = self.form.state(x0, xdot0, a0, t1 - t0);
+                self.slip_end(x0, xdot0, a0, x, xdot);
             }
         }
         self.t = t1;
@@ -139,8 +160,9 @@ impl<K: SlipForm> Method for Exact<K> {
                 self.slip_from(t, x, v_old, v_new);
                 Some(stuck_end)
             }
-            Phase::Slip { t0, x0, xdot0, a0 } => {
-                let (x, xdot) = self.form.state(x0, xdot0, a0, t - t0);
+            Phase::Slip { .. } => {
+                // the last advance ended this slip at the switch instant t
+                let (x, xdot, _) = self.end;
                 self.slip_from(t, x, xdot, v_new)
             }
         }
@@ -156,5 +178,12 @@ impl<K: SlipForm> Method for Exact<K> {
 
     fn state_at(&self, t: f64) -> (f64, f64) {
         self.state_in(self.piece.0, t, self.piece.1)
+    }
+
+    fn velocity_range(&self) -> (f64, f64) {
+        match self.piece.0 {
+            Phase::Stick { .. } => (self.piece.1, self.piece.1),
+            Phase::Slip { t0, xdot0, a0, .. } => self.form.velocity_range(xdot0, a0, self.t - t0, self.end.1, self.end.2),
+        }
     }
 }

@@ -236,6 +236,13 @@ impl Method for Hybrid {
         self.steps
     }
 
+    fn velocity_range(&self) -> (f64, f64) {
+        match self.piece {
+            Piece::Stick { v, .. } => (v, v),
+            Piece::Step(s) => s.velocity_range(((self.t - s.t0) / s.h).clamp(0.0, 1.0)),
+        }
+    }
+
     fn non_finite(&self) -> bool {
         self.dopri.failed || !(self.y[0].is_finite() && self.y[1].is_finite())
     }

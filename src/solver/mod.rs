@@ -16,7 +16,7 @@ pub mod smooth;
 
 use serde::{Deserialize, Serialize};
 
-use crate::events::Observer;
+use crate::events::{Observer, Release};
 use crate::physics::{Damped, Physics, Undamped};
 
 /// The deterministic input of one realization: the belt velocity of each segment (`switches.len()
@@ -90,6 +90,10 @@ pub trait Method {
     fn non_finite(&self) -> bool {
         false
     }
+    /// The least and greatest velocity ẋ over the motion the last [`Method::advance`] covered:
+    /// exact for the closed forms (their turning points), located on the dense output for the
+    /// integrators, the step ends for time stepping.
+    fn velocity_range(&self) -> (f64, f64);
 }
 
 /// Why a realization could not be solved.
@@ -118,8 +122,12 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
     if grid.is_some() {
         method.keep_pieces();
     }
+    let motion = obs.wants_motion();
     let mut v = drive.velocities[0];
-    emit(obs, method.start(x0, xdot0, v));
+    emit(obs, method.start(x0, xdot0, v), v, Release::Start);
+    if motion {
+        obs.motion(xdot0, xdot0, v);
+    }
     let (mut stops, mut sampled) = (0u64, 0.0);
     let ends = drive.switches.iter().copied().chain(std::iter::once(drive.t_end));
     for (k, t1) in ends.enumerate() {
@@ -129,9 +137,13 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
             if let Some(step) = grid {
                 sampled = sample(method, obs, sampled, step, v);
             }
+            if motion {
+                let (lo, hi) = method.velocity_range();
+                obs.motion(lo, hi, v);
+            }
             match stop {
                 Stop::SegmentEnd => break,
-                Stop::Event(e) => emit(obs, e),
+                Stop::Event(e) => emit(obs, e, v, Release::Breakaway),
                 Stop::Advanced => {}
             }
             if stops > EVENT_LIMIT {
@@ -146,7 +158,7 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
         }
         if let Some(&v_new) = drive.velocities.get(k + 1) {
             if let Some(e) = method.switch(t1, v, v_new) {
-                emit(obs, e);
+                emit(obs, e, v_new, Release::Flip);
             }
             v = v_new;
         }
@@ -154,11 +166,12 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
     Ok(method.steps())
 }
 
+/// Report `e` under belt velocity `v`; a slip was started `by` the cause of its stop.
 #[inline]
-fn emit<O: Observer>(obs: &mut O, e: Event) {
+fn emit<O: Observer>(obs: &mut O, e: Event, v: f64, by: Release) {
     match e {
-        Event::Stick { t, x } => obs.stick(t, x),
-        Event::Slip { t, x, xdot } => obs.slip(t, x, xdot),
+        Event::Stick { t, x } => obs.stick(t, x, v),
+        Event::Slip { t, x, xdot } => obs.slip(t, x, xdot, by),
     }
 }
 

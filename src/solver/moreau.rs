@@ -88,6 +88,10 @@ impl Method for Moreau {
         self.t
     }
 
+    fn velocity_range(&self) -> (f64, f64) {
+        (self.prev.2.min(self.xd), self.prev.2.max(self.xd))
+    }
+
     fn state_at(&self, t: f64) -> (f64, f64) {
         let (t0, x0, xd0) = self.prev;
         let w = if self.t > t0 { (t - t0) / (self.t - t0) } else { 0.0 };

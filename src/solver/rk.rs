@@ -65,6 +65,47 @@ impl Step {
         })
     }
 
+    /// The least and greatest velocity (component 1) of the dense output on θ ∈ [0, `end`]: the
+    /// ends, and a turning point located where the output's slope changes sign between them
+    /// (bisection on the slope of the interpolant, which is exact to polynomial order; an
+    /// extremum is flat, so its value is as accurate as the dense output).
+    pub fn velocity_range(&self, end: f64) -> (f64, f64) {
+        let (a, b) = (self.at(0.0)[1], self.at(end)[1]);
+        let (mut lo, mut hi) = (a.min(b), a.max(b));
+        let slope0 = self.slope(0.0);
+        let slope1 = self.slope(end);
+        if end > 0.0 && slope0 != 0.0 && slope0.signum() != slope1.signum() {
+            let (mut l, mut r) = (0.0, end);
+            for _ in 0..60 {
+                let m = 0.5 * (l + r);
+                if self.slope(m).signum() == slope0.signum() {
+                    l = m;
+                } else {
+                    r = m;
+                }
+            }
+            let w = self.at(0.5 * (l + r))[1];
+            (lo, hi) = (lo.min(w), hi.max(w));
+        }
+        (lo, hi)
+    }
+
+    /// d/dθ of the velocity's dense output: with `u = 1 − θ`, `p = y₀ + θ A`, `A = δ + u B`,
+    /// `B = b + θ C`, `C = c + u d`, the product rule gives `p' = A + θ A'`.
+    fn slope(&self, theta: f64) -> f64 {
+        let (t, u, h) = (theta, 1.0 - theta, self.h);
+        let delta = self.y1[1] - self.y0[1];
+        let b = h * self.f0[1] - delta;
+        let c = delta - h * self.f1[1] - b;
+        let d = self.d[1];
+        let cc = c + u * d;
+        let bb = b + t * cc;
+        let aa = delta + u * bb;
+        let dbb = cc - t * d;
+        let daa = -bb + u * dbb;
+        aa + t * daa
+    }
+
     /// The first θ ∈ (0, 1] where `g` along the dense output falls to ≤ 0 after being positive.
     ///
     /// `g` is affine in the state (a gap to belt speed). `g(y₀) > 0`, or `g(y₀) = 0` with g
@@ -363,6 +404,31 @@ mod tests {
             step.d = [0.0, 0.0];
         }
         (1..20).map(|i| i as f64 / 20.0).map(|th| (step.at(th)[0] - (t0 + th * h).cos()).abs()).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn velocity_range_finds_the_turning_point_inside_a_step() {
+        // x'' = −x from t0 = 1.4: ẋ = −sin t has its minimum −1 at π/2, inside [1.4, 1.8]
+        let a = |y: State| -y[0];
+        let (t0, h) = (1.4, 0.4);
+        let mut dp = Dopri::new(1.0, 1.0, h);
+        dp.h = h;
+        let step = dp.step(&a, t0, [t0.cos(), -t0.sin()], h, &mut 0);
+        // the slope is the derivative of the dense output (an independent central difference)
+        for &th in &[0.1, 0.5, 0.9] {
+            let fd = (step.at(th + 1e-6)[1] - step.at(th - 1e-6)[1]) / 2e-6;
+            assert!((step.slope(th) - fd).abs() < 1e-7, "θ {th}: {} vs {fd}", step.slope(th));
+        }
+        let (lo, hi) = step.velocity_range(1.0);
+        // the interpolant's own minimum (a fine grid), and the true one within its error
+        let grid = (0..=10_000).map(|i| step.at(i as f64 / 1e4)[1]).fold(f64::INFINITY, f64::min);
+        assert!(lo <= grid && grid - lo < 1e-9, "minimum {lo}, grid {grid}");
+        assert!((lo + 1.0).abs() < 1e-5, "minimum {lo}");
+        assert_eq!(hi, step.y0[1].max(step.y1[1]));
+        // cut before the turning point: only the ends
+        let end = 0.2 / h * 0.5;
+        let (lo, hi) = step.velocity_range(end);
+        assert_eq!((lo, hi), (step.at(end)[1].min(step.y0[1]), step.at(end)[1].max(step.y0[1])));
     }
 
     #[test]

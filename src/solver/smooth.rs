@@ -117,6 +117,13 @@ impl Method for Smooth {
         self.t
     }
 
+    fn velocity_range(&self) -> (f64, f64) {
+        match &self.piece {
+            Some(s) => s.velocity_range(((self.t - s.t0) / s.h).clamp(0.0, 1.0)),
+            None => (self.y[1], self.y[1]),
+        }
+    }
+
     fn state_at(&self, t: f64) -> (f64, f64) {
         match &self.piece {
             Some(s) => {

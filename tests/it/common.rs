@@ -5,7 +5,7 @@ use std::process::{Command, Output};
 
 use stickslip::belt::BeltPath;
 use stickslip::ensemble::{Ensemble, Outcome};
-use stickslip::events::{Observer, Record};
+use stickslip::events::Record;
 use stickslip::physics::Params;
 use stickslip::scenario::Scenario;
 use stickslip::solver::{Drive, Solver};
@@ -29,30 +29,13 @@ pub fn outcomes(sc: &Scenario, n: u64) -> Vec<Outcome> {
         .collect()
 }
 
-/// A recorder that also keeps the positions at which sticks begin.
-#[derive(Default)]
-pub struct WithPositions {
-    pub record: Record,
-    pub stick_x: Vec<f64>,
-}
-
-impl Observer for WithPositions {
-    fn stick(&mut self, t: f64, x: f64) {
-        self.stick_x.push(x);
-        self.record.stick(t, x);
-    }
-    fn slip(&mut self, t: f64, x: f64, xdot: f64) {
-        self.record.slip(t, x, xdot);
-    }
-}
-
 /// The fixed parameters of a scenario's scene.
 pub fn params(sc: &Scenario) -> Params {
     sc.scene().expect("a valid scene").params
 }
 
 /// Solve a scripted belt (initial sign, switch instants) with the exact solver.
-pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot0: f64) -> WithPositions {
+pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot0: f64) -> Record {
     let scene = sc.scene().expect("a valid scene");
     let path = BeltPath { initial_sign: sign0, switch_times: switches.to_vec() };
     let (mut sw, mut vel) = (Vec::new(), Vec::new());
@@ -61,13 +44,13 @@ pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot
 }
 
 /// Solve given belt segments with the scenario's solver for the oscillator `p`.
-pub fn solve_segments(sc: &Scenario, p: &Params, velocities: &[f64], switches: &[f64], x0: f64, xdot0: f64) -> WithPositions {
+pub fn solve_segments(sc: &Scenario, p: &Params, velocities: &[f64], switches: &[f64], x0: f64, xdot0: f64) -> Record {
     let drive = Drive { velocities, switches, t_end: sc.run.duration };
-    let mut obs = WithPositions::default();
+    let mut rec = Record::default();
     let damped = sc.scene().expect("a valid scene").damped();
-    Solver::new(sc.solver(), sc.numerics, damped).solve(&p.per_unit_mass(), &drive, x0, xdot0, &mut obs).expect("solves");
-    obs.record.finish(sc.run.duration);
-    obs
+    Solver::new(sc.solver(), sc.numerics, damped).solve(&p.per_unit_mass(), &drive, x0, xdot0, &mut rec).expect("solves");
+    rec.finish(sc.run.duration);
+    rec
 }
 
 /// Belt velocity at time t (just after t) for a sorted effective switch list and the segments'
@@ -126,11 +109,11 @@ pub fn check_invariants(sc: &Scenario, o: &Outcome, strict: bool) -> Result<(), 
     let p = o.params;
     let (k, c, fmax) = (p.stiffness, p.damping, p.static_ * p.normal_force);
     let traced = solve_segments(sc, &p, o.velocities(), o.switches(), o.x0, o.xdot0);
-    if traced.record != *r {
+    if traced != *r {
         return Err("re-solving the same drive gave a different record".into());
     }
     let slack = fmax * 1e-9 + 1e-300;
-    for (i, (&t, &x)) in r.stick_start.iter().zip(&traced.stick_x).enumerate() {
+    for (i, (&t, &x)) in r.stick_start.iter().zip(&traced.stick_entry_position).enumerate() {
         let v = belt_velocity(o.velocities(), o.switches(), t);
         let x_end = x + v * r.stick_duration[i];
         for (what, xx) in [("start", x), ("end", x_end)] {

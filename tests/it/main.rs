@@ -23,3 +23,4 @@ mod scenes;
 mod sensitivity;
 mod solvers;
 mod stribeck;
+mod tails;
