@@ -294,6 +294,17 @@ pub struct AnalyzeArgs {
     /// summary and the report say which); without it an incomplete dataset is refused.
     #[arg(long)]
     pub allow_partial: bool,
+    /// Times t [s] at which the survival curves P(D > t), P(H > t) are also evaluated, and the
+    /// thresholds T of P(longest stick > T), e.g. --tail-times 0.5,1,2 (survival.parquet,
+    /// tails.parquet; printed).
+    #[arg(long, value_name = "T,...", value_delimiter = ',')]
+    pub tail_times: Vec<f64>,
+    /// Thresholds s of P(severity > s), severity = (max ẋ − min ẋ)/(2 v0).
+    #[arg(long, value_name = "S,...", value_delimiter = ',', default_values_t = analysis::DEFAULT_SEVERITY)]
+    pub severity: Vec<f64>,
+    /// Skip the tails (survival curves, conditional estimator, extremes).
+    #[arg(long)]
+    pub no_tails: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -516,6 +527,8 @@ fn analyze_command(args: AnalyzeArgs, quiet: bool) -> anyhow::Result<()> {
         permutations: args.permutations,
         allow_partial: args.allow_partial,
         progress: !quiet && std::io::stderr().is_terminal(),
+        tails: !args.no_tails,
+        tail: analysis::tails::TailOptions { times: args.tail_times, severity: args.severity },
         ..Default::default()
     };
     if !args.pairs.is_empty() {
@@ -560,6 +573,33 @@ fn analyze_and_print(dataset: &Path, out: &Path, opts: &analysis::Options, quiet
     Ok(paths)
 }
 
+/// The tails at the user's times: pooled P(D > t) by the product limit and the conditional
+/// estimator, and the extremes.
+fn print_tails(t: &analysis::tails::Tails, times: &[f64]) {
+    let at = |method: &str, variable: &str, time: f64| {
+        let c = t.curves.iter().find(|c| c.method == method && c.variable == variable && c.index.is_none())?;
+        c.points.iter().find(|p| p.0 == time).map(|p| {
+            let band = p.2.map_or(String::new(), |(lo, hi)| format!(" [{lo:.3e}, {hi:.3e}]"));
+            format!("{:.4e}{band}", p.1)
+        })
+    };
+    for &time in times {
+        let km = at("kaplan_meier", "D", time).unwrap_or_else(|| "–".into());
+        let cond = at("conditional", "D", time).unwrap_or_else(|| "–".into());
+        println!("P(D > {time} s): Kaplan-Meier {km}; conditional {cond}");
+    }
+    for e in &t.exceedances {
+        let band = e.interval.map_or(String::new(), |(lo, hi)| format!(" [{lo:.3e}, {hi:.3e}]"));
+        match e.threshold {
+            Some(x) => println!("P({} > {x}) = {:.4e}{band} ({} realizations)", e.statistic, e.value, e.n),
+            None => println!("{} = {:.4}{band} ({} sticks)", e.statistic, e.value, e.n),
+        }
+    }
+    if let Some(why) = &t.conditional_refused {
+        eprintln!("note: no conditional tail estimate: {why}");
+    }
+}
+
 fn print_analysis(a: &analysis::Analysis) {
     let p_is = crate::figures::format::p_relation;
     println!("{}", analysis::output::table1_markdown(a));
@@ -571,6 +611,9 @@ fn print_analysis(a: &analysis::Analysis) {
                 analysis::output::verdict(t.chi2_p_value)
             );
         }
+    }
+    if let Some(t) = &a.tails {
+        print_tails(t, &a.options.tail.times);
     }
     if let Some(r) = &a.renewal {
         println!(

@@ -8,7 +8,8 @@
 //! state: `stick_end` list<utf8> (`flip`, `breakaway`, `horizon` per stick),
 //! `stick_entry_position`, `stick_entry_velocity` list<float64> (x [m] and belt velocity [m/s] at
 //! each stick's start), `longest_stick`, `stick_fraction`, `min_velocity`, `max_velocity`,
-//! `max_slip_speed` float64 (s, 1, m/s; [`crate::events::Record`]); then `switch_times`
+//! `max_slip_speed`, `severity` float64 (s, 1, m/s, 1; [`crate::events::Record`]); then
+//! `switch_times`
 //! list<float64> (Y) only when the scenario asks for it, then one float64 column per random scene
 //! key, named after the key's last component (e.g. `friction_coefficient`), with the value drawn
 //! for the realization.
@@ -69,11 +70,12 @@ pub mod columns {
     pub const MIN_VELOCITY: &str = "min_velocity";
     pub const MAX_VELOCITY: &str = "max_velocity";
     pub const MAX_SLIP_SPEED: &str = "max_slip_speed";
+    pub const SEVERITY: &str = "severity";
 
     /// The per-stick float lists of schema v3, one value per stick.
     pub const STICK_LISTS: [&str; 2] = [STICK_ENTRY_POSITION, STICK_ENTRY_VELOCITY];
     /// The per-realization floats of schema v3.
-    pub const TAIL_SCALARS: [&str; 5] = [LONGEST_STICK, STICK_FRACTION, MIN_VELOCITY, MAX_VELOCITY, MAX_SLIP_SPEED];
+    pub const TAIL_SCALARS: [&str; 6] = [LONGEST_STICK, STICK_FRACTION, MIN_VELOCITY, MAX_VELOCITY, MAX_SLIP_SPEED, SEVERITY];
 
     /// Each list column with the count column of its length, and whether its values are start
     /// instants (in increasing order); `switch_times` is present only when the scenario asks.
@@ -176,7 +178,7 @@ pub struct Rows {
     /// `stick_end` as codes ([`StickEnd::ALL`]) with its offsets
     stick_end: (Vec<i32>, Vec<u8>),
     stick_lists: [ListColumn; 2],
-    tail_scalars: [Vec<f64>; 5],
+    tail_scalars: [Vec<f64>; 6],
     switch_times: Option<ListColumn>,
     drawn: Vec<Vec<f64>>,
 }
@@ -240,7 +242,7 @@ impl Rows {
         self.stick_lists[0].push(&rec.stick_entry_position);
         self.stick_lists[1].push(&rec.stick_entry_velocity);
         let t_a = out.t_a;
-        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed];
+        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed, rec.severity];
         for (col, x) in self.tail_scalars.iter_mut().zip(tails) {
             col.push(x);
         }

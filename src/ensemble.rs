@@ -154,6 +154,7 @@ impl Ensemble {
             .solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);
+        out.record.finish_severity(belt.speeds().0);
         out.t_a = belt.duration;
         Ok(())
     }

@@ -28,6 +28,7 @@ mod rules;
 pub mod sketch;
 pub mod summary;
 pub mod sweep;
+pub mod tails;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -69,6 +70,9 @@ pub struct Options {
     pub allow_partial: bool,
     /// Show progress on stderr while reading.
     pub progress: bool,
+    /// Compute the tails (survival curves, the conditional estimator, extremes; [`tails`]).
+    pub tails: bool,
+    pub tail: tails::TailOptions,
 }
 
 /// Default largest event index analysed (the paper's Table 1 goes to 6).
@@ -81,6 +85,10 @@ pub const MAX_INDEX: u32 = 1000;
 /// index few realizations reach describe those few, not the process (a λ = 1, μ = 0.1 cell gave a
 /// Var T_k slope of −0.98 from a T_6 that 4 % of the realizations have).
 pub const GROWTH_MIN_REACHED: f64 = 0.9;
+
+/// Default thresholds s of P(severity > s): 1 (the mass overshoots the belt speed: its velocity
+/// swings wider than the belt's ±v0) and 1.25.
+pub const DEFAULT_SEVERITY: [f64; 2] = [1.0, 1.25];
 
 /// Default number of permutations of the mutual-information null.
 pub const DEFAULT_PERMUTATIONS: u32 = 199;
@@ -97,6 +105,12 @@ impl Options {
         if let Some(b) = self.bins.filter(|&b| b == 0 || b > MAX_BINS) {
             return Err(AnalysisError::Options(format!("--bins {b}: must be between 1 and {MAX_BINS}")));
         }
+        if let Some(t) = self.tail.times.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
+            return Err(AnalysisError::Options(format!("--tail-times {t}: must be a finite time >= 0 s")));
+        }
+        if let Some(s) = self.tail.severity.iter().find(|s| !(s.is_finite() && **s >= 0.0)) {
+            return Err(AnalysisError::Options(format!("--severity {s}: must be a finite number >= 0")));
+        }
         Ok(())
     }
 }
@@ -110,6 +124,8 @@ impl Default for Options {
             permutations: DEFAULT_PERMUTATIONS,
             allow_partial: false,
             progress: false,
+            tails: true,
+            tail: tails::TailOptions { times: Vec::new(), severity: DEFAULT_SEVERITY.to_vec() },
         }
     }
 }
@@ -193,6 +209,8 @@ pub struct Analysis {
     pub growth: Vec<GrowthFit>,
     pub renewal: Option<Renewal>,
     pub convergence: Vec<Convergence>,
+    /// None when not asked for (`--no-tails`)
+    pub tails: Option<tails::Tails>,
 }
 
 /// The running mean of one observable against the number of realizations read, at a geometric
@@ -293,12 +311,14 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
     let mut pilots = query::pilots(&refs, &plan).map_err(failed)?;
     let aggregates = query::aggregate(&refs, &plan, &mut pilots, &bar).map_err(failed)?;
     bar.finish_and_clear();
+    let tails: Vec<Option<tails::Tails>> =
+        refs.iter().map(|d| opts.tails.then(|| tails::tails(d, opts.max_index, &opts.tail)).transpose()).collect::<Result<_, _>>().map_err(failed)?;
     let mut out = Vec::with_capacity(cells.len());
-    for ((data, agg), pilot) in cells.into_iter().zip(aggregates).zip(&pilots) {
+    for (((data, agg), pilot), tails) in cells.into_iter().zip(aggregates).zip(&pilots).zip(tails) {
         if agg.rows != data.rows {
             return Err(AnalysisError::Read { path: data.files[0].clone(), message: format!("{} rows read, the footers declare {}", agg.rows, data.rows) });
         }
-        out.push(finish(data, opts, &series, &pairs, &grid, &agg, pilot));
+        out.push(Analysis { tails, ..finish(data, opts, &series, &pairs, &grid, &agg, pilot) });
     }
     Ok(out)
 }
@@ -470,5 +490,5 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
         })
         .collect();
     let options = Options { permutations, ..opts.clone() };
-    Analysis { dataset: data, options, stats, joints, growth, renewal, convergence }
+    Analysis { dataset: data, options, stats, joints, growth, renewal, convergence, tails: None }
 }

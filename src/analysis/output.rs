@@ -16,6 +16,11 @@
 //! - `convergence.parquet`: variable, index, realizations, n, mean, mean_lo, mean_hi — the running
 //!   mean of S_T, T_1, D_1, H_1 with its 95 % interval (mean ± 1.96 se) at 10 realization counts
 //!   per decade (the paper's question: how many realizations?);
+//! - `survival.parquet` (unless `--no-tails`): variable (`D`, `H`), index (k; null pooled over
+//!   every interval), method (`kaplan_meier`, `naive`, `conditional`), n, n_censored, t, survival
+//!   (P(duration > t)), lo, hi (95 %) — see [`super::tails`];
+//! - `tails.parquet` (schema-v3 datasets): statistic (`breakaway_fraction`, `longest_stick`,
+//!   `severity`), threshold, value (the fraction, or P(statistic > threshold)), lo, hi, n;
 //! - `summary.json`: provenance, policies, counts, regressions, renewal check, tests;
 //! - `table1.md`: our Table 1 beside the paper's;
 //! - `trajectory_samples.parquet`, `trajectory_events.parquet`: the trajectory tables beside the
@@ -179,6 +184,33 @@ fn independence_table(a: &Analysis) -> Table {
         .push("permutations", int(&|t| t.permutations as i64))
         .push("verdict", Col::Str(tests.iter().map(|(_, t)| verdict(t.chi2_p_value).to_string()).collect()));
     t
+}
+
+fn survival_table(t: &super::tails::Tails) -> Table {
+    let rows: Vec<(&super::tails::Curve, &(f64, f64, Option<(f64, f64)>))> = t.curves.iter().flat_map(|c| c.points.iter().map(move |p| (c, p))).collect();
+    let mut out = Table::default();
+    out.push("variable", Col::Str(rows.iter().map(|r| r.0.variable.to_string()).collect()))
+        .push("index", Col::Int(rows.iter().map(|r| r.0.index.map(i64::from)).collect()))
+        .push("method", Col::Str(rows.iter().map(|r| r.0.method.to_string()).collect()))
+        .push("n", Col::Int(rows.iter().map(|r| Some(r.0.n as i64)).collect()))
+        .push("n_censored", Col::Int(rows.iter().map(|r| Some(r.0.censored as i64)).collect()))
+        .push("t", Col::Float(rows.iter().map(|r| f(Some(r.1 .0))).collect()))
+        .push("survival", Col::Float(rows.iter().map(|r| f(Some(r.1 .1))).collect()))
+        .push("lo", Col::Float(rows.iter().map(|r| f(r.1 .2.map(|i| i.0))).collect()))
+        .push("hi", Col::Float(rows.iter().map(|r| f(r.1 .2.map(|i| i.1))).collect()));
+    out
+}
+
+fn tails_table(t: &super::tails::Tails) -> Table {
+    let e = &t.exceedances;
+    let mut out = Table::default();
+    out.push("statistic", Col::Str(e.iter().map(|x| x.statistic.to_string()).collect()))
+        .push("threshold", Col::Float(e.iter().map(|x| f(x.threshold)).collect()))
+        .push("value", Col::Float(e.iter().map(|x| f(Some(x.value))).collect()))
+        .push("lo", Col::Float(e.iter().map(|x| f(x.interval.map(|i| i.0))).collect()))
+        .push("hi", Col::Float(e.iter().map(|x| f(x.interval.map(|i| i.1))).collect()))
+        .push("n", Col::Int(e.iter().map(|x| Some(x.n as i64)).collect()));
+    out
 }
 
 fn growth_table(a: &Analysis) -> Table {
@@ -360,7 +392,8 @@ pub fn write_into(a: &Analysis, dir: &Path, shown: &Path) -> Result<(), Analysis
         ("growth.parquet", growth_table(a)),
         ("convergence.parquet", convergence_table(a)),
     ];
-    for (file, table) in tables {
+    let tails = a.tails.as_ref().map(|t| [("survival.parquet", survival_table(t)), ("tails.parquet", tails_table(t))]);
+    for (file, table) in tables.into_iter().chain(tails.into_iter().flatten()) {
         table.write_parquet(&dir.join(file)).map_err(|e| werr(&shown.join(file), &e))?;
     }
     std::fs::write(dir.join("summary.json"), summary(a).to_json()).map_err(|e| werr(&shown.join("summary.json"), &e))?;

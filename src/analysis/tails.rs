@@ -1,0 +1,516 @@
+//! Tails: survival curves of stick and slip durations with the interval cut at t_a treated as
+//! censored, an exact-in-t conditional estimator of the stick tail, and the extremes.
+//!
+//! Three polars queries over `scan_parquet` of the part files (streaming): the durations
+//! exploded to one row per interval with its index k and whether it is the censored one, counted
+//! per (jackknife group, k, time cell, censored); the stick entries (x, belt velocity) with their
+//! holding times, counted per (group, k, belt state, cell); and per group the exceedances of the
+//! longest stick and the severity and the stick ends by breakaway. Rust finishes on those counts.
+//!
+//! **Time cells.** Durations are counted on cells of width ρ = t_a 2^-16 (0.15 ms at t_a = 10 s):
+//! a duration d is in cell ⌊d/ρ⌋ and an event there is taken to happen at the cell's upper edge,
+//! so a curve at t (evaluated at ⌊t/ρ⌋ρ) misses at most the events in one cell below t. Ties
+//! within a cell follow the usual convention: events before censorings.
+//!
+//! **Kaplan–Meier (product limit).** With n_c intervals at risk (duration ≥ the cell) and e_c of
+//! them ending in cell c, `S(t) = Π_{cells before t} (1 − e_c / n_c)`; a censored interval (the
+//! one running at t_a, whose length is only a lower bound) leaves the risk set without an event.
+//! It estimates P(D > t) for the duration D of a stick begun in [0, t_a], however long it lasts.
+//! The **naive** curve drops the censored intervals and takes the empirical survival of the rest:
+//! it is biased low wherever long intervals are the ones the horizon cuts.
+//!
+//! **Conditional (exact in t).** While stuck, the mass moves with the belt, so a stick entered at x
+//! on belt velocity v_s ends at the earlier of the belt's next change — exponential with the rate
+//! λ_s of leaving state s, whatever happened before (a Poisson flip process is memoryless) — and
+//! the breakaway after the holding time d_s(x) = `Physics::stick_duration(x, v_s)` (closed form;
+//! ∞ without a spring; damping and μ_s ≥ μ_k only move the holding limit). Hence
+//!
+//! ```text
+//!     P(D > t | x, s) = exp(−λ_s t) · 1{t < d_s(x)},     P̂(D > t) = (1/N) Σ_i exp(−λ_{s_i} t) 1{t < d_{s_i}(x_i)}
+//! ```
+//!
+//! averaged over the N observed stick entries: unbiased for P(D > t) (the entries are the same
+//! population the product limit estimates), with no noise from the belt's clock, so it resolves
+//! probabilities far below 1/N. It needs the belt to be a Poisson flip process with known rates
+//! (the symmetric and the telegraph belts) and fixed parameters; it is refused, with the reason,
+//! otherwise (drawn parameters change d_s per realization), and for datasets without the entry
+//! state (schema v1, v2).
+//!
+//! **Intervals (95 %).** Realizations are independent but the sticks of one realization are not,
+//! so every interval is the delete-a-group jackknife over the 20 realization groups
+//! ([`super::jackknife`]), which keeps that dependence: on the complementary log-log scale
+//! ln(−ln S) for the product-limit and naive curves (bands inside (0, 1)), on the log scale for
+//! the conditional estimator and the exceedances. Where the estimate is 0 or 1 no band is given.
+
+use polars::prelude::*;
+
+use super::input::{scan, Dataset};
+use super::jackknife::{self, Interval, GROUPS};
+use crate::belt::Process;
+use crate::dataset::columns as name;
+use crate::events::StickEnd;
+use crate::physics::Physics;
+
+/// Time cells per t_a (module docs).
+const CELLS_PER_WINDOW: f64 = 65_536.0;
+/// Points of each curve between 0 and its largest duration.
+pub const CURVE_POINTS: usize = 200;
+
+/// What the user asks of the tails.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TailOptions {
+    /// t [s] at which every curve is also evaluated, and the thresholds T of P(longest stick > T)
+    pub times: Vec<f64>,
+    /// thresholds of P(severity > s)
+    pub severity: Vec<f64>,
+}
+
+/// One survival curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    /// `D` or `H`
+    pub variable: &'static str,
+    /// k, or None pooled over every interval
+    pub index: Option<u32>,
+    /// `kaplan_meier`, `naive` or `conditional`
+    pub method: &'static str,
+    /// intervals (stick entries for `conditional`) the curve is estimated from, and how many of
+    /// them are censored
+    pub n: u64,
+    pub censored: u64,
+    /// (t, P(duration > t), 95 % interval)
+    pub points: Vec<(f64, f64, Option<Interval>)>,
+}
+
+/// A probability or a fraction with its interval.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Exceedance {
+    /// `longest_stick`, `severity` (P(value > threshold)) or `breakaway_fraction` (the share of
+    /// sticks that end by breakaway, threshold None)
+    pub statistic: &'static str,
+    pub threshold: Option<f64>,
+    pub value: f64,
+    pub interval: Option<Interval>,
+    /// realizations (sticks for the breakaway fraction) it is estimated from
+    pub n: u64,
+}
+
+/// Everything the tails analysis computes.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Tails {
+    pub curves: Vec<Curve>,
+    pub exceedances: Vec<Exceedance>,
+    /// why the conditional estimator was not computed (None: it was)
+    pub conditional_refused: Option<String>,
+}
+
+/// Counts per (group, index, cell, flag) as the queries return them.
+type Counts = Vec<(usize, u32, i64, bool, u64)>;
+
+const G: &str = "__g";
+const K: &str = "__k";
+const CELL: &str = "__cell";
+const FLAG: &str = "__flag";
+
+/// The positions 1..=len of each list's elements, as a list of int64 (to explode beside it).
+fn positions(list: &'static str) -> Expr {
+    use polars_arrow::array::{ListArray, PrimitiveArray};
+    use polars_arrow::datatypes::ArrowDataType;
+    col(list)
+        .map(
+            |c: Column| {
+                let ca = c.list()?.rechunk();
+                let chunks: Vec<_> = ca
+                    .downcast_iter()
+                    .map(|arr| {
+                        // offsets from 0 (the input may be a slice of a larger buffer)
+                        let o = arr.offsets().as_slice();
+                        let values: Vec<i64> = o.windows(2).flat_map(|w| 1..=(w[1] - w[0])).collect();
+                        let rebased: Vec<i64> = o.iter().map(|x| x - o[0]).collect();
+                        let offsets = polars_arrow::offset::Offsets::<i64>::try_from(rebased).expect("monotone offsets").into();
+                        let dtype = ListArray::<i64>::default_datatype(ArrowDataType::Int64);
+                        ListArray::<i64>::new(dtype, offsets, PrimitiveArray::from_vec(values).boxed(), arr.validity().cloned())
+                    })
+                    .collect();
+                Ok(ListChunked::from_chunk_iter(c.name().clone(), chunks).into_column())
+            },
+            |_, f| Ok(Field::new(f.name().clone(), DataType::List(Box::new(DataType::Int64)))),
+        )
+        .alias(K)
+}
+
+/// One frame of every part file of `data` (realization order).
+fn frame(data: &Dataset) -> PolarsResult<LazyFrame> {
+    let files = data.files.iter().map(|f| scan(f, None, false)).collect::<PolarsResult<Vec<_>>>()?;
+    concat(files, UnionArgs { maintain_order: false, ..Default::default() })
+}
+
+fn group() -> Expr {
+    (col(name::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64).alias(G)
+}
+
+/// k clamped to `max_index + 1` (the indices past the curves per k, kept for the pooled curve).
+fn clamp_k(max_index: u32) -> Expr {
+    let top = i64::from(max_index) + 1;
+    when(col(K).gt(lit(top))).then(lit(top)).otherwise(col(K)).cast(DataType::Int64).alias(K)
+}
+
+fn counts(df: &DataFrame) -> PolarsResult<Counts> {
+    let g = df.column(G)?.cast(&DataType::Int64)?;
+    let k = df.column(K)?.cast(&DataType::Int64)?;
+    let c = df.column(CELL)?.cast(&DataType::Int64)?;
+    let f = df.column(FLAG)?.cast(&DataType::Boolean)?;
+    let n = df.column("n")?.cast(&DataType::Int64)?;
+    let (g, k, c, f, n) = (g.i64()?, k.i64()?, c.i64()?, f.bool()?, n.i64()?);
+    Ok((0..df.height())
+        .filter_map(|i| Some((g.get(i)? as usize, k.get(i)? as u32, c.get(i)?, f.get(i)?, n.get(i)? as u64)))
+        .collect())
+}
+
+/// Durations of `variable` (`D` or `H`) per (group, k, cell, censored).
+fn duration_counts(data: &Dataset, stick: bool, max_index: u32, rho: f64) -> PolarsResult<Counts> {
+    let (list, n_own, n_other) = if stick { (name::STICK_DURATION, name::N_STICK, name::N_SLIP) } else { (name::SLIP_DURATION, name::N_SLIP, name::N_STICK) };
+    let (own, other) = (col(n_own).cast(DataType::Int64), col(n_other).cast(DataType::Int64));
+    // the one censoring rule (`observables::censored`): the last interval, cut at t_a
+    let last_cut = col(name::LAST_TRUNCATED).and(if stick { own.clone().gt(other) } else { own.clone().eq(other) });
+    let df = frame(data)?
+        .select([group(), col(list), positions(list), own.alias("__n"), last_cut.alias("__cut")])
+        .explode(by_name([list, K], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false })
+        .select([
+            col(G),
+            clamp_k(max_index),
+            (col(list) / lit(rho)).cast(DataType::Int64).alias(CELL), // ⌊d/ρ⌋: d ≥ 0
+            col("__cut").and(col(K).eq(col("__n"))).alias(FLAG),
+        ])
+        .group_by([col(G), col(K), col(CELL), col(FLAG)])
+        .agg([len().cast(DataType::Int64).alias("n")])
+        .collect_with_engine(Engine::Streaming)?
+        .unwrap_single();
+    counts(&df)
+}
+
+/// The holding-time cell ⌊d_s(x)/ρ⌋ of each entry position under belt velocity `v`.
+fn holding_cell(x: Expr, p: Physics, v: f64, rho: f64, top: i64) -> Expr {
+    x.map(
+        move |c: Column| {
+            let out: Int64Chunked = c.f64()?.iter().map(|x| x.map(|x| (p.stick_duration(x, v) / rho).floor().min(top as f64) as i64)).collect();
+            Ok(out.with_name(c.name().clone()).into_column())
+        },
+        |_, f| Ok(Field::new(f.name().clone(), DataType::Int64)),
+    )
+}
+
+/// Stick entries per (group, k, belt state forward?, holding-time cell).
+fn entry_counts(data: &Dataset, p: Physics, (v_f, v_r): (f64, f64), max_index: u32, rho: f64, top: i64) -> PolarsResult<Counts> {
+    let (x, v) = (name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY);
+    let df = frame(data)?
+        .select([group(), col(x), col(v), positions(x)])
+        .explode(by_name([x, v, K], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false })
+        .select([
+            col(G),
+            clamp_k(max_index),
+            when(col(v).gt(lit(0.0))).then(holding_cell(col(x), p, v_f, rho, top)).otherwise(holding_cell(col(x), p, -v_r, rho, top)).alias(CELL),
+            col(v).gt(lit(0.0)).alias(FLAG),
+        ])
+        .group_by([col(G), col(K), col(CELL), col(FLAG)])
+        .agg([len().cast(DataType::Int64).alias("n")])
+        .collect_with_engine(Engine::Streaming)?
+        .unwrap_single();
+    counts(&df)
+}
+
+/// The number of `breakaway` ends in each row's `stick_end` list.
+fn breakaways() -> Expr {
+    use polars_arrow::array::{Array, Utf8ViewArray};
+    col(name::STICK_END)
+        .map(
+            |c: Column| {
+                let ca = c.list()?.rechunk();
+                let mut out: Vec<Option<i64>> = Vec::with_capacity(ca.len());
+                for arr in ca.downcast_iter() {
+                    let values = arr.values().as_any().downcast_ref::<Utf8ViewArray>().ok_or_else(|| polars_err!(SchemaMismatch: "column `stick_end` is not a list of strings"))?;
+                    let o = arr.offsets().as_slice();
+                    out.extend((0..arr.len()).map(|r| arr.is_valid(r).then(|| (o[r] as usize..o[r + 1] as usize).filter(|&i| values.value(i) == StickEnd::Breakaway.name()).count() as i64)));
+                }
+                Ok(Int64Chunked::from_iter_options(c.name().clone(), out.into_iter()).into_column())
+            },
+            |_, f| Ok(Field::new(f.name().clone(), DataType::Int64)),
+        )
+        .alias("__breakaways")
+}
+
+/// Per group: realizations, sticks, breakaways, and the exceedance counts of each threshold.
+fn extreme_counts(data: &Dataset, opts: &TailOptions) -> PolarsResult<Vec<Vec<u64>>> {
+    let mut aggs = vec![len().cast(DataType::Int64).alias("__rows"), col(name::N_STICK).cast(DataType::Int64).sum().alias("__sticks"), col("__breakaways").sum().alias("__b")];
+    for (i, t) in opts.times.iter().enumerate() {
+        aggs.push(col(name::LONGEST_STICK).gt(lit(*t)).cast(DataType::Int64).sum().alias(format!("__l{i}")));
+    }
+    for (i, s) in opts.severity.iter().enumerate() {
+        aggs.push(col(name::SEVERITY).gt(lit(*s)).cast(DataType::Int64).sum().alias(format!("__s{i}")));
+    }
+    let df = frame(data)?
+        .select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), breakaways()])
+        .group_by([col(G)])
+        .agg(aggs)
+        .collect_with_engine(Engine::Streaming)?
+        .unwrap_single();
+    let mut out = vec![vec![0u64; df.width() - 1]; GROUPS];
+    let g = df.column(G)?.cast(&DataType::Int64)?;
+    for (j, c) in df.columns().iter().skip(1).enumerate() {
+        let c = c.cast(&DataType::Int64)?;
+        for (gi, v) in g.i64()?.iter().zip(c.i64()?.iter()) {
+            if let (Some(gi), Some(v)) = (gi, v) {
+                out[gi as usize][j] = v as u64;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Why the conditional estimator does not hold for this dataset, if it does not.
+fn conditional_refusal(data: &Dataset, v3: bool) -> Option<String> {
+    if !v3 {
+        return Some("the dataset has no stick entry state (schema v1 or v2): simulate it again with this version".into());
+    }
+    let scene = match data.scenario.scene() {
+        Ok(s) => s,
+        Err(e) => return Some(format!("its scene cannot be rebuilt: {e}")),
+    };
+    if !scene.random.is_empty() {
+        return Some("parameters are drawn per realization, so the holding time d_s(x) differs between realizations".into());
+    }
+    None
+}
+
+/// The flip rates (λ forward, λ reverse) and speeds (v_f, v_r) of the belt.
+fn belt_rates(process: &Process) -> ((f64, f64), (f64, f64)) {
+    match process {
+        Process::Symmetric(s) => ((s.switch_rate, s.switch_rate), (s.speed, s.speed)),
+        Process::Telegraph(t) => ((t.forward_rate, t.reverse_rate), (t.forward_speed, t.reverse_speed)),
+    }
+}
+
+/// Whether the dataset has the schema-v3 columns.
+fn has_v3(data: &Dataset) -> PolarsResult<bool> {
+    let schema = scan(&data.files[0], None, false)?.collect_schema()?;
+    Ok([name::STICK_END, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY, name::LONGEST_STICK, name::SEVERITY].iter().all(|c| schema.get(c).is_some()))
+}
+
+/// The tails of one dataset (module docs).
+pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult<Tails> {
+    let t_a = data.scenario.run.duration;
+    let rho = t_a / CELLS_PER_WINDOW;
+    let v3 = has_v3(data)?;
+    let mut out = Tails::default();
+    for (stick, variable) in [(true, "D"), (false, "H")] {
+        let c = duration_counts(data, stick, max_index, rho)?;
+        let top = c.iter().map(|r| r.2).max().unwrap_or(0) + 1;
+        let grid = grid(top, rho, &opts.times);
+        for index in indices(max_index) {
+            let pick = |r: &&(usize, u32, i64, bool, u64)| index.is_none_or(|k| r.1 == k);
+            let kept: Counts = c.iter().filter(pick).copied().collect();
+            if kept.is_empty() {
+                continue;
+            }
+            let naive: Counts = kept.iter().filter(|r| !r.3).copied().collect();
+            for (method, rows) in [("kaplan_meier", &kept), ("naive", &naive)] {
+                let n = rows.iter().map(|r| r.4).sum();
+                let censored = rows.iter().filter(|r| r.3).map(|r| r.4).sum();
+                let points = curve(rows, &grid, product_limit, CLOGLOG);
+                out.curves.push(Curve { variable, index, method, n, censored, points });
+            }
+        }
+        if stick {
+            out.conditional_refused = conditional_refusal(data, v3);
+            if out.conditional_refused.is_none() {
+                let scene = data.scenario.scene().expect("checked by conditional_refusal");
+                let (rates, speeds) = belt_rates(&scene.belt.process);
+                let cap = (CELLS_PER_WINDOW * 1024.0) as i64;
+                let e = entry_counts(data, scene.params.per_unit_mass(), speeds, max_index, rho, cap)?;
+                for index in indices(max_index) {
+                    let kept: Counts = e.iter().filter(|r| index.is_none_or(|k| r.1 == k)).copied().collect();
+                    if kept.is_empty() {
+                        continue;
+                    }
+                    let n = kept.iter().map(|r| r.4).sum();
+                    let estimator = move |cells: &[i64], counts: &[[u64; 2]], at: &[i64]| conditional(cells, counts, at, rho, rates);
+                    let points = curve(&kept, &grid, estimator, LN);
+                    out.curves.push(Curve { variable, index, method: "conditional", n, censored: 0, points });
+                }
+            }
+        }
+    }
+    if v3 {
+        let per_group = extreme_counts(data, opts)?;
+        let total = |j: usize, g: Option<usize>| -> u64 { per_group.iter().enumerate().filter(|(h, _)| Some(*h) != g).map(|(_, r)| r[j]).sum() };
+        let ratio = |num: usize, den: usize, g: Option<usize>| -> Option<f64> { (total(den, g) > 0).then(|| total(num, g) as f64 / total(den, g) as f64) };
+        let mut push = |statistic: &'static str, threshold: Option<f64>, num: usize, den: usize| {
+            let Some(value) = ratio(num, den, None) else { return };
+            let loo: Vec<Option<f64>> = (0..GROUPS).map(|g| ratio(num, den, Some(g))).collect();
+            out.exceedances.push(Exceedance { statistic, threshold, value, interval: transformed(value, &loo, LN), n: total(den, None) });
+        };
+        push("breakaway_fraction", None, 2, 1);
+        for (i, t) in opts.times.iter().enumerate() {
+            push("longest_stick", Some(*t), 3 + i, 0);
+        }
+        for (i, s) in opts.severity.iter().enumerate() {
+            push("severity", Some(*s), 3 + opts.times.len() + i, 0);
+        }
+    }
+    Ok(out)
+}
+
+/// None (pooled), then k = 1..=max_index.
+fn indices(max_index: u32) -> impl Iterator<Item = Option<u32>> {
+    std::iter::once(None).chain((1..=max_index).map(Some))
+}
+
+/// The evaluation points: `CURVE_POINTS` cells evenly up to `top` cells, and the user's times
+/// (t, cell ⌊t/ρ⌋), in increasing t.
+fn grid(top: i64, rho: f64, times: &[f64]) -> Vec<(f64, i64)> {
+    let mut g: Vec<(f64, i64)> = (0..=CURVE_POINTS as i64).map(|j| j * top / CURVE_POINTS as i64).map(|c| (c as f64 * rho, c)).collect();
+    g.extend(times.iter().map(|&t| (t, (t / rho).floor() as i64)));
+    g.sort_by(|a, b| a.0.total_cmp(&b.0));
+    g.dedup();
+    g
+}
+
+/// Counts of (group, cell, flag) rows on one sorted axis of cells: `[count without the flag,
+/// with it]` per cell, in total and per group (so that each leave-one-group-out sample is the
+/// total minus one group, read in one pass).
+struct Axis {
+    cells: Vec<i64>,
+    total: Vec<[u64; 2]>,
+    groups: Vec<Vec<[u64; 2]>>,
+}
+
+impl Axis {
+    fn new(rows: &[(usize, i64, bool, u64)]) -> Axis {
+        let mut cells: Vec<i64> = rows.iter().map(|r| r.1).collect();
+        cells.sort_unstable();
+        cells.dedup();
+        let mut groups = vec![vec![[0u64; 2]; cells.len()]; GROUPS];
+        for &(g, c, flag, n) in rows {
+            let i = cells.binary_search(&c).expect("every cell is on the axis");
+            groups[g][i][flag as usize] += n;
+        }
+        let total = (0..cells.len()).map(|i| groups.iter().fold([0, 0], |a, g| [a[0] + g[i][0], a[1] + g[i][1]])).collect();
+        Axis { cells, total, groups }
+    }
+
+    /// The counts without group `g` (all with None).
+    fn without(&self, g: Option<usize>) -> Vec<[u64; 2]> {
+        match g {
+            None => self.total.clone(),
+            Some(g) => self.total.iter().zip(&self.groups[g]).map(|(t, x)| [t[0] - x[0], t[1] - x[1]]).collect(),
+        }
+    }
+}
+
+/// A curve with its jackknife band on the scale `scale` (and its inverse); `estimate` maps the
+/// axis' cells, their counts and the grid's cells to the curve's values.
+fn curve(rows: &Counts, grid: &[(f64, i64)], estimate: impl Fn(&[i64], &[[u64; 2]], &[i64]) -> Vec<f64>, scale: (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Vec<(f64, f64, Option<Interval>)> {
+    let at: Vec<i64> = grid.iter().map(|g| g.1).collect();
+    let axis = Axis::new(&rows.iter().map(|r| (r.0, r.2, r.3, r.4)).collect::<Vec<_>>());
+    let full = estimate(&axis.cells, &axis.without(None), &at);
+    let loo: Vec<Vec<f64>> = (0..GROUPS).map(|g| estimate(&axis.cells, &axis.without(Some(g)), &at)).collect();
+    grid.iter()
+        .enumerate()
+        .map(|(j, &(t, _))| {
+            let column: Vec<Option<f64>> = loo.iter().map(|l| Some(l[j])).collect();
+            (t, full[j], transformed(full[j], &column, scale))
+        })
+        .collect()
+}
+
+/// The jackknife interval of `value` on a transformed scale, mapped back; None where the
+/// transform is undefined for the estimate or any leave-one-out value.
+fn transformed(value: f64, loo: &[Option<f64>], (to, back): (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Option<Interval> {
+    let t = to(value)?;
+    let l: Option<Vec<Option<f64>>> = loo.iter().map(|x| x.and_then(to).map(Some)).collect();
+    let (a, b) = jackknife::interval(Some(t), &l?)?;
+    let (a, b) = (back(a), back(b));
+    Some((a.min(b), a.max(b)))
+}
+
+/// ln(−ln S) and back, for S in (0, 1).
+const CLOGLOG: (fn(f64) -> Option<f64>, fn(f64) -> f64) = (|s| (s > 0.0 && s < 1.0).then(|| (-s.ln()).ln()), |y| (-y.exp()).exp());
+/// ln p and back, for p > 0.
+const LN: (fn(f64) -> Option<f64>, fn(f64) -> f64) = (|p| (p > 0.0).then(|| p.ln()), f64::exp);
+
+/// The product limit at the cells `at` (increasing) from the sorted `cells` and their counts
+/// [events, censored] (module docs): S just after the events of the cells below each.
+fn product_limit(cells: &[i64], counts: &[[u64; 2]], at: &[i64]) -> Vec<f64> {
+    let mut at_risk: u64 = counts.iter().map(|c| c[0] + c[1]).sum();
+    let (mut s, mut i) = (1.0, 0);
+    at.iter()
+        .map(|&t| {
+            while i < cells.len() && cells[i] < t {
+                let [events, cut] = counts[i];
+                if at_risk > 0 {
+                    s *= 1.0 - events as f64 / at_risk as f64;
+                }
+                at_risk -= events + cut;
+                i += 1;
+            }
+            s
+        })
+        .collect()
+}
+
+/// The conditional estimator at the cells `at` from the sorted holding-time `cells` and their
+/// counts [reverse state, forward state]: (1/N) Σ_s exp(−λ_s t) #{entries in s held past t}.
+fn conditional(cells: &[i64], counts: &[[u64; 2]], at: &[i64], rho: f64, (rate_f, rate_r): (f64, f64)) -> Vec<f64> {
+    // suffix sums: entries held at or past each cell, per state
+    let mut held = vec![[0u64; 2]; cells.len() + 1];
+    for i in (0..cells.len()).rev() {
+        held[i] = [held[i + 1][0] + counts[i][0], held[i + 1][1] + counts[i][1]];
+    }
+    let n = held[0][0] + held[0][1];
+    at.iter()
+        .map(|&c| {
+            if n == 0 {
+                return 0.0;
+            }
+            let t = c as f64 * rho;
+            let [r, f] = held[cells.partition_point(|&x| x < c)];
+            ((-rate_f * t).exp() * f as f64 + (-rate_r * t).exp() * r as f64) / n as f64
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn product_limit_matches_a_hand_computation() {
+        // cells 1, 2 (censored), 3, 3, 5: S after cell 1 = 4/5, after 3 = 4/5 · (1 − 2/3)
+        let (cells, counts) = ([1, 2, 3, 5], [[1, 0], [0, 1], [2, 0], [1, 0]]);
+        let s = product_limit(&cells, &counts, &[0, 1, 2, 3, 4, 6]);
+        let expect = [1.0, 1.0, 0.8, 0.8, 0.8 * (1.0 - 2.0 / 3.0), 0.0];
+        for (a, b) in s.iter().zip(expect) {
+            assert!((a - b).abs() < 1e-15, "{s:?}");
+        }
+        // without censoring it is the empirical survival
+        assert_eq!(product_limit(&[1, 4], &[[2, 0], [3, 0]], &[1, 2, 5]), [1.0, 0.6, 0.0]);
+    }
+
+    #[test]
+    fn conditional_is_the_mean_of_the_per_entry_survivals() {
+        // two entries held to cell 10 (forward, λ = 1), one to cell 3 (reverse, λ = 2); ρ = 0.1
+        let s = conditional(&[3, 10], &[[1, 0], [0, 2]], &[0, 2, 5], 0.1, (1.0, 2.0));
+        assert!((s[0] - 1.0).abs() < 1e-15);
+        assert!((s[1] - (2.0 * (-0.2f64).exp() + (-0.4f64).exp()) / 3.0).abs() < 1e-15);
+        assert!((s[2] - 2.0 * (-0.5f64).exp() / 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn leave_one_group_out_counts_are_the_total_minus_the_group() {
+        let rows = [(0, 5, false, 2), (1, 5, true, 1), (0, 7, false, 4)];
+        let axis = Axis::new(&rows);
+        assert_eq!(axis.cells, [5, 7]);
+        assert_eq!(axis.without(None), [[2, 1], [4, 0]]);
+        assert_eq!(axis.without(Some(0)), [[0, 1], [0, 0]]);
+    }
+}
