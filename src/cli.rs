@@ -499,7 +499,8 @@ fn reproduce_command(args: ReproduceArgs, quiet: bool) -> anyhow::Result<()> {
     let mut run = args.run;
     run.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
     simulate_command(SimulateArgs { out: layout.dataset.clone(), shard: Shard::WHOLE, run }, quiet)?;
-    let opts = analysis::Options { progress: !quiet && std::io::stderr().is_terminal(), ..Default::default() };
+    let tail = analysis::tails::TailOptions { times: analysis::tails::PAPER_TAIL_TIMES.to_vec(), ..analysis::Options::default().tail };
+    let opts = analysis::Options { progress: !quiet && std::io::stderr().is_terminal(), tail, ..Default::default() };
     let cells = analyze_and_print(&layout.dataset, &layout.analysis, &opts, quiet)?;
     figures_command(&layout.analysis, &layout.figures, quiet)?;
     // one report per sweep cell (a plain dataset is the single cell with the empty path)

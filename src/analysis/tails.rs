@@ -15,7 +15,11 @@
 //! **Kaplan–Meier (product limit).** With n_c intervals at risk (duration ≥ the cell) and e_c of
 //! them ending in cell c, `S(t) = Π_{cells before t} (1 − e_c / n_c)`; a censored interval (the
 //! one running at t_a, whose length is only a lower bound) leaves the risk set without an event.
-//! It estimates P(D > t) for the duration D of a stick begun in [0, t_a], however long it lasts.
+//! It estimates P(D > t) for the duration D of a stick begun in [0, t_a], however long it lasts,
+//! when a stick's duration does not depend on when it began; near t = 0 the law of the entry
+//! state still changes with time, so in a short window (where early sticks are the only ones
+//! observed long) it can differ slightly from the conditional estimator below, which has no such
+//! assumption.
 //! The **naive** curve drops the censored intervals and takes the empirical survival of the rest:
 //! it is biased low wherever long intervals are the ones the horizon cuts.
 //!
@@ -53,6 +57,10 @@ use crate::physics::Physics;
 
 /// Time cells per t_a (module docs).
 const CELLS_PER_WINDOW: f64 = 65_536.0;
+/// The times `reproduce` asks of the paper scene's tails [s]: up to its longest sticks (≈ 2.4 s,
+/// the holding time from the far end of the stick region).
+pub const PAPER_TAIL_TIMES: [f64; 5] = [0.5, 1.0, 1.5, 2.0, 2.4];
+
 /// Points of each curve between 0 and its largest duration.
 pub const CURVE_POINTS: usize = 200;
 
@@ -333,7 +341,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
                         continue;
                     }
                     let n = kept.iter().map(|r| r.4).sum();
-                    let estimator = move |cells: &[i64], counts: &[[u64; 2]], at: &[i64]| conditional(cells, counts, at, rho, rates);
+                    let estimator = move |cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]| conditional(cells, counts, at, rates);
                     let points = curve(&kept, &grid, estimator, LN);
                     out.curves.push(Curve { variable, index, method: "conditional", n, censored: 0, points });
                 }
@@ -408,9 +416,9 @@ impl Axis {
 }
 
 /// A curve with its jackknife band on the scale `scale` (and its inverse); `estimate` maps the
-/// axis' cells, their counts and the grid's cells to the curve's values.
-fn curve(rows: &Counts, grid: &[(f64, i64)], estimate: impl Fn(&[i64], &[[u64; 2]], &[i64]) -> Vec<f64>, scale: (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Vec<(f64, f64, Option<Interval>)> {
-    let at: Vec<i64> = grid.iter().map(|g| g.1).collect();
+/// axis' cells, their counts and the grid's (t, cell) to the curve's values.
+fn curve(rows: &Counts, grid: &[(f64, i64)], estimate: impl Fn(&[i64], &[[u64; 2]], &[(f64, i64)]) -> Vec<f64>, scale: (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Vec<(f64, f64, Option<Interval>)> {
+    let at = grid;
     let axis = Axis::new(&rows.iter().map(|r| (r.0, r.2, r.3, r.4)).collect::<Vec<_>>());
     let full = estimate(&axis.cells, &axis.without(None), &at);
     let loo: Vec<Vec<f64>> = (0..GROUPS).map(|g| estimate(&axis.cells, &axis.without(Some(g)), &at)).collect();
@@ -438,13 +446,13 @@ const CLOGLOG: (fn(f64) -> Option<f64>, fn(f64) -> f64) = (|s| (s > 0.0 && s < 1
 /// ln p and back, for p > 0.
 const LN: (fn(f64) -> Option<f64>, fn(f64) -> f64) = (|p| (p > 0.0).then(|| p.ln()), f64::exp);
 
-/// The product limit at the cells `at` (increasing) from the sorted `cells` and their counts
-/// [events, censored] (module docs): S just after the events of the cells below each.
-fn product_limit(cells: &[i64], counts: &[[u64; 2]], at: &[i64]) -> Vec<f64> {
+/// The product limit at the grid's cells `at` (increasing) from the sorted `cells` and their
+/// counts [events, censored] (module docs): S just after the events of the cells below each.
+fn product_limit(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]) -> Vec<f64> {
     let mut at_risk: u64 = counts.iter().map(|c| c[0] + c[1]).sum();
     let (mut s, mut i) = (1.0, 0);
     at.iter()
-        .map(|&t| {
+        .map(|&(_, t)| {
             while i < cells.len() && cells[i] < t {
                 let [events, cut] = counts[i];
                 if at_risk > 0 {
@@ -458,9 +466,10 @@ fn product_limit(cells: &[i64], counts: &[[u64; 2]], at: &[i64]) -> Vec<f64> {
         .collect()
 }
 
-/// The conditional estimator at the cells `at` from the sorted holding-time `cells` and their
-/// counts [reverse state, forward state]: (1/N) Σ_s exp(−λ_s t) #{entries in s held past t}.
-fn conditional(cells: &[i64], counts: &[[u64; 2]], at: &[i64], rho: f64, (rate_f, rate_r): (f64, f64)) -> Vec<f64> {
+/// The conditional estimator at the grid's (t, cell) `at` from the sorted holding-time `cells`
+/// and their counts [reverse state, forward state]: (1/N) Σ_s exp(−λ_s t) #{entries in s held
+/// past t} (the exponential at t itself, the holding times by cell).
+fn conditional(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)], (rate_f, rate_r): (f64, f64)) -> Vec<f64> {
     // suffix sums: entries held at or past each cell, per state
     let mut held = vec![[0u64; 2]; cells.len() + 1];
     for i in (0..cells.len()).rev() {
@@ -468,11 +477,10 @@ fn conditional(cells: &[i64], counts: &[[u64; 2]], at: &[i64], rho: f64, (rate_f
     }
     let n = held[0][0] + held[0][1];
     at.iter()
-        .map(|&c| {
+        .map(|&(t, c)| {
             if n == 0 {
                 return 0.0;
             }
-            let t = c as f64 * rho;
             let [r, f] = held[cells.partition_point(|&x| x < c)];
             ((-rate_f * t).exp() * f as f64 + (-rate_r * t).exp() * r as f64) / n as f64
         })
@@ -487,19 +495,20 @@ mod tests {
     fn product_limit_matches_a_hand_computation() {
         // cells 1, 2 (censored), 3, 3, 5: S after cell 1 = 4/5, after 3 = 4/5 · (1 − 2/3)
         let (cells, counts) = ([1, 2, 3, 5], [[1, 0], [0, 1], [2, 0], [1, 0]]);
-        let s = product_limit(&cells, &counts, &[0, 1, 2, 3, 4, 6]);
+        let grid = |cells: &[i64]| cells.iter().map(|&c| (c as f64, c)).collect::<Vec<_>>();
+        let s = product_limit(&cells, &counts, &grid(&[0, 1, 2, 3, 4, 6]));
         let expect = [1.0, 1.0, 0.8, 0.8, 0.8 * (1.0 - 2.0 / 3.0), 0.0];
         for (a, b) in s.iter().zip(expect) {
             assert!((a - b).abs() < 1e-15, "{s:?}");
         }
         // without censoring it is the empirical survival
-        assert_eq!(product_limit(&[1, 4], &[[2, 0], [3, 0]], &[1, 2, 5]), [1.0, 0.6, 0.0]);
+        assert_eq!(product_limit(&[1, 4], &[[2, 0], [3, 0]], &grid(&[1, 2, 5])), [1.0, 0.6, 0.0]);
     }
 
     #[test]
     fn conditional_is_the_mean_of_the_per_entry_survivals() {
         // two entries held to cell 10 (forward, λ = 1), one to cell 3 (reverse, λ = 2); ρ = 0.1
-        let s = conditional(&[3, 10], &[[1, 0], [0, 2]], &[0, 2, 5], 0.1, (1.0, 2.0));
+        let s = conditional(&[3, 10], &[[1, 0], [0, 2]], &[(0.0, 0), (0.2, 2), (0.5, 5)], (1.0, 2.0));
         assert!((s[0] - 1.0).abs() < 1e-15);
         assert!((s[1] - (2.0 * (-0.2f64).exp() + (-0.4f64).exp()) / 3.0).abs() < 1e-15);
         assert!((s[2] - 2.0 * (-0.5f64).exp() / 3.0).abs() < 1e-15);
