@@ -74,6 +74,8 @@ pub mod columns {
 
     /// The per-stick float lists of schema v3, one value per stick.
     pub const STICK_LISTS: [&str; 2] = [STICK_ENTRY_POSITION, STICK_ENTRY_VELOCITY];
+    /// The columns the tails' analysis needs beyond schema v2 (`analysis::tails`).
+    pub const TAILS_STATE: [&str; 5] = [STICK_END, STICK_ENTRY_POSITION, STICK_ENTRY_VELOCITY, LONGEST_STICK, SEVERITY];
     /// The per-realization floats of schema v3.
     pub const TAIL_SCALARS: [&str; 6] = [LONGEST_STICK, STICK_FRACTION, MIN_VELOCITY, MAX_VELOCITY, MAX_SLIP_SPEED, SEVERITY];
 
@@ -242,7 +244,7 @@ impl Rows {
         self.stick_lists[0].push(&rec.stick_entry_position);
         self.stick_lists[1].push(&rec.stick_entry_velocity);
         let t_a = out.t_a;
-        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed, rec.severity];
+        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed, rec.severity(out.forward_speed)];
         for (col, x) in self.tail_scalars.iter_mut().zip(tails) {
             col.push(x);
         }

@@ -40,6 +40,8 @@ pub struct Outcome {
     pub steps: u64,
     /// the window t_a, s
     pub t_a: f64,
+    /// the forward belt speed v0 (drawn, when it is random), m/s: the severity's scale
+    pub forward_speed: f64,
     switches: Vec<f64>,
     velocities: Vec<f64>,
 }
@@ -154,8 +156,7 @@ impl Ensemble {
             .solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);
-        out.record.finish_severity(belt.speeds().0);
-        out.t_a = belt.duration;
+        (out.t_a, out.forward_speed) = (belt.duration, belt.speeds().0);
         Ok(())
     }
 

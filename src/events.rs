@@ -94,9 +94,6 @@ pub struct Record {
     pub max_velocity: f64,
     /// the largest slip speed |v − ẋ| on [0, t_a], m/s (0 for a motion always stuck)
     pub max_slip_speed: f64,
-    /// the severity (max ẋ − min ẋ)/(2 v₀) with v₀ the forward belt speed (set by
-    /// [`Record::finish_severity`]; 0 before)
-    pub severity: f64,
     in_stick: bool,
 }
 
@@ -114,7 +111,6 @@ impl Default for Record {
             min_velocity: f64::INFINITY,
             max_velocity: f64::NEG_INFINITY,
             max_slip_speed: 0.0,
-            severity: 0.0,
             in_stick: false,
         }
     }
@@ -130,7 +126,7 @@ impl Record {
         self.stick_entry_position.clear();
         self.stick_entry_velocity.clear();
         self.last_truncated = false;
-        (self.min_velocity, self.max_velocity, self.max_slip_speed, self.severity) = (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0.0);
+        (self.min_velocity, self.max_velocity, self.max_slip_speed) = (f64::INFINITY, f64::NEG_INFINITY, 0.0);
         self.in_stick = false;
     }
 
@@ -153,8 +149,8 @@ impl Record {
     /// the mass velocity over [0, t_a] in units of 2 v₀ (1 for a mass that only follows a
     /// symmetric belt; drilling practice calls (ω_max − ω_min)/(2 ω_mean) the stick-slip
     /// severity).
-    pub fn finish_severity(&mut self, v0: f64) {
-        self.severity = (self.max_velocity - self.min_velocity) / (2.0 * v0);
+    pub fn severity(&self, v0: f64) -> f64 {
+        (self.max_velocity - self.min_velocity) / (2.0 * v0)
     }
 
     /// S_T

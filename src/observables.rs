@@ -196,10 +196,10 @@ impl Observable {
             Observable::Sticks => Some(r.n_stick() as f64),
             Observable::Slips => Some(r.n_slip() as f64),
             Observable::Switches => Some(switch_times.len() as f64),
-            Observable::StickFraction => Some(r.stick_duration.iter().sum::<f64>() / duration),
+            Observable::StickFraction => Some(r.stick_fraction(duration)),
             Observable::MeanStickDuration => mean(&r.stick_duration, true),
             Observable::MeanSlipDuration => mean(&r.slip_duration, false),
-            Observable::LongestStick => Some(r.stick_duration.iter().fold(0.0, |m: f64, d| m.max(*d))),
+            Observable::LongestStick => Some(r.longest_stick()),
         }
     }
 
@@ -259,7 +259,7 @@ fn count_column(name: &str) -> Expr {
 
 /// Whether the last interval was a stick (`stick`) or a slip cut at t_a: the rule of
 /// [`censored`], as columns.
-fn last_cut(stick: bool) -> Expr {
+pub(crate) fn last_cut(stick: bool) -> Expr {
     let (n_stick, n_slip) = (count_column(name::N_STICK), count_column(name::N_SLIP));
     col(name::LAST_TRUNCATED).and(if stick { n_stick.gt(n_slip) } else { n_stick.eq(n_slip) })
 }

@@ -36,6 +36,8 @@ pub struct Dataset {
     pub missing: Vec<std::ops::Range<u64>>,
     pub scenario: Scenario,
     pub switch_times: bool,
+    /// whether the parts have the tails' state of schema v3 (`columns::TAILS_STATE`)
+    pub tails_state: bool,
     /// The directory of the trajectory tables beside the dataset ([`crate::trajectory::dir_for`]),
     /// when the simulation sampled trajectories.
     pub trajectories: Option<PathBuf>,
@@ -114,6 +116,8 @@ struct Part {
     rows: u64,
     scenario: String,
     switch_times: bool,
+    /// the schema-v3 columns of the tails' state
+    tails_state: bool,
     /// `stickslip.realizations`: the whole run's size
     total: u64,
     /// `stickslip.realization_range`
@@ -148,6 +152,7 @@ fn check(path: &Path) -> Result<Part, InputError> {
     }
     let scenario = get(meta::SCENARIO).ok_or_else(|| bad(path, format!("no {} in its metadata", meta::SCENARIO)))?;
     let switch_times = schema.field_with_name(crate::dataset::columns::SWITCH_TIMES).is_ok();
+    let tails_state = crate::dataset::columns::TAILS_STATE.iter().all(|c| schema.field_with_name(c).is_ok());
     let number = |key: &str| -> Result<u64, InputError> {
         get(key).and_then(|v| v.trim().parse().ok()).ok_or_else(|| bad(path, format!("no valid {key} in its metadata")))
     };
@@ -172,7 +177,7 @@ fn check(path: &Path) -> Result<Part, InputError> {
             return Err(bad(path, "its stickslip.shard_block does not hold its realization_range"));
         }
     }
-    Ok(Part { rows, scenario, switch_times, total, range, block, stamp })
+    Ok(Part { rows, scenario, switch_times, tails_state, total, range, block, stamp })
 }
 
 /// Find and check the dataset below `dir` (a single scenario, complete).
@@ -224,8 +229,11 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         if p.switch_times != p0.switch_times {
             return Err(bad(f, format!("switch_times column differs from {}", first.display())));
         }
+        if p.tails_state != p0.tails_state {
+            return Err(bad(f, format!("has {} the tails' columns (schema v3) of {}", if p.tails_state { "" } else { "not" }, first.display())));
+        }
     }
-    let (toml, switch_times, total, first) = (p0.scenario.clone(), p0.switch_times, p0.total, first.clone());
+    let (toml, switch_times, tails_state, total, first) = (p0.scenario.clone(), p0.switch_times, p0.tails_state, p0.total, first.clone());
     parts.sort_by_key(|(f, p)| (p.range.start, p.range.end, f.clone()));
     let mut missing = Vec::new();
     // `next`: the end of the parts so far; `intended`: where the previous part's block ends (a
@@ -286,6 +294,7 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         missing,
         scenario,
         switch_times,
+        tails_state,
         trajectories,
     })
 }
@@ -304,6 +313,13 @@ pub(crate) fn scan(path: &Path, n_rows: Option<usize>, row_index: bool) -> polar
         ..Default::default()
     };
     LazyFrame::scan_parquet(PlRefPath::new(path.to_string_lossy().as_ref()), args)
+}
+
+/// One lazy frame of every part file of `data`, in realization order if `ordered`.
+pub(crate) fn scan_all(data: &Dataset, ordered: bool) -> polars::prelude::PolarsResult<polars::prelude::LazyFrame> {
+    use polars::prelude::*;
+    let files = data.files.iter().map(|f| scan(f, None, false)).collect::<PolarsResult<Vec<_>>>()?;
+    concat(files, UnionArgs { maintain_order: ordered, ..Default::default() })
 }
 
 #[cfg(test)]

@@ -202,8 +202,7 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
         cols.extend(plan.series.iter().enumerate().map(|(i, o)| o.expr(t_a).alias(value(i))));
         // the first realizations of the cell, whatever files they are in (the pilot, and so the
         // results, must not depend on how the dataset is split)
-        let files = data.files.iter().map(|f| scan(f, None, false)).collect::<PolarsResult<Vec<_>>>()?;
-        let all = concat(files, UnionArgs { maintain_order: true, ..Default::default() })?;
+        let all = super::input::scan_all(data, true)?;
         let df = all.slice(0, PILOT_ROWS as IdxSize).select(cols).collect_with_engine(Engine::Streaming)?.unwrap_single();
         let groups: Vec<i64> = df.column(GROUP)?.i64()?.into_no_null_iter().collect();
         let values = |i: usize| -> PolarsResult<Vec<Option<f64>>> { Ok(df.column(&value(i))?.f64()?.iter().collect()) };

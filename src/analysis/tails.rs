@@ -48,7 +48,7 @@
 
 use polars::prelude::*;
 
-use super::input::{scan, Dataset};
+use super::input::{scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
 use crate::belt::Process;
 use crate::dataset::columns as name;
@@ -147,10 +147,9 @@ fn positions(list: &'static str) -> Expr {
         .alias(K)
 }
 
-/// One frame of every part file of `data` (realization order).
+/// One frame of every part file of `data` (any order: the counts do not depend on it).
 fn frame(data: &Dataset) -> PolarsResult<LazyFrame> {
-    let files = data.files.iter().map(|f| scan(f, None, false)).collect::<PolarsResult<Vec<_>>>()?;
-    concat(files, UnionArgs { maintain_order: false, ..Default::default() })
+    scan_all(data, false)
 }
 
 fn group() -> Expr {
@@ -177,12 +176,10 @@ fn counts(df: &DataFrame) -> PolarsResult<Counts> {
 
 /// Durations of `variable` (`D` or `H`) per (group, k, cell, censored).
 fn duration_counts(data: &Dataset, stick: bool, max_index: u32, rho: f64) -> PolarsResult<Counts> {
-    let (list, n_own, n_other) = if stick { (name::STICK_DURATION, name::N_STICK, name::N_SLIP) } else { (name::SLIP_DURATION, name::N_SLIP, name::N_STICK) };
-    let (own, other) = (col(n_own).cast(DataType::Int64), col(n_other).cast(DataType::Int64));
+    let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
     // the one censoring rule (`observables::censored`): the last interval, cut at t_a
-    let last_cut = col(name::LAST_TRUNCATED).and(if stick { own.clone().gt(other) } else { own.clone().eq(other) });
     let df = frame(data)?
-        .select([group(), col(list), positions(list), own.alias("__n"), last_cut.alias("__cut")])
+        .select([group(), col(list), positions(list), col(count).cast(DataType::Int64).alias("__n"), crate::observables::last_cut(stick).alias("__cut")])
         .explode(by_name([list, K], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false })
         .select([
             col(G),
@@ -275,19 +272,16 @@ fn extreme_counts(data: &Dataset, opts: &TailOptions) -> PolarsResult<Vec<Vec<u6
     Ok(out)
 }
 
-/// Why the conditional estimator does not hold for this dataset, if it does not.
-fn conditional_refusal(data: &Dataset, v3: bool) -> Option<String> {
-    if !v3 {
-        return Some("the dataset has no stick entry state (schema v1 or v2): simulate it again with this version".into());
+/// The scene of the conditional estimator, or why it does not hold for this dataset.
+fn conditional_scene(data: &Dataset) -> Result<crate::params::Scene, String> {
+    if !data.tails_state {
+        return Err("the dataset has no stick entry state (schema v1 or v2): simulate it again with this version".into());
     }
-    let scene = match data.scenario.scene() {
-        Ok(s) => s,
-        Err(e) => return Some(format!("its scene cannot be rebuilt: {e}")),
-    };
+    let scene = data.scenario.scene().map_err(|e| format!("its scene cannot be rebuilt: {e}"))?;
     if !scene.random.is_empty() {
-        return Some("parameters are drawn per realization, so the holding time d_s(x) differs between realizations".into());
+        return Err("parameters are drawn per realization, so the holding time d_s(x) differs between realizations".into());
     }
-    None
+    Ok(scene)
 }
 
 /// The flip rates (λ forward, λ reverse) and speeds (v_f, v_r) of the belt.
@@ -298,17 +292,10 @@ fn belt_rates(process: &Process) -> ((f64, f64), (f64, f64)) {
     }
 }
 
-/// Whether the dataset has the schema-v3 columns.
-fn has_v3(data: &Dataset) -> PolarsResult<bool> {
-    let schema = scan(&data.files[0], None, false)?.collect_schema()?;
-    Ok([name::STICK_END, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY, name::LONGEST_STICK, name::SEVERITY].iter().all(|c| schema.get(c).is_some()))
-}
-
 /// The tails of one dataset (module docs).
 pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult<Tails> {
     let t_a = data.scenario.run.duration;
     let rho = t_a / CELLS_PER_WINDOW;
-    let v3 = has_v3(data)?;
     let mut out = Tails::default();
     for (stick, variable) in [(true, "D"), (false, "H")] {
         let c = duration_counts(data, stick, max_index, rho)?;
@@ -329,9 +316,9 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
             }
         }
         if stick {
-            out.conditional_refused = conditional_refusal(data, v3);
-            if out.conditional_refused.is_none() {
-                let scene = data.scenario.scene().expect("checked by conditional_refusal");
+            let scene = conditional_scene(data);
+            out.conditional_refused = scene.as_ref().err().cloned();
+            if let Ok(scene) = scene {
                 let (rates, speeds) = belt_rates(&scene.belt.process);
                 let cap = (CELLS_PER_WINDOW * 1024.0) as i64;
                 let e = entry_counts(data, scene.params.per_unit_mass(), speeds, max_index, rho, cap)?;
@@ -348,7 +335,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
             }
         }
     }
-    if v3 {
+    if data.tails_state {
         let per_group = extreme_counts(data, opts)?;
         let total = |j: usize, g: Option<usize>| -> u64 { per_group.iter().enumerate().filter(|(h, _)| Some(*h) != g).map(|(_, r)| r[j]).sum() };
         let ratio = |num: usize, den: usize, g: Option<usize>| -> Option<f64> { (total(den, g) > 0).then(|| total(num, g) as f64 / total(den, g) as f64) };

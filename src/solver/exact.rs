@@ -36,7 +36,6 @@ pub struct Exact<K> {
     piece: (Phase, f64),
     /// the state `(x, ẋ, ẍ)` where the last advance's slip ended (see [`Exact::slip_end`])
     end: (f64, f64, f64),
-    keep_pieces: bool,
     t: f64,
 }
 
@@ -50,7 +49,6 @@ impl<K: SlipForm> Exact<K> {
             phase,
             piece: (phase, 0.0),
             end: (0.0, 0.0, 0.0),
-            keep_pieces: false,
             t: 0.0,
         }
     }
@@ -170,10 +168,6 @@ impl<K: SlipForm> Method for Exact<K> {
 
     fn time(&self) -> f64 {
         self.t
-    }
-
-    fn keep_pieces(&mut self) {
-        self.keep_pieces = true;
     }
 
     fn state_at(&self, t: f64) -> (f64, f64) {

@@ -50,7 +50,6 @@ pub fn solve_segments(sc: &Scenario, p: &Params, velocities: &[f64], switches: &
     let damped = sc.scene().expect("a valid scene").damped();
     Solver::new(sc.solver(), sc.numerics, damped).solve(&p.per_unit_mass(), &drive, x0, xdot0, &mut rec).expect("solves");
     rec.finish(sc.run.duration);
-    rec.finish_severity(sc.scene().expect("a valid scene").belt.speeds().0);
     rec
 }
 
@@ -109,12 +108,7 @@ pub fn check_invariants(sc: &Scenario, o: &Outcome, strict: bool) -> Result<(), 
     // its end.
     let p = o.params;
     let (k, c, fmax) = (p.stiffness, p.damping, p.static_ * p.normal_force);
-    let mut traced = solve_segments(sc, &p, o.velocities(), o.switches(), o.x0, o.xdot0);
-    // (the severity's scale is the realization's forward belt speed, drawn when the speed is
-    // random: the re-solve knows only the segments)
-    if (traced.severity - r.severity).abs() > 0.0 && r.max_velocity - r.min_velocity == traced.max_velocity - traced.min_velocity {
-        traced.severity = r.severity;
-    }
+    let traced = solve_segments(sc, &p, o.velocities(), o.switches(), o.x0, o.xdot0);
     if traced != *r {
         return Err("re-solving the same drive gave a different record".into());
     }
