@@ -141,7 +141,7 @@ fn bin_expr(x: Expr, exp: i32) -> Expr {
 #[allow(clippy::too_many_arguments)]
 fn file_frame(data: &Dataset, file: usize, cell: usize, (offset, rows): (u64, u64), position: u64, plan: &Plan, pilot: &Pilot, batch: &Batch, n_rules: &mut usize) -> PolarsResult<LazyFrame> {
     let t_a = data.scenario.run.duration;
-    let rules = if batch.extras { rules(data.file_starts[file], t_a, data.switch_times) } else { Vec::new() };
+    let rules = if batch.extras { rules(data.file_starts[file], t_a, data.switch_times, data.tails_state) } else { Vec::new() };
     *n_rules = rules.len();
     // the observables whose values this batch needs: its own, and those of the pairs and the
     // convergence table in the batch that does them

@@ -24,8 +24,9 @@ pub(crate) struct Rule {
 /// The validation rules (see [`locate`] for the messages): realization ids are the part's
 /// declared consecutive range; counts are non-negative and equal their lists' lengths (Q, without
 /// its list, below 2^40); event times are finite and in [0, t_a]; start instants do not
-/// decrease; the stick durations add up to at most t_a; no nulls.
-pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool) -> Vec<Rule> {
+/// decrease; the stick durations add up to at most t_a; no nulls; with the tails' state
+/// (`tails`), one end and one entry state per stick.
+pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool, tails: bool) -> Vec<Rule> {
     let mut out = vec![Rule { bad: col(name::REALIZATION).neq(lit(first as i64) + col(ROW).cast(DataType::Int64)).fill_null(lit(true)) }];
     if !switch_times {
         let q = col(name::N_SWITCHES).cast(DataType::Int64);
@@ -39,7 +40,35 @@ pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool) -> Vec<Rule> {
         out.push(Rule { bad: list_rule(list, count, top, ordered, total) });
     }
     out.push(Rule { bad: col(name::LAST_TRUNCATED).is_null() });
+    for list in PER_STICK.iter().filter(|_| tails) {
+        out.push(Rule { bad: length_rule(list) });
+    }
     out
+}
+
+/// The per-stick lists of schema v3, one element per stick (`n_stick`).
+const PER_STICK: [&str; 3] = [name::STICK_END, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY];
+
+/// True where the list `list` (of any element type) is null or its length differs from `n_stick`.
+fn length_rule(list: &'static str) -> Expr {
+    use polars_arrow::array::Array;
+    col(list).map_many(
+        move |cols: &mut [Column]| {
+            let lists = cols[0].list()?.rechunk();
+            let counts = cols[1].cast(&DataType::Int64)?;
+            let counts = counts.i64()?.rechunk();
+            let bad: BooleanChunked = match (lists.downcast_iter().next(), counts.downcast_iter().next()) {
+                (Some(arr), Some(n)) => {
+                    let o = arr.offsets().as_slice();
+                    (0..arr.len()).map(|r| !arr.is_valid(r) || !n.is_valid(r) || n.value(r) != o[r + 1] - o[r]).collect()
+                }
+                _ => BooleanChunked::full_null("".into(), 0),
+            };
+            Ok(bad.with_name(list.into()).into_column())
+        },
+        &[col(name::N_STICK)],
+        |_, fields| Ok(Field::new(fields[0].name().clone(), DataType::Boolean)),
+    )
 }
 
 /// The rule of a list column and its count as one pass over the values (polars' list kernels
@@ -90,7 +119,7 @@ fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool, t
 pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
     for data in cells {
         for f in 0..data.files.len() {
-            let rules = rules(data.file_starts[f], data.scenario.run.duration, data.switch_times);
+            let rules = rules(data.file_starts[f], data.scenario.run.duration, data.switch_times, data.tails_state);
             let any = rules.iter().map(|r| r.bad.clone()).reduce(|a, b| a.or(b)).expect("rules");
             let found = scan(&data.files[f], None, true).and_then(|lf| lf.filter(any).limit(1).collect());
             let df = match found {
@@ -98,7 +127,7 @@ pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
                 Ok(df) => df,
                 Err(e) => return polars_err!(ComputeError: "{}: {e}", data.files[f].display()),
             };
-            let why = row_problem(&df, data.file_starts[f], data.scenario.run.duration, data.switch_times).unwrap_or_else(|| "a value breaks the dataset's rules".into());
+            let why = row_problem(&df, data.file_starts[f], data.scenario.run.duration, data.switch_times, data.tails_state).unwrap_or_else(|| "a value breaks the dataset's rules".into());
             return polars_err!(ComputeError: "{}: {why}", data.files[f].display());
         }
     }
@@ -107,7 +136,7 @@ pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
 
 /// The message for the first broken rule of a one-row frame (row `__row` of a part whose first
 /// realization is `first`): row, realization, column, and what is wrong.
-fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool) -> Option<String> {
+fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool, tails: bool) -> Option<String> {
     let int = |name: &str| df.column(name).ok()?.cast(&DataType::Int64).ok()?.i64().ok()?.get(0);
     let row = int(ROW)? as u64;
     let id = int(name::REALIZATION);
@@ -146,5 +175,16 @@ fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool) -> 
             q => return at(name::N_SWITCHES, format!("{} (a count of belt changes, from 0 to 2^40)", q.map_or("null".into(), |q| q.to_string()))),
         }
     }
-    df.column(name::LAST_TRUNCATED).ok().filter(|col| col.null_count() > 0).and_then(|_| at(name::LAST_TRUNCATED, "a null value".into()))
+    if let Some(why) = df.column(name::LAST_TRUNCATED).ok().filter(|col| col.null_count() > 0).and_then(|_| at(name::LAST_TRUNCATED, "a null value".into())) {
+        return Some(why);
+    }
+    let n = int(name::N_STICK)?;
+    for c in PER_STICK.iter().filter(|_| tails) {
+        match df.column(c).ok()?.list().ok()?.get_as_series(0) {
+            None => return at(c, "a null list (lists are never null; an empty list is [])".into()),
+            Some(l) if l.len() as i64 != n => return at(c, format!("{} values, but `{}` = {n} (one per stick)", l.len(), name::N_STICK)),
+            Some(_) => {}
+        }
+    }
+    None
 }

@@ -7,10 +7,12 @@
 //! holding times, counted per (group, k, belt state, cell); and per group the exceedances of the
 //! longest stick and the severity and the stick ends by breakaway. Rust finishes on those counts.
 //!
-//! **Time cells.** Durations are counted on cells of width ρ = t_a 2^-16 (0.15 ms at t_a = 10 s):
-//! a duration d is in cell ⌊d/ρ⌋ and an event there is taken to happen at the cell's upper edge,
-//! so a curve at t (evaluated at ⌊t/ρ⌋ρ) misses at most the events in one cell below t. Ties
-//! within a cell follow the usual convention: events before censorings.
+//! **Time cells.** Durations are counted on cells of width ρ = t_a 2^-16 (0.15 ms at t_a = 10 s)
+//! split at the user's times τ (`--tail-times`): d is in cell φ(d) = ⌊d/ρ⌋ + #{τ ≤ d}, so every
+//! cell edge and every τ is a boundary, and a curve read at a grid point or at a τ counts exactly
+//! the durations below it (reading it at ⌊t/ρ⌋ρ instead biased P(D > t) up by f(t)·ρ: 0.5 % at
+//! t = 0.5 s in a 100 s window). Ties within a cell follow the usual convention: events before
+//! censorings.
 //!
 //! **Kaplan–Meier (product limit).** With n_c intervals at risk (duration ≥ the cell) and e_c of
 //! them ending in cell c, `S(t) = Π_{cells before t} (1 − e_c / n_c)`; a censored interval (the
@@ -45,6 +47,11 @@
 //! ([`super::jackknife`]), which keeps that dependence: on the complementary log-log scale
 //! ln(−ln S) for the product-limit and naive curves (bands inside (0, 1)), on the log scale for
 //! the conditional estimator and the exceedances. Where the estimate is 0 or 1 no band is given.
+//! The jackknife needs counts per group; on the fine cells those are a hash table of ~10^6 keys
+//! at 10^6 realizations (most of the tails' cost), so the estimate is taken on the fine cells with
+//! the groups pooled and the leave-one-group-out curves on cells `COARSE` times wider: the
+//! spread of those curves (the jackknife's variance) does not depend on reading each up to one
+//! coarse cell early, and the interval is centred on the fine estimate.
 
 use polars::prelude::*;
 
@@ -57,6 +64,8 @@ use crate::physics::Physics;
 
 /// Time cells per t_a (module docs).
 const CELLS_PER_WINDOW: f64 = 65_536.0;
+/// Time cells per cell of the leave-one-group-out curves (module docs).
+const COARSE: i64 = 32;
 /// The times `reproduce` asks of the paper scene's tails [s]: up to its longest sticks (≈ 2.4 s,
 /// the holding time from the far end of the stick region).
 pub const PAPER_TAIL_TIMES: [f64; 5] = [0.5, 1.0, 1.5, 2.0, 2.4];
@@ -162,66 +171,97 @@ fn clamp_k(max_index: u32) -> Expr {
     when(col(K).gt(lit(top))).then(lit(top)).otherwise(col(K)).cast(DataType::Int64).alias(K)
 }
 
-fn counts(df: &DataFrame) -> PolarsResult<Counts> {
-    let g = df.column(G)?.cast(&DataType::Int64)?;
-    let k = df.column(K)?.cast(&DataType::Int64)?;
-    let c = df.column(CELL)?.cast(&DataType::Int64)?;
-    let f = df.column(FLAG)?.cast(&DataType::Boolean)?;
+/// The one int64 key of (group, k, cell, flag) (a group-by on one integer column is a flat hash
+/// table; on four it encodes rows as bytes, most of the cost of the tails): key = ((cell·(K+1) +
+/// k)·2 + flag)·GROUPS + g with K = `max_index` + 1, k ≤ K and cell ≥ 0 (< 2^40 with k ≤ 1001).
+fn packed(max_index: u32) -> Expr {
+    let ks = i64::from(max_index) + 2;
+    let cell = col(CELL).cast(DataType::Int64);
+    let key = ((cell * lit(ks) + col(K).cast(DataType::Int64)) * lit(2i64) + col(FLAG).cast(DataType::Int64)) * lit(GROUPS as i64) + col(G).cast(DataType::Int64);
+    key.alias("__key")
+}
+
+/// Counts per packed key (`packed`), decoded.
+fn counts(df: &DataFrame, max_index: u32) -> PolarsResult<Counts> {
+    let ks = i64::from(max_index) + 2;
+    let key = df.column("__key")?.cast(&DataType::Int64)?;
     let n = df.column("n")?.cast(&DataType::Int64)?;
-    let (g, k, c, f, n) = (g.i64()?, k.i64()?, c.i64()?, f.bool()?, n.i64()?);
-    Ok((0..df.height())
-        .filter_map(|i| Some((g.get(i)? as usize, k.get(i)? as u32, c.get(i)?, f.get(i)?, n.get(i)? as u64)))
+    let decode = |key: i64| {
+        let (g, rest) = (key % GROUPS as i64, key / GROUPS as i64);
+        let (flag, rest) = (rest % 2 == 1, rest / 2);
+        (g as usize, (rest % ks) as u32, rest / ks, flag)
+    };
+    Ok(key
+        .i64()?
+        .iter()
+        .zip(n.i64()?.iter())
+        .filter_map(|(key, n)| {
+            let (g, k, c, f) = decode(key?);
+            Some((g, k, c, f, n? as u64))
+        })
         .collect())
 }
 
-/// Durations of `variable` (`D` or `H`) per (group, k, cell, censored).
-fn duration_counts(data: &Dataset, stick: bool, max_index: u32, rho: f64) -> PolarsResult<Counts> {
-    let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
-    // the one censoring rule (`observables::censored`): the last interval, cut at t_a
-    let df = frame(data)?
-        .select([group(), col(list), positions(list), col(count).cast(DataType::Int64).alias("__n"), crate::observables::last_cut(stick).alias("__cut")])
-        .explode(by_name([list, K], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false })
-        .select([
-            col(G),
-            clamp_k(max_index),
-            (col(list) / lit(rho)).cast(DataType::Int64).alias(CELL), // ⌊d/ρ⌋: d ≥ 0
-            col("__cut").and(col(K).eq(col("__n"))).alias(FLAG),
-        ])
-        .group_by([col(G), col(K), col(CELL), col(FLAG)])
-        .agg([len().cast(DataType::Int64).alias("n")])
-        .collect_with_engine(Engine::Streaming)?
-        .unwrap_single();
-    counts(&df)
+/// The plan counting `lf`'s rows per (G, K, CELL, FLAG), one sink of the tails' pass.
+fn count_plan(lf: LazyFrame, max_index: u32) -> DslPlan {
+    lf.select([packed(max_index)]).group_by([col("__key")]).agg([len().cast(DataType::Int64).alias("n")]).logical_plan
 }
 
-/// The holding-time cell ⌊d_s(x)/ρ⌋ of each entry position under belt velocity `v`.
-fn holding_cell(x: Expr, p: Physics, v: f64, rho: f64, top: i64) -> Expr {
-    x.map(
-        move |c: Column| {
-            let out: Int64Chunked = c.f64()?.iter().map(|x| x.map(|x| (p.stick_duration(x, v) / rho).floor().min(top as f64) as i64)).collect();
-            Ok(out.with_name(c.name().clone()).into_column())
+const DURATION: &str = "__d";
+const X: &str = "__x";
+const V: &str = "__v";
+
+/// The sticks (`stick`) or slips, one row each: G, K (clamped), DURATION, FLAG (censored: the
+/// one rule of `observables::last_cut`, the last interval cut at t_a), and for sticks with
+/// `entries` their entry position X and belt velocity V.
+fn intervals(data: &Dataset, stick: bool, max_index: u32, entries: bool) -> PolarsResult<LazyFrame> {
+    let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
+    let mut read = vec![group(), col(list), positions(list), col(count).cast(DataType::Int64).alias("__n"), crate::observables::last_cut(stick).alias("__cut")];
+    let mut lists = vec![list, K];
+    let mut keep = vec![col(G), clamp_k(max_index), col(list).alias(DURATION), col("__cut").and(col(K).eq(col("__n"))).alias(FLAG)];
+    if entries {
+        read.extend([col(name::STICK_ENTRY_POSITION), col(name::STICK_ENTRY_VELOCITY)]);
+        lists.extend([name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY]);
+        keep.extend([col(name::STICK_ENTRY_POSITION).alias(X), col(name::STICK_ENTRY_VELOCITY).alias(V)]);
+    }
+    Ok(frame(data)?.select(read).explode(by_name(lists, true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false }).select(keep))
+}
+
+/// The time cell of each duration d ≥ 0: φ(d) = ⌊d/width⌋ + #{τ ∈ `times` : τ ≤ d}, the cells of
+/// width `width` split at the user's times τ (sorted, distinct), so that a curve is exact at
+/// each τ as at each cell edge (module docs).
+fn cell(width: f64, times: &[f64]) -> Expr {
+    let uniform = when(col(DURATION).gt(lit(0.0))).then((col(DURATION) / lit(width)).cast(DataType::Int64)).otherwise(lit(0i64));
+    times.iter().fold(uniform, |acc, &t| acc + col(DURATION).gt_eq(lit(t)).cast(DataType::Int64)).alias(CELL)
+}
+
+/// The evaluation points of a curve on the cells of `cell` (`width` = `COARSE`^`coarse` ρ): the
+/// grid's (t, ⌊t/ρ⌋) mapped to (t, φ(t)).
+fn on_cells(grid: &[(f64, i64)], times: &[f64], coarse: bool) -> Vec<(f64, i64)> {
+    let step = if coarse { COARSE } else { 1 };
+    grid.iter().map(|&(t, c)| (t, c / step + times.iter().filter(|&&x| x <= t).count() as i64)).collect()
+}
+
+/// The bin of each entry's holding time d_s(x) (position X, belt velocity V: `v_f` forward,
+/// −`v_r` reverse) on the evaluation times `ts` (increasing): how many of them lie below d, so
+/// that the entry is held past `ts[j]` exactly when its bin exceeds j.
+fn holding_bin(p: Physics, (v_f, v_r): (f64, f64), ts: Vec<f64>) -> Expr {
+    col(X).map_many(
+        move |c: &mut [Column]| {
+            let (x, v) = (c[0].f64()?, c[1].f64()?);
+            let bin = |x: f64, v: f64| ts.partition_point(|&t| t < p.stick_duration(x, if v > 0.0 { v_f } else { -v_r })) as i64;
+            let out: Int64Chunked = x.iter().zip(v.iter()).map(|(x, v)| Some(bin(x?, v?))).collect();
+            Ok(out.with_name(c[0].name().clone()).into_column())
         },
-        |_, f| Ok(Field::new(f.name().clone(), DataType::Int64)),
+        &[col(V)],
+        |_, f| Ok(Field::new(f[0].name().clone(), DataType::Int64)),
     )
 }
 
-/// Stick entries per (group, k, belt state forward?, holding-time cell).
-fn entry_counts(data: &Dataset, p: Physics, (v_f, v_r): (f64, f64), max_index: u32, rho: f64, top: i64) -> PolarsResult<Counts> {
-    let (x, v) = (name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY);
-    let df = frame(data)?
-        .select([group(), col(x), col(v), positions(x)])
-        .explode(by_name([x, v, K], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false })
-        .select([
-            col(G),
-            clamp_k(max_index),
-            when(col(v).gt(lit(0.0))).then(holding_cell(col(x), p, v_f, rho, top)).otherwise(holding_cell(col(x), p, -v_r, rho, top)).alias(CELL),
-            col(v).gt(lit(0.0)).alias(FLAG),
-        ])
-        .group_by([col(G), col(K), col(CELL), col(FLAG)])
-        .agg([len().cast(DataType::Int64).alias("n")])
-        .collect_with_engine(Engine::Streaming)?
-        .unwrap_single();
-    counts(&df)
+/// The stick entries of `sticks` per (G, K, holding-time bin on the times `ts`, FLAG = belt
+/// state forward).
+fn entry_plan(sticks: LazyFrame, p: Physics, speeds: (f64, f64), max_index: u32, ts: Vec<f64>) -> DslPlan {
+    count_plan(sticks.select([col(G), col(K), holding_bin(p, speeds, ts).alias(CELL), col(V).gt(lit(0.0)).alias(FLAG)]), max_index)
 }
 
 /// The number of `breakaway` ends in each row's `stick_end` list.
@@ -245,7 +285,7 @@ fn breakaways() -> Expr {
 }
 
 /// Per group: realizations, sticks, breakaways, and the exceedance counts of each threshold.
-fn extreme_counts(data: &Dataset, opts: &TailOptions) -> PolarsResult<Vec<Vec<u64>>> {
+fn extreme_plan(data: &Dataset, opts: &TailOptions) -> PolarsResult<DslPlan> {
     let mut aggs = vec![len().cast(DataType::Int64).alias("__rows"), col(name::N_STICK).cast(DataType::Int64).sum().alias("__sticks"), col("__breakaways").sum().alias("__b")];
     for (i, t) in opts.times.iter().enumerate() {
         aggs.push(col(name::LONGEST_STICK).gt(lit(*t)).cast(DataType::Int64).sum().alias(format!("__l{i}")));
@@ -253,12 +293,11 @@ fn extreme_counts(data: &Dataset, opts: &TailOptions) -> PolarsResult<Vec<Vec<u6
     for (i, s) in opts.severity.iter().enumerate() {
         aggs.push(col(name::SEVERITY).gt(lit(*s)).cast(DataType::Int64).sum().alias(format!("__s{i}")));
     }
-    let df = frame(data)?
-        .select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), breakaways()])
-        .group_by([col(G)])
-        .agg(aggs)
-        .collect_with_engine(Engine::Streaming)?
-        .unwrap_single();
+    Ok(frame(data)?.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), breakaways()]).group_by([col(G)]).agg(aggs).logical_plan)
+}
+
+/// The counts of [`extreme_plan`] as [group][column].
+fn extreme_counts(df: &DataFrame) -> PolarsResult<Vec<Vec<u64>>> {
     let mut out = vec![vec![0u64; df.width() - 1]; GROUPS];
     let g = df.column(G)?.cast(&DataType::Int64)?;
     for (j, c) in df.columns().iter().skip(1).enumerate() {
@@ -270,6 +309,12 @@ fn extreme_counts(data: &Dataset, opts: &TailOptions) -> PolarsResult<Vec<Vec<u6
         }
     }
     Ok(out)
+}
+
+/// The longest stick of the dataset [s] (0 without sticks).
+fn longest(data: &Dataset) -> PolarsResult<f64> {
+    let df = frame(data)?.select([col(name::LONGEST_STICK).max()]).collect_with_engine(Engine::Streaming)?.unwrap_single();
+    Ok(df.column(name::LONGEST_STICK)?.f64()?.get(0).unwrap_or(0.0))
 }
 
 /// The scene of the conditional estimator, or why it does not hold for this dataset.
@@ -292,51 +337,79 @@ fn belt_rates(process: &Process) -> ((f64, f64), (f64, f64)) {
     }
 }
 
-/// The tails of one dataset (module docs).
+/// The tails of one dataset (module docs): one streaming pass over the part files feeding every
+/// count, then the curves from the counts.
 pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult<Tails> {
     let t_a = data.scenario.run.duration;
     let rho = t_a / CELLS_PER_WINDOW;
-    let mut out = Tails::default();
+    let scene = conditional_scene(data);
+    let mut out = Tails { conditional_refused: scene.as_ref().err().cloned(), ..Tails::default() };
+    let mut times: Vec<f64> = opts.times.iter().copied().filter(|t| t.is_finite() && *t > 0.0).collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    // the entries are binned on the D curve's times, so those are fixed before the pass
+    let entry_grid = match &scene {
+        Ok(_) => Some(grid((longest(data)? / rho) as i64 + 1, rho, &opts.times)),
+        Err(_) => None,
+    };
+    let mut plans = Vec::new();
+    for stick in [true, false] {
+        let entries = stick && entry_grid.is_some();
+        let base = intervals(data, stick, max_index, entries)?;
+        // the estimate on fine cells (groups pooled), the leave-one-group-out curves on coarse ones
+        plans.push(count_plan(base.clone().select([lit(0i64).alias(G), col(K), cell(rho, &times), col(FLAG)]), max_index));
+        plans.push(count_plan(base.clone().select([col(G), col(K), cell(rho * COARSE as f64, &times), col(FLAG)]), max_index));
+        if let (true, Ok(scene), Some(grid)) = (entries, &scene, &entry_grid) {
+            let (_, speeds) = belt_rates(&scene.belt.process);
+            plans.push(entry_plan(base, scene.params.per_unit_mass(), speeds, max_index, grid.iter().map(|g| g.0).collect()));
+        }
+    }
+    if data.tails_state {
+        plans.push(extreme_plan(data, opts)?);
+    }
+    let mut frames = LazyFrame::collect_all_with_engine(plans, Engine::Streaming, OptFlags::default())?.into_iter();
+    let mut next = || frames.next().ok_or_else(|| polars_err!(ComputeError: "a tails query returned nothing"));
     for (stick, variable) in [(true, "D"), (false, "H")] {
-        let c = duration_counts(data, stick, max_index, rho)?;
-        let top = c.iter().map(|r| r.2).max().unwrap_or(0) + 1;
-        let grid = grid(top, rho, &opts.times);
+        let fine = counts(&next()?, max_index)?;
+        let coarse = counts(&next()?, max_index)?;
+        let grid = match (stick, &entry_grid) {
+            (true, Some(g)) => g.clone(),
+            _ => grid(fine.iter().map(|r| r.2).max().unwrap_or(0) + 1, rho, &opts.times),
+        };
+        let (fine_grid, coarse_grid) = (on_cells(&grid, &times, false), on_cells(&grid, &times, true));
         for index in indices(max_index) {
-            let pick = |r: &&(usize, u32, i64, bool, u64)| index.is_none_or(|k| r.1 == k);
-            let kept: Counts = c.iter().filter(pick).copied().collect();
-            if kept.is_empty() {
+            let of_k = |rows: &Counts, censored: bool| -> Counts { rows.iter().filter(|r| index.is_none_or(|k| r.1 == k) && (censored || !r.3)).copied().collect() };
+            let (fine_k, coarse_k) = (of_k(&fine, true), of_k(&coarse, true));
+            if fine_k.is_empty() {
                 continue;
             }
-            let naive: Counts = kept.iter().filter(|r| !r.3).copied().collect();
-            for (method, rows) in [("kaplan_meier", &kept), ("naive", &naive)] {
-                let n = rows.iter().map(|r| r.4).sum();
-                let censored = rows.iter().filter(|r| r.3).map(|r| r.4).sum();
-                let points = curve(rows, &grid, product_limit, CLOGLOG);
-                out.curves.push(Curve { variable, index, method, n, censored, points });
+            for (method, censored) in [("kaplan_meier", true), ("naive", false)] {
+                let (f, c) = if censored { (fine_k.clone(), coarse_k.clone()) } else { (of_k(&fine_k, false), of_k(&coarse_k, false)) };
+                let n = f.iter().map(|r| r.4).sum();
+                let n_censored = f.iter().filter(|r| r.3).map(|r| r.4).sum();
+                let points = curve((&f, &fine_grid), (&c, &coarse_grid), product_limit, CLOGLOG);
+                out.curves.push(Curve { variable, index, method, n, censored: n_censored, points });
             }
         }
-        if stick {
-            let scene = conditional_scene(data);
-            out.conditional_refused = scene.as_ref().err().cloned();
-            if let Ok(scene) = scene {
-                let (rates, speeds) = belt_rates(&scene.belt.process);
-                let cap = (CELLS_PER_WINDOW * 1024.0) as i64;
-                let e = entry_counts(data, scene.params.per_unit_mass(), speeds, max_index, rho, cap)?;
-                for index in indices(max_index) {
-                    let kept: Counts = e.iter().filter(|r| index.is_none_or(|k| r.1 == k)).copied().collect();
-                    if kept.is_empty() {
-                        continue;
-                    }
-                    let n = kept.iter().map(|r| r.4).sum();
-                    let estimator = move |cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]| conditional(cells, counts, at, rates);
-                    let points = curve(&kept, &grid, estimator, LN);
-                    out.curves.push(Curve { variable, index, method: "conditional", n, censored: 0, points });
+        if let (true, Some(grid), Ok(scene)) = (stick, &entry_grid, &scene) {
+            let (rates, _) = belt_rates(&scene.belt.process);
+            let e = counts(&next()?, max_index)?;
+            // held past grid[j].t exactly when the bin exceeds j (`holding_bin`)
+            let bins: Vec<(f64, i64)> = grid.iter().enumerate().map(|(j, g)| (g.0, j as i64 + 1)).collect();
+            for index in indices(max_index) {
+                let kept: Counts = e.iter().filter(|r| index.is_none_or(|k| r.1 == k)).copied().collect();
+                if kept.is_empty() {
+                    continue;
                 }
+                let n = kept.iter().map(|r| r.4).sum();
+                let estimator = move |cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]| conditional(cells, counts, at, rates);
+                let points = curve((&kept, &bins), (&kept, &bins), estimator, LN);
+                out.curves.push(Curve { variable, index, method: "conditional", n, censored: 0, points });
             }
         }
     }
     if data.tails_state {
-        let per_group = extreme_counts(data, opts)?;
+        let per_group = extreme_counts(&next()?)?;
         let total = |j: usize, g: Option<usize>| -> u64 { per_group.iter().enumerate().filter(|(h, _)| Some(*h) != g).map(|(_, r)| r[j]).sum() };
         let ratio = |num: usize, den: usize, g: Option<usize>| -> Option<f64> { (total(den, g) > 0).then(|| total(num, g) as f64 / total(den, g) as f64) };
         let mut push = |statistic: &'static str, threshold: Option<f64>, num: usize, den: usize| {
@@ -402,18 +475,21 @@ impl Axis {
     }
 }
 
-/// A curve with its jackknife band on the scale `scale` (and its inverse); `estimate` maps the
-/// axis' cells, their counts and the grid's (t, cell) to the curve's values.
-fn curve(rows: &Counts, grid: &[(f64, i64)], estimate: impl Fn(&[i64], &[[u64; 2]], &[(f64, i64)]) -> Vec<f64>, scale: (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Vec<(f64, f64, Option<Interval>)> {
-    let at = grid;
-    let axis = Axis::new(&rows.iter().map(|r| (r.0, r.2, r.3, r.4)).collect::<Vec<_>>());
-    let full = estimate(&axis.cells, &axis.without(None), &at);
-    let loo: Vec<Vec<f64>> = (0..GROUPS).map(|g| estimate(&axis.cells, &axis.without(Some(g)), &at)).collect();
-    grid.iter()
+/// A curve with its jackknife band on the scale `scale` (and its inverse): the estimate from
+/// `full` (rows and the grid's (t, cell) on their cells), the leave-one-group-out values from
+/// `loo` (on their own, possibly coarser, cells); `estimate` maps an axis' cells, their counts
+/// and the evaluation points to the curve's values.
+fn curve(full: (&Counts, &[(f64, i64)]), loo: (&Counts, &[(f64, i64)]), estimate: impl Fn(&[i64], &[[u64; 2]], &[(f64, i64)]) -> Vec<f64>, scale: (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Vec<(f64, f64, Option<Interval>)> {
+    let axis = |rows: &Counts| Axis::new(&rows.iter().map(|r| (r.0, r.2, r.3, r.4)).collect::<Vec<_>>());
+    let (whole, parts) = (axis(full.0), axis(loo.0));
+    let value = estimate(&whole.cells, &whole.without(None), full.1);
+    let loo: Vec<Vec<f64>> = (0..GROUPS).map(|g| estimate(&parts.cells, &parts.without(Some(g)), loo.1)).collect();
+    full.1
+        .iter()
         .enumerate()
         .map(|(j, &(t, _))| {
             let column: Vec<Option<f64>> = loo.iter().map(|l| Some(l[j])).collect();
-            (t, full[j], transformed(full[j], &column, scale))
+            (t, value[j], transformed(value[j], &column, scale))
         })
         .collect()
 }
@@ -453,9 +529,10 @@ fn product_limit(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]) -> Vec<f
         .collect()
 }
 
-/// The conditional estimator at the grid's (t, cell) `at` from the sorted holding-time `cells`
-/// and their counts [reverse state, forward state]: (1/N) Σ_s exp(−λ_s t) #{entries in s held
-/// past t} (the exponential at t itself, the holding times by cell).
+/// The conditional estimator at the grid's (t, bin) `at` from the sorted holding-time bins
+/// `cells` and their counts [reverse state, forward state]: (1/N) Σ_s exp(−λ_s t) #{entries in s
+/// held past t}, an entry counting as held past t when its bin is at least the one given with t
+/// (`holding_bin`: both the exponential and the indicator exact at t).
 fn conditional(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)], (rate_f, rate_r): (f64, f64)) -> Vec<f64> {
     // suffix sums: entries held at or past each cell, per state
     let mut held = vec![[0u64; 2]; cells.len() + 1];

@@ -100,6 +100,9 @@ fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
         let r = &mut o.record;
         r.stick_start.extend([t1, t1 + 1.0]);
         r.stick_duration.extend([0.5, 0.25]);
+        r.stick_end.extend([stickslip::events::StickEnd::Flip, stickslip::events::StickEnd::Horizon]);
+        r.stick_entry_position.extend([0.0, 0.1]);
+        r.stick_entry_velocity.extend([1.0, -1.0]);
         r.slip_start.push(t1 + 0.5);
         r.slip_duration.push(0.5);
         r.last_truncated = true;

@@ -377,6 +377,18 @@ fn list_with(col: &ArrayRef, at: usize, value: Option<f64>) -> ArrayRef {
     Arc::new(ListArray::new(field, OffsetBuffer::new(l.offsets().inner().clone()), Arc::new(Float64Array::from(v)), None))
 }
 
+/// A list<f64> column with the last element of row `row`'s list removed.
+fn list_shortened(col: &ArrayRef, row: usize) -> ArrayRef {
+    let l = col.as_any().downcast_ref::<ListArray>().unwrap();
+    let vals = l.values().as_any().downcast_ref::<Float64Array>().unwrap();
+    let o = l.offsets();
+    let cut = o[row + 1] as usize - 1;
+    let v: Vec<f64> = vals.values().iter().enumerate().filter(|(i, _)| *i != cut).map(|(_, x)| *x).collect();
+    let offsets: Vec<i32> = o.iter().enumerate().map(|(i, &x)| if i > row { x - 1 } else { x }).collect();
+    let field = Arc::new(Field::new("element", DataType::Float64, true));
+    Arc::new(ListArray::new(field, OffsetBuffer::new(offsets.into()), Arc::new(Float64Array::from(v)), None))
+}
+
 fn ints_with(col: &ArrayRef, f: impl Fn(usize, i64) -> i64) -> ArrayRef {
     let a = col.as_any().downcast_ref::<Int64Array>().unwrap();
     Arc::new(Int64Array::new(a.values().iter().enumerate().map(|(i, &x)| f(i, x)).collect(), None::<NullBuffer>))
@@ -399,6 +411,8 @@ fn bad_values_in_a_schema_valid_file_are_refused_with_row_and_column() {
         // issue 21 review: Q without its list, and durations that overlap, break no per-value rule
         ("q", "n_switches", Box::new(|c| ints_with(c, |i, x| if i == 3 { -1 } else { x })), "-1"),
         ("overlap", "stick_duration", Box::new(|c| list_with(c, 0, Some(9.99))), "more than t_a"),
+        // issue 22: one entry state per stick (the tails explode them beside the durations)
+        ("entries", "stick_entry_position", Box::new(|c| list_shortened(c, 4)), "one per stick"),
     ];
     for (name, column, f, culprit) in cases {
         let dir = t.join(name);

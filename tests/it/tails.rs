@@ -187,3 +187,44 @@ fn censoring_at_a_short_horizon_biases_the_naive_tail_and_not_the_product_limit(
         assert!(nv < lo, "t = {time}: naive {nv} inside the product limit's band [{lo}, {hi}]");
     }
 }
+
+/// A curve read at a user time τ counts exactly the durations below τ: every stick lasts a hair
+/// less than τ = 0.5 s, inside the same time cell of width t_a/65,536 as τ (read at the cell's
+/// lower edge, as before the cells were split at τ, S(τ) would be 1).
+#[test]
+fn a_curve_at_a_user_time_counts_the_durations_just_below_it() {
+    use stickslip::dataset::{Layout, PartWriter, Rows};
+    use stickslip::ensemble::Outcome;
+    let tmp = tempfile::tempdir().unwrap();
+    let (n, tau, d): (u64, f64, f64) = (400, 0.5, 0.5 - 2e-5);
+    let rho = 10.0 / 65_536.0;
+    assert_eq!((tau / rho).floor(), (d / rho).floor(), "d and τ share a cell");
+    let sc = scenario(&[&format!("run.realizations={n}")]);
+    let mut w = PartWriter::create(tmp.path(), 0, 1, Layout::default(), simulate::provenance(&sc, Shard::WHOLE)).unwrap();
+    let mut rows = Rows::new(false, 0);
+    for i in 0..n {
+        let mut o = Outcome::default();
+        o.belt.initial_sign = 1.0;
+        let r = &mut o.record;
+        r.stick_start.extend([1.0, 3.0]);
+        r.stick_duration.extend([d, d]);
+        r.stick_end.extend([StickEnd::Flip, StickEnd::Flip]);
+        r.stick_entry_position.extend([0.0, 0.0]);
+        r.stick_entry_velocity.extend([1.0, 1.0]);
+        r.slip_start.extend([1.0 + d, 3.0 + d]);
+        r.slip_duration.extend([3.0 - 1.0 - d, 10.0 - 3.0 - d]);
+        r.last_truncated = true;
+        rows.push(i, &o);
+    }
+    w.write(rows).unwrap();
+    w.commit().unwrap();
+    let opts = Options { tail: TailOptions { times: vec![tau, d / 2.0], severity: vec![] }, ..Options::default() };
+    let a = analysis::analyze(tmp.path(), &opts).unwrap();
+    let t = a.tails.expect("tails");
+    for method in ["kaplan_meier", "naive"] {
+        let c = pooled(&t, "D", method);
+        let value = |t: f64| c.points.iter().find(|p| p.0 == t).expect("the asked time is on the curve").1;
+        assert_eq!(value(tau), 0.0, "{method}: no stick lasts τ");
+        assert_eq!(value(d / 2.0), 1.0, "{method}: every stick lasts d/2");
+    }
+}
