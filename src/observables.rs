@@ -19,7 +19,13 @@ use std::str::FromStr;
 use polars::prelude::{col, lit, when, DataType, Expr, NULL};
 
 use crate::dataset::columns as name;
-use crate::events::Record;
+use crate::ensemble::Outcome;
+use crate::events::{Record, StickEnd};
+
+/// The largest severity a dataset may hold (a rule of `analyze`: the histograms of an
+/// observable need a bound of its values; a mass swinging at a thousand times the belt speed is
+/// outside anything this tool has been checked on).
+pub const SEVERITY_BOUND: f64 = 1024.0;
 
 /// A per-realization quantity (see the module docs for the censoring rule).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -50,6 +56,10 @@ pub enum Observable {
     /// the longest stick within [0, t_a] [s], the stick cut at t_a counted for its time in the
     /// window; 0 for a realization that never sticks
     LongestStick,
+    /// severity (max ẋ − min ẋ)/(2 v0) over [0, t_a] (`severity`, schema v3)
+    Severity,
+    /// number of sticks that end by breakaway (`stick_end`, schema v3)
+    Breakaways,
 }
 
 /// Highest index k a name may carry.
@@ -69,6 +79,8 @@ impl Observable {
             Observable::MeanStickDuration => "mean_stick_duration".into(),
             Observable::MeanSlipDuration => "mean_slip_duration".into(),
             Observable::LongestStick => "longest_stick".into(),
+            Observable::Severity => "severity".into(),
+            Observable::Breakaways => "breakaways".into(),
         }
     }
 
@@ -88,6 +100,8 @@ impl Observable {
             Observable::MeanStickDuration => "mean_stick_duration",
             Observable::MeanSlipDuration => "mean_slip_duration",
             Observable::LongestStick => "longest_stick",
+            Observable::Severity => "severity",
+            Observable::Breakaways => "breakaways",
         }
     }
 
@@ -114,16 +128,27 @@ impl Observable {
     /// The indexed families, at k = 1.
     pub const FAMILIES: [Observable; 5] = [Observable::StickStart(1), Observable::SlipStart(1), Observable::StickDuration(1), Observable::SlipDuration(1), Observable::SwitchTime(1)];
 
-    /// The counts S_T, S_L, Q.
-    pub const COUNTS: [Observable; 3] = [Observable::Sticks, Observable::Slips, Observable::Switches];
+    /// The counts S_T, S_L, Q and the breakaways.
+    pub const COUNTS: [Observable; 4] = [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::Breakaways];
 
     /// The quantities without an index.
-    pub const SCALARS: [Observable; 7] =
-        [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration, Observable::LongestStick];
+    pub const SCALARS: [Observable; 9] = [
+        Observable::Sticks,
+        Observable::Slips,
+        Observable::Switches,
+        Observable::StickFraction,
+        Observable::MeanStickDuration,
+        Observable::MeanSlipDuration,
+        Observable::LongestStick,
+        Observable::Severity,
+        Observable::Breakaways,
+    ];
 
     /// The scalar quantities `analyze` reports beside the indexed families (its moments table has
-    /// a row for each; a new scalar listed here is analysed with no other change).
-    pub const ANALYSED_SCALARS: [Observable; 4] = [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction];
+    /// a row for each; a new scalar listed here is analysed with no other change; those that
+    /// [`Observable::needs_tails_state`] only for datasets that have it).
+    pub const ANALYSED_SCALARS: [Observable; 7] =
+        [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction, Observable::LongestStick, Observable::Severity, Observable::Breakaways];
 
     /// Every quantity, the indexed families for k ≤ `max_index` (what the consistency test runs
     /// through: a new quantity is covered once it is listed here).
@@ -142,20 +167,26 @@ impl Observable {
         matches!(self, Observable::SwitchTime(_))
     }
 
+    /// Whether it needs the per-stick and per-realization state of schema v3.
+    pub fn needs_tails_state(self) -> bool {
+        matches!(self, Observable::Severity | Observable::Breakaways)
+    }
+
     /// The bound of its values in a window t_a [s]: every time and duration lies in [0, t_a], the
-    /// fraction in [0, 1]. For a count, which has none, t_a (the analysis bins counts by value).
+    /// fraction in [0, 1], the severity in [0, [`SEVERITY_BOUND`]] (a rule of the dataset). For a
+    /// count, which has none, t_a (the analysis bins counts by value).
     pub fn scale(self, t_a: f64) -> f64 {
-        if self == Observable::StickFraction {
-            1.0
-        } else {
-            t_a
+        match self {
+            Observable::StickFraction => 1.0,
+            Observable::Severity => SEVERITY_BOUND,
+            _ => t_a,
         }
     }
 
     /// Its unit: `s`, or `1` for counts and fractions.
     pub fn unit(self) -> &'static str {
         match self {
-            Observable::Sticks | Observable::Slips | Observable::Switches | Observable::StickFraction => "1",
+            Observable::Sticks | Observable::Slips | Observable::Switches | Observable::StickFraction | Observable::Severity | Observable::Breakaways => "1",
             _ => "s",
         }
     }
@@ -175,13 +206,16 @@ impl Observable {
             Observable::MeanStickDuration => "mean duration of the realization's sticks, the censored one left out; none without one",
             Observable::MeanSlipDuration => "mean duration of the realization's slips, the censored one left out; none without one",
             Observable::LongestStick => "the longest stick within [0, t_a], the stick cut at t_a counted for its time in the window; 0 without a stick",
+            Observable::Severity => "(max − min of the mass velocity over [0, t_a]) / (2 v0), v0 the forward belt speed: 1 for a mass that only follows a symmetric belt",
+            Observable::Breakaways => "number of sticks that end by breakaway (the spring overcoming static friction), not by a belt change or the horizon",
         }
     }
 
-    /// Its value on one realization — its record and its belt's change instants `switch_times`
-    /// — over the window t_a = `duration` [s]; `None` when the realization does not have it (no
-    /// k-th interval, a censored duration, no uncensored interval to average).
-    pub fn value(self, r: &Record, switch_times: &[f64], duration: f64) -> Option<f64> {
+    /// Its value on one realization — its record, its belt's change instants and the window t_a
+    /// — `None` when the realization does not have it (no k-th interval, a censored duration, no
+    /// uncensored interval to average).
+    pub fn value(self, o: &Outcome) -> Option<f64> {
+        let (r, switch_times, duration) = (&o.record, o.belt.switch_times.as_slice(), o.t_a);
         let at = |v: &[f64], k: u32| v.get(k as usize - 1).copied();
         let mean = |v: &[f64], stick: bool| {
             let kept: Vec<f64> = (1..=v.len() as u32).filter(|&k| !censored(r, stick, k)).map(|k| v[k as usize - 1]).collect();
@@ -200,6 +234,8 @@ impl Observable {
             Observable::MeanStickDuration => mean(&r.stick_duration, true),
             Observable::MeanSlipDuration => mean(&r.slip_duration, false),
             Observable::LongestStick => Some(r.longest_stick()),
+            Observable::Severity => Some(r.severity(o.forward_speed)),
+            Observable::Breakaways => Some(r.stick_end.iter().filter(|e| **e == StickEnd::Breakaway).count() as f64),
         }
     }
 
@@ -227,6 +263,8 @@ impl Observable {
             Observable::MeanStickDuration => uncensored_mean(name::STICK_DURATION, n_stick, last_cut(true)),
             Observable::MeanSlipDuration => uncensored_mean(name::SLIP_DURATION, n_slip, last_cut(false)),
             Observable::LongestStick => col(name::STICK_DURATION).list().max().fill_null(lit(0.0)),
+            Observable::Severity => col(name::SEVERITY),
+            Observable::Breakaways => breakaways(),
         };
         named.cast(DataType::Float64).alias(self.name())
     }
@@ -250,6 +288,25 @@ impl Observable {
         out.extend([Observable::Sticks, Observable::Slips]);
         out
     }
+}
+
+/// The number of `breakaway` ends in each row's `stick_end` list (an int64 count).
+pub(crate) fn breakaways() -> Expr {
+    use polars::prelude::{polars_err, Column, Field, Int64Chunked, IntoColumn, NewChunkedArray};
+    use polars_arrow::array::{Array, Utf8ViewArray};
+    col(name::STICK_END).map(
+        |c: Column| {
+            let ca = c.list()?.rechunk();
+            let mut out: Vec<Option<i64>> = Vec::with_capacity(ca.len());
+            for arr in ca.downcast_iter() {
+                let values = arr.values().as_any().downcast_ref::<Utf8ViewArray>().ok_or_else(|| polars_err!(SchemaMismatch: "column `stick_end` is not a list of strings"))?;
+                let o = arr.offsets().as_slice();
+                out.extend((0..arr.len()).map(|r| arr.is_valid(r).then(|| (o[r] as usize..o[r + 1] as usize).filter(|&i| values.value(i) == StickEnd::Breakaway.name()).count() as i64)));
+            }
+            Ok(Int64Chunked::from_iter_options(c.name().clone(), out.into_iter()).into_column())
+        },
+        |_, f| Ok(Field::new(f.name().clone(), DataType::Int64)),
+    )
 }
 
 /// A count column as int64 (int32 in schema v1).
@@ -326,10 +383,18 @@ mod tests {
         r
     }
 
+    fn outcome(record: Record, switch_times: &[f64], t_a: f64) -> Outcome {
+        let mut o = Outcome::default();
+        (o.record, o.t_a, o.forward_speed) = (record, t_a, 1.0);
+        o.belt.switch_times = switch_times.to_vec();
+        o
+    }
+
     #[test]
     fn values_follow_the_one_censoring_rule() {
         let r = record();
-        let v = |o: &str| o.parse::<Observable>().unwrap().value(&r, &[0.7, 2.9], 4.0);
+        let o = outcome(r, &[0.7, 2.9], 4.0);
+        let v = |q: &str| q.parse::<Observable>().unwrap().value(&o);
         assert_eq!((v("S_T"), v("S_L")), (Some(2.0), Some(1.0)));
         assert_eq!((v("T_1"), v("T_2"), v("T_3")), (Some(1.0), Some(3.5), None));
         assert_eq!((v("D_1"), v("D_2")), (Some(0.5), None), "the stick cut at t_a is censored");
@@ -337,10 +402,11 @@ mod tests {
         assert_eq!((v("Q"), v("Y_2"), v("Y_3")), (Some(2.0), Some(2.9), None));
         assert_eq!(v("stick_fraction"), Some((0.5 + 0.5) / 4.0), "the cut stick's time is time stuck");
         assert_eq!((v("mean_stick_duration"), v("mean_slip_duration")), (Some(0.5), Some(2.0)));
+        assert_eq!(v("breakaways"), Some(1.0), "the first stick ended by breakaway");
         // a realization that never sticks has no durations to average
         let mut none = Record::default();
         none.finish(4.0);
-        assert_eq!(Observable::MeanStickDuration.value(&none, &[], 4.0), None);
+        assert_eq!(Observable::MeanStickDuration.value(&outcome(none, &[], 4.0)), None);
     }
 
     #[test]

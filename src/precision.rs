@@ -57,9 +57,9 @@ impl Tracker {
     }
 
     /// Add one realization.
-    pub fn add(&mut self, o: &Outcome, duration: f64) {
+    pub fn add(&mut self, o: &Outcome) {
         for (t, m) in self.targets.iter().zip(&mut self.moments) {
-            if let Some(x) = t.quantity.value(&o.record, &o.belt.switch_times, duration) {
+            if let Some(x) = t.quantity.value(o) {
                 m.add(x);
             }
         }

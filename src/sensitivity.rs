@@ -83,8 +83,8 @@ pub struct Index {
 }
 
 /// The outputs of one realization ([`OUTPUTS`]; None where it has no value).
-pub fn outputs(o: &Outcome, duration: f64) -> [Option<f64>; 4] {
-    OUTPUTS.map(|q| q.value(&o.record, &o.belt.switch_times, duration))
+pub fn outputs(o: &Outcome) -> [Option<f64>; 4] {
+    OUTPUTS.map(|q| q.value(o))
 }
 
 /// (first order, total) from f(A), f(B), f(AB⁽ⁱ⁾) over the samples `js` (module docs).
@@ -134,7 +134,6 @@ pub fn compute(scenario: &Scenario, n: u64) -> Result<Vec<Index>, SensitivityErr
         let most = (MAX_MEMORY_GIB * f64::from(1u32 << 30) / sample_bytes(d)) as u64;
         return Err(SensitivityError::TooLarge { n, d, gib, most });
     }
-    let duration = scenario.run.duration;
     // per sample j: f(A), f(B), f(AB⁽ⁱ⁾) for each key i, then for the intrinsic input
     let samples: Vec<Vec<[Option<f64>; 4]>> = (0..n)
         .into_par_iter()
@@ -143,7 +142,7 @@ pub fn compute(scenario: &Scenario, n: u64) -> Result<Vec<Index>, SensitivityErr
             let mut out = Outcome::default();
             let mut run = |intrinsic: u64, from: &[u64]| -> Result<[Option<f64>; 4], RunError> {
                 ens.realization_mixed(intrinsic, from, &mut out)?;
-                Ok(outputs(&out, duration))
+                Ok(outputs(&out))
             };
             let mut f = vec![run(a, &vec![a; d])?, run(b, &vec![b; d])?];
             for i in 0..d {

@@ -205,7 +205,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
             while chunks.peek().is_some() {
                 let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
                 let rows: Vec<Result<(Rows, Tracker), RunError>> =
-                    pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), targets, scenario.run.duration)).collect());
+                    pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), targets)).collect());
                 for (r, range) in rows.into_iter().zip(&window) {
                     let (r, t) = r?;
                     progress.inc(r.len() as u64);
@@ -267,7 +267,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
 }
 
 /// Simulate a contiguous range of realizations into dataset rows, and the targets' quantities.
-fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target], duration: f64) -> Result<(Rows, Tracker), RunError> {
+fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target]) -> Result<(Rows, Tracker), RunError> {
     let mut rows = Rows::new(ensemble.store_switch_times(), ensemble.scene().columns().len());
     let mut tracker = Tracker::new(targets);
     let mut out = Outcome::default();
@@ -275,7 +275,7 @@ fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target], du
         ensemble.realization(index, &mut out)?;
         rows.push(index, &out);
         if !targets.is_empty() {
-            tracker.add(&out, duration);
+            tracker.add(&out);
         }
     }
     Ok((rows, tracker))

@@ -41,7 +41,6 @@ use std::time::Instant;
 
 use crate::table::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
-use crate::events::Record;
 use crate::observables::Observable;
 use crate::figures::{render, Figure, Panel, Series};
 use crate::outdir::{Kind, StagedDir};
@@ -161,7 +160,7 @@ pub struct Row {
 /// realization of solving them alone (keeping the records is not timed) and the counted
 /// right-hand-side evaluations per realization.
 struct Measured {
-    records: Vec<Record>,
+    records: Vec<Outcome>,
     seconds: f64,
     evaluations: f64,
 }
@@ -176,30 +175,26 @@ fn run_all(sc: &Scenario, n: u64) -> Result<Measured, TradeoffError> {
         ens.realization(i, &mut out).map_err(|source| TradeoffError::Run { solver: sc.solver().name().into(), setting: String::new(), source })?;
         seconds += start.elapsed().as_secs_f64();
         steps += out.steps;
-        records.push(out.record.clone());
+        records.push(out.clone());
     }
     let per = |x: f64| x / n.max(1) as f64;
     Ok(Measured { records, seconds: per(seconds), evaluations: per((steps * sc.solver().evaluations_per_step()) as f64) })
 }
 
-/// `tradeoff` keeps each realization's record only: its statistics (Table 1's and the pooled
-/// durations) are all of stick and slip intervals, none of the belt's changes (Y_k, Q).
-const NO_SWITCHES: &[f64] = &[];
-
 /// The mean over `records` of the values of `quantities` (pooled: every realization's value of
 /// each quantity it has), 0 without any.
-fn pooled(records: &[Record], quantities: &[Observable], duration: f64) -> f64 {
-    let v: Vec<f64> = records.iter().flat_map(|r| quantities.iter().filter_map(move |q| q.value(r, NO_SWITCHES, duration))).collect();
+fn pooled(records: &[Outcome], quantities: &[Observable]) -> f64 {
+    let v: Vec<f64> = records.iter().flat_map(|r| quantities.iter().filter_map(move |q| q.value(r))).collect();
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
 /// max over the Table 1 statistics ([`Observable::table1`]) of |mean(records) − mean(reference)|
 /// / SE at `n_run` realizations.
-fn bias_over_se(records: &[Record], reference: &[Record], n_run: u64, duration: f64) -> f64 {
+fn bias_over_se(records: &[Outcome], reference: &[Outcome], n_run: u64) -> f64 {
     let mut worst: f64 = 0.0;
     for q in Observable::table1() {
-        let r: Vec<f64> = reference.iter().filter_map(|x| q.value(x, NO_SWITCHES, duration)).collect();
-        let o: Vec<f64> = records.iter().filter_map(|x| q.value(x, NO_SWITCHES, duration)).collect();
+        let r: Vec<f64> = reference.iter().filter_map(|x| q.value(x)).collect();
+        let o: Vec<f64> = records.iter().filter_map(|x| q.value(x)).collect();
         if r.len() < 2 || o.is_empty() {
             continue;
         }
@@ -241,7 +236,7 @@ fn reference(base: &Scenario, n: u64) -> Result<(Setting, Measured), TradeoffErr
     let (check, fine) = (tight(1e-13), tight(1e-14));
     let a = run(&check)?.records;
     let b = run(&fine)?;
-    for (i, (x, y)) in a.iter().zip(&b.records).enumerate() {
+    for (i, (x, y)) in a.iter().map(|o| &o.record).zip(b.records.iter().map(|o| &o.record)).enumerate() {
         let detail = if (x.n_stick(), x.n_slip()) != (y.n_stick(), y.n_slip()) {
             Some(format!("S_T {} vs {}, S_L {} vs {}", x.n_stick(), y.n_stick(), x.n_slip(), y.n_slip()))
         } else {
@@ -280,7 +275,7 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
         let solver = solver.name();
         let exact = &reference;
         let (mut errors, mut missed, mut spurious) = (Vec::new(), 0, 0);
-        for (e, r) in exact.iter().zip(&records) {
+        for (e, r) in exact.iter().map(|o| &o.record).zip(records.iter().map(|o| &o.record)) {
             let (err, m, s) = match_events(&e.stick_start, &r.stick_start);
             errors.extend(err);
             (missed, spurious) = (missed + m, spurious + s);
@@ -289,7 +284,6 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
         let rms = (errors.iter().map(|e| e * e).sum::<f64>() / errors.len().max(1) as f64).sqrt();
         // D_1..D_6 (H_1..H_6) pooled, the censored ones left out (the observables' one rule)
         let durations = |f: fn(u32) -> Observable| (1..=6).map(f).collect::<Vec<_>>();
-        let t_a = base.run.duration;
         rows.push(Row {
             solver,
             setting,
@@ -301,11 +295,11 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
             matched: errors.len() as u64,
             missed_sticks: missed,
             spurious_sticks: spurious,
-            bias_t: (1..=6).map(|k| [Observable::StickStart(k)]).map(|q| (pooled(&records, &q, t_a) - pooled(exact, &q, t_a)).abs()).fold(0.0, f64::max),
-            bias_d: pooled(&records, &durations(Observable::StickDuration), t_a) - pooled(exact, &durations(Observable::StickDuration), t_a),
-            bias_h: pooled(&records, &durations(Observable::SlipDuration), t_a) - pooled(exact, &durations(Observable::SlipDuration), t_a),
-            bias_st: pooled(&records, &[Observable::Sticks], t_a) - pooled(exact, &[Observable::Sticks], t_a),
-            max_bias_over_se: (n >= MIN_REALIZATIONS).then(|| bias_over_se(&records, exact, base.run.realizations, t_a)),
+            bias_t: (1..=6).map(|k| [Observable::StickStart(k)]).map(|q| (pooled(&records, &q) - pooled(exact, &q)).abs()).fold(0.0, f64::max),
+            bias_d: pooled(&records, &durations(Observable::StickDuration)) - pooled(exact, &durations(Observable::StickDuration)),
+            bias_h: pooled(&records, &durations(Observable::SlipDuration)) - pooled(exact, &durations(Observable::SlipDuration)),
+            bias_st: pooled(&records, &[Observable::Sticks]) - pooled(exact, &[Observable::Sticks]),
+            max_bias_over_se: (n >= MIN_REALIZATIONS).then(|| bias_over_se(&records, exact, base.run.realizations)),
             recommended: false,
         });
     }

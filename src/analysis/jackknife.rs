@@ -41,6 +41,16 @@ pub fn interval(full: Option<f64>, loo: &[Option<f64>]) -> Option<Interval> {
     (half.is_finite()).then_some((full - half, full + half))
 }
 
+/// The interval on the scale `to` (mapped back by `back`, the ends in increasing order), centred
+/// on the estimate; None where `to` is undefined for the estimate or a leave-one-out value.
+pub fn transformed(full: Option<f64>, loo: &[Option<f64>], to: impl Fn(f64) -> Option<f64>, back: impl Fn(f64) -> f64) -> Option<Interval> {
+    let t = to(full?)?;
+    let l: Vec<Option<f64>> = loo.iter().map(|x| x.and_then(&to)).collect();
+    let (a, b) = interval(Some(t), &l)?;
+    let (a, b) = (back(a), back(b));
+    Some((a.min(b), a.max(b)))
+}
+
 /// For each group, the merge of all the others: `out[g] = ⊕_{h ≠ g} parts[h]`, by prefix and
 /// suffix merges (3G merges in all).
 pub fn leave_one_out<T: Clone>(parts: &[T], empty: &T, merge: impl Fn(&T, &T) -> T) -> Vec<T> {

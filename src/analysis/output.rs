@@ -69,7 +69,7 @@ fn moments_table(a: &Analysis) -> Table {
         ("variance", Box::new(|x| x.interval(super::Moments::variance))),
         ("mode", Box::new(|x| x.mode_interval())),
         ("skewness", Box::new(|x| x.interval(super::Moments::skewness))),
-        ("kurtosis", Box::new(|x| x.interval(super::Moments::kurtosis))),
+        ("kurtosis", Box::new(|x| x.kurtosis_interval())),
     ];
     for (name, iv) in &intervals {
         t.push(&format!("{name}_lo"), float(&|x| iv(x).map(|i| i.0)));

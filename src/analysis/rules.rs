@@ -5,6 +5,7 @@ use polars::prelude::*;
 
 use super::input::{scan, Dataset, ROW};
 use crate::dataset::columns::{self as name, LISTS};
+use crate::observables::SEVERITY_BOUND;
 
 /// The list columns of a part, with their count columns and whether they are ordered.
 fn lists(switch_times: bool) -> impl Iterator<Item = (&'static str, &'static str, bool)> {
@@ -43,7 +44,17 @@ pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool, tails: bool) -
     for list in PER_STICK.iter().filter(|_| tails) {
         out.push(Rule { bad: length_rule(list) });
     }
+    if tails {
+        out.push(Rule { bad: severity_outside().fill_null(lit(true)) });
+    }
     out
+}
+
+/// True where the severity is not a number in [0, `SEVERITY_BOUND`] (NaN sorts above every
+/// number in polars, so it fails the upper bound).
+fn severity_outside() -> Expr {
+    let s = col(name::SEVERITY);
+    s.clone().gt_eq(lit(0.0)).and(s.lt_eq(lit(SEVERITY_BOUND))).not()
 }
 
 /// The per-stick lists of schema v3, one element per stick (`n_stick`).
@@ -177,6 +188,12 @@ fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool, tai
     }
     if let Some(why) = df.column(name::LAST_TRUNCATED).ok().filter(|col| col.null_count() > 0).and_then(|_| at(name::LAST_TRUNCATED, "a null value".into())) {
         return Some(why);
+    }
+    if tails {
+        let severity = df.column(name::SEVERITY).ok()?.f64().ok()?.get(0);
+        if !severity.is_some_and(|x| (0.0..=SEVERITY_BOUND).contains(&x)) {
+            return at(name::SEVERITY, format!("{} (a severity lies in [0, {SEVERITY_BOUND}])", severity.map_or("null".into(), crate::scenario::short)));
+        }
     }
     let n = int(name::N_STICK)?;
     for c in PER_STICK.iter().filter(|_| tails) {

@@ -7,7 +7,10 @@
 //! stuck / t_a), `mean_D` and `mean_H` (D_1..D_K and H_1..H_K pooled: they are identically
 //! distributed), `var_T_slope` (± `var_T_slope_se`, the growth of Var T_k with k), and
 //! `mean_T_slope` (the mean cycle length), both over the indices that
-//! [`super::GROWTH_MIN_REACHED`] of the cell's realizations reach, and `T_k_max`, the largest.
+//! [`super::GROWTH_MIN_REACHED`] of the cell's realizations reach, and `T_k_max`, the largest;
+//! then, each with `_lo`/`_hi` (95 %): `stick_rate` (sticks per second, E[S_T]/t_a),
+//! `longest_stick` (its mean, s), `severity` (its mean; schema v3), and from the tails
+//! `breakaway_fraction`, `p_longest_stick_gt_<T>` and `p_severity_gt_<s>` for the asked thresholds.
 
 use std::path::Path;
 
@@ -37,6 +40,22 @@ pub struct CellSummary {
     /// the largest index k the growth fits use (those [`super::GROWTH_MIN_REACHED`] of the
     /// realizations reach); None without a fit
     pub t_k_max: Option<u32>,
+    /// each with its 95 % interval: sticks per second E[S_T]/t_a [1/s], the mean longest stick
+    /// [s], the mean severity, and (from the tails) the fraction of sticks ending by breakaway
+    /// and P(longest stick > T), P(severity > s) as (column name, value, interval)
+    pub stick_rate: Estimate,
+    pub longest_stick: Estimate,
+    pub severity: Estimate,
+    pub tails: Vec<(String, Estimate)>,
+}
+
+/// A value and its 95 % interval (None: not available for the cell).
+pub type Estimate = Option<(f64, Option<(f64, f64)>)>;
+
+/// The mean of a scalar observable with its interval.
+fn mean_of(a: &Analysis, o: Observable, scale: f64) -> Estimate {
+    let s = a.get(o)?;
+    (s.moments.n > 0).then(|| (s.moments.mean / scale, s.interval(|m| (m.n > 0).then_some(m.mean)).map(|(lo, hi)| (lo / scale, hi / scale))))
 }
 
 /// The mean of a duration family's values over every analysed index k (D_1..D_K pooled).
@@ -96,6 +115,21 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
         var_t_slope_se: line("variance").and_then(|l| l.slope_se),
         mean_t_slope: line("mean").map(|l| l.slope),
         t_k_max: a.growth.iter().find(|g| g.family == Observable::StickStart(1)).map(|g| g.k_max),
+        stick_rate: mean_of(a, Observable::Sticks, a.dataset.scenario.run.duration),
+        longest_stick: mean_of(a, Observable::LongestStick, 1.0),
+        severity: mean_of(a, Observable::Severity, 1.0),
+        tails: a
+            .tails
+            .iter()
+            .flat_map(|t| &t.exceedances)
+            .map(|e| {
+                let name = match e.threshold {
+                    Some(x) => format!("p_{}_gt_{}", e.statistic, crate::scenario::short(x)),
+                    None => e.statistic.to_string(),
+                };
+                (name, Some((e.value, e.interval)))
+            })
+            .collect(),
     }
 }
 
@@ -118,6 +152,24 @@ pub fn table(cells: &[CellSummary]) -> Table {
         .push("var_T_slope_se", f(&|c| c.var_t_slope_se))
         .push("mean_T_slope", f(&|c| c.mean_t_slope))
         .push("T_k_max", Col::Int(cells.iter().map(|c| c.t_k_max.map(i64::from)).collect()));
+    let estimate = |t: &mut Table, name: &str, get: &dyn Fn(&CellSummary) -> Estimate| {
+        t.push(name, f(&|c| get(c).map(|e| e.0)));
+        t.push(&format!("{name}_lo"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.0)));
+        t.push(&format!("{name}_hi"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.1)));
+    };
+    estimate(&mut t, "stick_rate", &|c| c.stick_rate);
+    estimate(&mut t, "longest_stick", &|c| c.longest_stick);
+    estimate(&mut t, "severity", &|c| c.severity);
+    // the tails' columns, in the order of the first cell that has each
+    let mut names: Vec<&String> = Vec::new();
+    for (n, _) in cells.iter().flat_map(|c| &c.tails) {
+        if !names.contains(&n) {
+            names.push(n);
+        }
+    }
+    for n in names {
+        estimate(&mut t, n, &|c| c.tails.iter().find(|(m, _)| m == n).and_then(|(_, e)| *e));
+    }
     t
 }
 

@@ -59,7 +59,6 @@ use super::input::{scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
 use crate::belt::Process;
 use crate::dataset::columns as name;
-use crate::events::StickEnd;
 use crate::physics::Physics;
 
 /// Time cells per t_a (module docs).
@@ -264,26 +263,6 @@ fn entry_plan(sticks: LazyFrame, p: Physics, speeds: (f64, f64), max_index: u32,
     count_plan(sticks.select([col(G), col(K), holding_bin(p, speeds, ts).alias(CELL), col(V).gt(lit(0.0)).alias(FLAG)]), max_index)
 }
 
-/// The number of `breakaway` ends in each row's `stick_end` list.
-fn breakaways() -> Expr {
-    use polars_arrow::array::{Array, Utf8ViewArray};
-    col(name::STICK_END)
-        .map(
-            |c: Column| {
-                let ca = c.list()?.rechunk();
-                let mut out: Vec<Option<i64>> = Vec::with_capacity(ca.len());
-                for arr in ca.downcast_iter() {
-                    let values = arr.values().as_any().downcast_ref::<Utf8ViewArray>().ok_or_else(|| polars_err!(SchemaMismatch: "column `stick_end` is not a list of strings"))?;
-                    let o = arr.offsets().as_slice();
-                    out.extend((0..arr.len()).map(|r| arr.is_valid(r).then(|| (o[r] as usize..o[r + 1] as usize).filter(|&i| values.value(i) == StickEnd::Breakaway.name()).count() as i64)));
-                }
-                Ok(Int64Chunked::from_iter_options(c.name().clone(), out.into_iter()).into_column())
-            },
-            |_, f| Ok(Field::new(f.name().clone(), DataType::Int64)),
-        )
-        .alias("__breakaways")
-}
-
 /// Per group: realizations, sticks, breakaways, and the exceedance counts of each threshold.
 fn extreme_plan(data: &Dataset, opts: &TailOptions) -> PolarsResult<DslPlan> {
     let mut aggs = vec![len().cast(DataType::Int64).alias("__rows"), col(name::N_STICK).cast(DataType::Int64).sum().alias("__sticks"), col("__breakaways").sum().alias("__b")];
@@ -293,7 +272,7 @@ fn extreme_plan(data: &Dataset, opts: &TailOptions) -> PolarsResult<DslPlan> {
     for (i, s) in opts.severity.iter().enumerate() {
         aggs.push(col(name::SEVERITY).gt(lit(*s)).cast(DataType::Int64).sum().alias(format!("__s{i}")));
     }
-    Ok(frame(data)?.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), breakaways()]).group_by([col(G)]).agg(aggs).logical_plan)
+    Ok(frame(data)?.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), crate::observables::breakaways().alias("__breakaways")]).group_by([col(G)]).agg(aggs).logical_plan)
 }
 
 /// The counts of [`extreme_plan`] as [group][column].
@@ -494,14 +473,9 @@ fn curve(full: (&Counts, &[(f64, i64)]), loo: (&Counts, &[(f64, i64)]), estimate
         .collect()
 }
 
-/// The jackknife interval of `value` on a transformed scale, mapped back; None where the
-/// transform is undefined for the estimate or any leave-one-out value.
+/// The jackknife interval of `value` on the scale `(to, back)`.
 fn transformed(value: f64, loo: &[Option<f64>], (to, back): (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Option<Interval> {
-    let t = to(value)?;
-    let l: Option<Vec<Option<f64>>> = loo.iter().map(|x| x.and_then(to).map(Some)).collect();
-    let (a, b) = jackknife::interval(Some(t), &l?)?;
-    let (a, b) = (back(a), back(b));
-    Some((a.min(b), a.max(b)))
+    jackknife::transformed(Some(value), loo, to, back)
 }
 
 /// ln(−ln S) and back, for S in (0, 1).

@@ -97,7 +97,9 @@ fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
         x.push(t1);
         let mut o = Outcome::default();
         o.belt.initial_sign = 1.0;
+        o.forward_speed = 1.0;
         let r = &mut o.record;
+        (r.min_velocity, r.max_velocity) = (-1.0, 1.0);
         r.stick_start.extend([t1, t1 + 1.0]);
         r.stick_duration.extend([0.5, 0.25]);
         r.stick_end.extend([stickslip::events::StickEnd::Flip, stickslip::events::StickEnd::Horizon]);

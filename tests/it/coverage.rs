@@ -32,7 +32,8 @@ fn intervals_cover_a_large_sample_reference() {
         let a = analysed(&dir, run + 1, 1000);
         for (s, t) in pick(&a).iter().zip(&truth) {
             for (k, (_, f)) in stat.iter().enumerate() {
-                if let (Some((lo, hi)), Some(x)) = (s.interval(f), f(&t.moments)) {
+                let interval = if stat[k].0 == "kurtosis" { s.kurtosis_interval() } else { s.interval(f) };
+                if let (Some((lo, hi)), Some(x)) = (interval, f(&t.moments)) {
                     total[k] += 1;
                     hits[k] += usize::from(lo <= x && x <= hi);
                 }
@@ -47,14 +48,10 @@ fn intervals_cover_a_large_sample_reference() {
     for (k, name) in stat.iter().map(|s| s.0).chain(["mode"]).enumerate() {
         let coverage = hits[k] as f64 / total[k] as f64;
         // 95 % nominal; 60 runs × 7 series: a binomial standard error of about 0.01, but the runs
-        // of one dataset share realizations, so the bound leaves room (kurtosis, from 1,000 heavy-
-        // tailed values, and the mode, a non-smooth statistic, are the hardest: 0.85 and 0.91 in
-        // the 200-run bench)
-        let floor = match name {
-            "kurtosis" => 0.75,
-            "mode" => 0.8,
-            _ => 0.85,
-        };
+        // of one dataset share realizations, so the bound leaves room (the mode, a non-smooth
+        // statistic, is the hardest; the plain jackknife of the kurtosis covered 0.75–0.86 and
+        // failed this floor before it moved to the log scale, widened)
+        let floor = if name == "mode" { 0.8 } else { 0.85 };
         assert!(total[k] >= 400 && coverage >= floor, "{name}: coverage {coverage:.3} over {} intervals", total[k]);
     }
 }

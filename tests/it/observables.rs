@@ -14,9 +14,8 @@ fn the_record_path_agrees_with_analyze_on_the_same_realizations() {
     let tmp = tempfile::tempdir().unwrap();
     assert!(stickslip(&["simulate", "--out", "d", "--realizations", &n.to_string(), "-q"], tmp.path()).status.success());
     let a = analyze(&tmp.path().join("d"), &Options::default()).unwrap();
-    let t_a = sc.run.duration;
     for q in Observable::table1().into_iter().chain([Observable::Switches, Observable::StickFraction]) {
-        let values: Vec<f64> = outcomes.iter().filter_map(|o| q.value(&o.record, &o.belt.switch_times, t_a)).collect();
+        let values: Vec<f64> = outcomes.iter().filter_map(|o| q.value(o)).collect();
         let mean = values.iter().sum::<f64>() / values.len() as f64;
         let m = &a.get(q).unwrap_or_else(|| panic!("analyze has no {q}")).moments;
         assert_eq!(m.n, values.len() as u64, "{q}: realizations with a value");
@@ -50,7 +49,7 @@ fn the_polars_expression_equals_the_record_value_on_every_realization() {
     for q in &all {
         let column = df.column(&q.name()).unwrap().f64().unwrap().clone();
         for (i, o) in outcomes.iter().enumerate() {
-            let (e, v) = (column.get(i), q.value(&o.record, &o.belt.switch_times, t_a));
+            let (e, v) = (column.get(i), q.value(o));
             let same = match (e, v) {
                 (Some(e), Some(v)) => (e - v).abs() <= 1e-12 * v.abs().max(1e-300),
                 (None, None) => true,

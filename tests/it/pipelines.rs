@@ -38,6 +38,31 @@ fn sweep_maps_show_the_expected_trends() {
         // more friction → more time in stick
         assert!(at(l, 1.0, frac) > at(l, 0.3, frac), "stick fraction at λ = {l}");
     }
+    // the tails' columns (issue 22, item 4), each inside its own interval: sticks per second is
+    // E[S_T]/t_a (t_a = 10 s); the rarer the belt flips, the more sticks last to breakaway
+    let st = t.floats("mean_S_T").unwrap();
+    for name in ["stick_rate", "longest_stick", "severity", "breakaway_fraction"] {
+        let (v, lo, hi) = (t.floats(name).unwrap(), t.floats(&format!("{name}_lo")).unwrap(), t.floats(&format!("{name}_hi")).unwrap());
+        for r in 0..t.height() {
+            match (v[r].unwrap(), lo[r], hi[r]) {
+                (v, Some(lo), Some(hi)) => assert!(lo <= v && v <= hi && v >= 0.0, "{name}, cell {r}: {v} [{lo}, {hi}]"),
+                // a fraction of 0 has no band on the log scale (said so by a null)
+                (v, None, None) => assert!(name == "breakaway_fraction" && v == 0.0, "{name}, cell {r}: {v} without a band"),
+                other => panic!("{name}, cell {r}: {other:?}"),
+            }
+        }
+    }
+    let rate = t.floats("stick_rate").unwrap();
+    for r in 0..t.height() {
+        assert!((rate[r].unwrap() - st[r].unwrap() / 10.0).abs() < 1e-12, "stick_rate = mean S_T / t_a");
+    }
+    let b = t.floats("breakaway_fraction").unwrap();
+    for m in [0.3, 1.0] {
+        assert!(at(2.5, m, b) > at(20.5, m, b), "breakaway fraction at μ = {m}");
+    }
+    for s in ["1", "1.25"] {
+        assert!(t.floats(&format!("p_severity_gt_{s}")).is_some(), "P(severity > {s}) for the default thresholds");
+    }
     // each cell is a complete analysis, and has its own, reproducible stream
     assert!(tmp.path().join("sweep-a/switch_rate=10/friction_coefficient=1/moments.parquet").is_file());
     let part = |dir: &str| std::fs::read(tmp.path().join(dir).join("switch_rate=10/friction_coefficient=0.3/part-00000-of-00001.parquet")).unwrap();
