@@ -77,7 +77,53 @@ struct Content {
     growth: Vec<[String; 5]>,
     renewal: Vec<[String; 3]>,
     tests: Vec<[String; 8]>,
+    /// (quantity, estimate [95 %], from how many) of the tails, empty without them
+    tails: Vec<[String; 3]>,
     figures: Vec<(String, PathBuf)>,
+}
+
+/// The tails' rows of the report: P(D > t) at each asked time by the three methods
+/// (`survival.parquet`, pooled), then the breakaway fraction and the exceedances
+/// (`tails.parquet`); empty when the analysis has no tails.
+fn tails_rows(adir: &Path) -> Result<Vec<[String; 3]>, ReportError> {
+    let read = |name: &str, columns: &[(&str, char)]| -> Result<Option<Table>, ReportError> {
+        let path = adir.join(name);
+        if !path.exists() {
+            return Ok(None);
+        }
+        Table::read_checked(&path, columns).map(Some).map_err(|e| ReportError::Read { path, message: e.to_string() })
+    };
+    let Some(e) = read("tails.parquet", &[("statistic", 's'), ("threshold", 'f'), ("value", 'f'), ("lo", 'f'), ("hi", 'f'), ("n", 'i')])? else { return Ok(Vec::new()) };
+    let s = read("survival.parquet", &[("variable", 's'), ("index", 'i'), ("method", 's'), ("n", 'i'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')])?;
+    let sig = |x: f64| crate::figures::format::significant(x, 4);
+    let shown = |v: Option<f64>, lo: Option<f64>, hi: Option<f64>| match (v, lo, hi) {
+        (Some(v), Some(lo), Some(hi)) => format!("{} [{} – {}]", sig(v), sig(lo), sig(hi)),
+        (v, _, _) => format!("{} (no band)", v.map_or("–".into(), sig)),
+    };
+    let short = crate::scenario::short;
+    let (stat, threshold, value, lo, hi, n) = (e.strings("statistic").unwrap_or_default(), e.floats("threshold").unwrap_or_default(), e.floats("value").unwrap_or_default(), e.floats("lo").unwrap_or_default(), e.floats("hi").unwrap_or_default(), e.ints("n").unwrap_or_default());
+    let mut out = Vec::new();
+    // P(D > t) at the asked times (the longest stick's thresholds are those times)
+    if let Some(s) = &s {
+        let (var, idx, method, sn, t, sv, slo, shi) = (s.strings("variable").unwrap_or_default(), s.ints("index").unwrap_or_default(), s.strings("method").unwrap_or_default(), s.ints("n").unwrap_or_default(), s.floats("t").unwrap_or_default(), s.floats("survival").unwrap_or_default(), s.floats("lo").unwrap_or_default(), s.floats("hi").unwrap_or_default());
+        for r in (0..e.height()).filter(|&r| stat[r] == "longest_stick") {
+            for m in ["kaplan_meier", "naive", "conditional"] {
+                if let Some(q) = (0..s.height()).find(|&q| var[q] == "D" && idx[q].is_none() && method[q] == m && t[q] == threshold[r]) {
+                    let label = format!("P(D > {} s), {}", t[q].map_or("–".into(), short), m.replace('_', "-"));
+                    out.push([label, shown(sv[q], slo[q], shi[q]), format!("{} sticks", sn[q].unwrap_or(0))]);
+                }
+            }
+        }
+    }
+    for r in 0..e.height() {
+        let label = match threshold[r] {
+            Some(x) => format!("P({} > {})", stat[r], short(x)),
+            None => stat[r].replace('_', " "),
+        };
+        let of = if stat[r] == "breakaway_fraction" { "sticks" } else { "realizations" };
+        out.push([label, shown(value[r], lo[r], hi[r]), format!("{} {of}", n[r].unwrap_or(0))]);
+    }
+    Ok(out)
 }
 
 fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, ReportError> {
@@ -167,7 +213,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         .collect();
     figures.sort();
     let paper = sc.is_paper_scene();
-    Ok(Content { provenance, scenario: sc.to_toml(), paper, table1: table1(&moments, paper), growth, renewal, tests, figures })
+    Ok(Content { provenance, scenario: sc.to_toml(), paper, table1: table1(&moments, paper), growth, renewal, tests, tails: tails_rows(adir)?, figures })
 }
 
 /// The solver actually run and, for a numerical one, the `[numerics]` settings it used.
@@ -270,7 +316,15 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
     for t in &c.tests {
         let _ = writeln!(h, "<tr>{}</tr>", t.iter().map(|x| format!("<td>{}</td>", escape(x))).collect::<String>());
     }
-    h += "</table>\n<h2>Figures</h2>\n";
+    h += "</table>\n";
+    if !c.tails.is_empty() {
+        h += "<h2>Tails (figure <a href=\"#tails\">tails</a>)</h2>\n<p>P(D &gt; t) by the product limit (the stick cut at t_a censored), the naive estimate (cut sticks dropped: biased low) and the conditional estimator (exact in t); the breakaway fraction and the exceedances of the longest stick and the severity. 95 % intervals by the delete-a-group jackknife.</p>\n<table>\n<tr><th>quantity</th><th>estimate [95 %]</th><th>from</th></tr>\n";
+        for r in &c.tails {
+            let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>", escape(&r[0]), escape(&r[1]), escape(&r[2]));
+        }
+        h += "</table>\n";
+    }
+    h += "<h2>Figures</h2>\n";
     for (name, path) in &c.figures {
         let svg = std::fs::read_to_string(path).map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
         let body = svg.find("<svg").map_or(svg.as_str(), |i| &svg[i..]);
@@ -311,6 +365,12 @@ fn markdown(c: &Content, figdir: &Path) -> String {
     m += "\n## Independence tests\n\n| pair | n | χ² on df | χ² p | G p | MI [nats] | permutation p | verdict |\n|---|---|---|---|---|---|---|---|\n";
     for t in &c.tests {
         let _ = writeln!(m, "| {} |", t.join(" | "));
+    }
+    if !c.tails.is_empty() {
+        m += "\n## Tails\n\nP(D > t) by the product limit (the stick cut at t_a censored), the naive estimate (cut sticks dropped: biased low) and the conditional estimator (exact in t); the breakaway fraction and the exceedances. 95 % intervals by the delete-a-group jackknife.\n\n| quantity | estimate [95 %] | from |\n|---|---|---|\n";
+        for r in &c.tails {
+            let _ = writeln!(m, "| {} |", r.join(" | "));
+        }
     }
     m += "\n## Figures\n\n";
     for (name, _) in &c.figures {
