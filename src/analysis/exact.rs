@@ -12,10 +12,10 @@ use polars::prelude::*;
 ///
 /// ```text
 ///     q = B^p / R,  R = 2^61 / n,   v = t / q  (|v| ≤ R),
-///     hi = round(v),   lo = round((v − hi)·R)  (|lo| ≤ R/2),     Σt = q (Σhi + Σlo / R)
+///     hi = trunc(v),   lo = round((v − hi)·R)  (|lo| ≤ R),     Σt = q (Σhi + Σlo / R)
 /// ```
 ///
-/// Each sum stays within n R = 2^61 in magnitude. A term loses at most q/(2R) = B^p n²/2^123
+/// Each sum stays within n R = 2^61 in magnitude (< 2^63). A term loses at most q/(2R) = B^p n²/2^123
 /// (a relative 2^-70 of B^p for n ≤ 10^8) or the rounding of v, whichever is larger; rounded to
 /// nearest, these errors do not pile up one way. B is the bound of |d| the pilot sets near the
 /// data's spread (`query::pilots`), so that values small against their window keep their digits
@@ -44,11 +44,28 @@ fn split(d: f64, q: &[(f64, f64); 4]) -> [[i64; 2]; 4] {
     for (p, t) in [d, d2, d2 * d, d2 * d2].into_iter().enumerate() {
         let (qp, r) = q[p];
         let v = t / qp;
-        // |v| ≤ R ≤ 2^61 by the bound (`as` saturates beyond: that pass is run again)
-        let hi = v.round();
-        out[p] = [hi as i64, ((v - hi) * r).round() as i64];
+        // |v| ≤ R ≤ 2^61 by the bound (`as` saturates beyond: that pass is run again). hi is v
+        // truncated (any integer within 1 of v keeps |lo| ≤ R and the sums exact; truncation is
+        // one instruction, libm's `round` a call); lo is rounded to nearest, so the only loss,
+        // lo's rounding, does not pile up one way
+        let hi = v.trunc();
+        out[p] = [hi as i64, nearest((v - hi) * r) as i64];
     }
     out
+}
+
+/// x rounded to the nearest integer (ties to even) by the 2^52 shift: adding 2^52 to |x| < 2^52
+/// leaves no fraction bits, so the addition rounds (in the default rounding mode); |x| ≥ 2^52 is
+/// already an integer.
+#[inline]
+fn nearest(x: f64) -> f64 {
+    const SHIFT: f64 = 4_503_599_627_370_496.0; // 2^52
+    if x.abs() < SHIFT {
+        let s = SHIFT.copysign(x);
+        (x + s) - s
+    } else {
+        x
+    }
 }
 
 /// The name of field `part` (`h` or `l`) of power `p` in an [`exact_parts`] struct.
@@ -167,6 +184,15 @@ mod tests {
             }
         }
         [0, 1, 2, 3].map(|p| exact(acc[p][0], acc[p][1], q[p]))
+    }
+
+    #[test]
+    fn nearest_is_round_half_to_even() {
+        let mut xs = vec![0.5, 1.5, 2.5, -0.5, -1.5, -2.5, 0.49999999999999994, 2f64.powi(51) + 0.5, 2f64.powi(52) - 0.5, 2f64.powi(52), -2f64.powi(60), 1e-300, -0.0];
+        xs.extend((0..10_000).map(|i| ((i as f64) * 0.7123).sin() * 10f64.powi(i % 19)));
+        for x in xs {
+            assert_eq!(nearest(x), x.round_ties_even(), "{x:e}");
+        }
     }
 
     #[test]

@@ -77,8 +77,9 @@ pub struct Options {
 
 /// Default largest event index analysed (the paper's Table 1 goes to 6).
 pub const DEFAULT_MAX_INDEX: u32 = 6;
-/// Largest `--max-index` (each index adds four series with their sketches).
-pub const MAX_INDEX: u32 = 1000;
+/// Largest `--max-index`: the largest index a quantity's name may carry (each index adds four
+/// series with their sketches).
+pub use crate::observables::MAX_INDEX;
 
 /// The smallest share of realizations that must reach index k for T_k, L_k to enter the growth
 /// regressions (and the renewal check and the sweep's slopes built on them): statistics of an
