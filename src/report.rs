@@ -85,7 +85,7 @@ struct Content {
 /// The tails' rows of the report: P(D > t) at each asked time by the three methods
 /// (`survival.parquet`, pooled), then the breakaway fraction and the exceedances
 /// (`tails.parquet`); empty when the analysis has no tails.
-fn tails_rows(adir: &Path) -> Result<Vec<[String; 3]>, ReportError> {
+fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>, ReportError> {
     let read = |name: &str, columns: &[(&str, char)]| -> Result<Option<Table>, ReportError> {
         let path = adir.join(name);
         if !path.exists() {
@@ -114,6 +114,13 @@ fn tails_rows(adir: &Path) -> Result<Vec<[String; 3]>, ReportError> {
                 }
             }
         }
+    }
+    // stick cycles per unit time: E[S_T]/t_a, with the mean's interval
+    let (var, mean, mlo, mhi, mn) = (moments.strings("variable").unwrap_or_default(), moments.floats("mean").unwrap_or_default(), moments.floats("mean_lo").unwrap_or_default(), moments.floats("mean_hi").unwrap_or_default(), moments.ints("n").unwrap_or_default());
+    if let Some(r) = (0..moments.height()).find(|&r| var[r] == "S_T") {
+        // (columns an older analysis may lack read as missing, not as a panic)
+        let per = |c: &[Option<f64>]| c.get(r).copied().flatten().map(|x| x / t_a);
+        out.push(["sticks per second, E[S_T]/t_a [1/s]".into(), shown(per(&mean), per(&mlo), per(&mhi)), format!("{} realizations", mn.get(r).copied().flatten().unwrap_or(0))]);
     }
     for r in 0..e.height() {
         let label = match threshold[r] {
@@ -213,7 +220,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         .collect();
     figures.sort();
     let paper = sc.is_paper_scene();
-    Ok(Content { provenance, scenario: sc.to_toml(), paper, table1: table1(&moments, paper), growth, renewal, tests, tails: tails_rows(adir)?, figures })
+    Ok(Content { provenance, scenario: sc.to_toml(), paper, table1: table1(&moments, paper), growth, renewal, tests, tails: tails_rows(adir, &moments, sc.run.duration)?, figures })
 }
 
 /// The solver actually run and, for a numerical one, the `[numerics]` settings it used.

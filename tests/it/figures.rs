@@ -145,7 +145,7 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
     let figs = tmp.path().join("run/figures");
     let names = [
         "fig02_poisson_pmf", "fig04_trajectories", "fig05_q", "fig06_y", "fig07_variance_growth", "fig08_counts",
-        "fig09_t", "fig10_l", "fig11_t1_t2", "fig12_d", "fig13_d1_d2", "fig14_h",
+        "fig09_t", "fig10_l", "fig11_t1_t2", "fig12_d", "fig13_d1_d2", "fig14_h", "tails",
     ];
     for name in names {
         let png = std::fs::read(figs.join(format!("{name}.png"))).unwrap_or_else(|e| panic!("{name}.png: {e}"));
@@ -165,6 +165,14 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
     assert!(html.contains("T_1") && html.contains("16.71") && html.contains("renewal"));
     let md = std::fs::read_to_string(tmp.path().join("run/report.md")).unwrap();
     assert!(md.contains("| T_1 |") && md.contains("fig13_d1_d2.png"));
+    // the tails section (issue 22, item 7): sticks per second is E[S_T]/t_a of moments.parquet
+    assert!(md.contains("## Tails") && md.contains("| breakaway fraction |") && md.contains("P(severity > 1.25)"), "{md}");
+    let m = stickslip::table::Table::read_parquet(&tmp.path().join("run/analysis/moments.parquet")).unwrap();
+    let vars = m.strings("variable").unwrap();
+    let st = m.floats("mean").unwrap()[vars.iter().position(|v| v == "S_T").unwrap()].unwrap();
+    let line = md.lines().find(|l| l.starts_with("| sticks per second")).expect("a sticks-per-second row");
+    let shown: f64 = line.split('|').nth(2).unwrap().split_whitespace().next().unwrap().parse().unwrap();
+    assert!((shown - st / 10.0).abs() <= 5e-4 * st / 10.0, "{line} against E[S_T] = {st}");
 }
 
 #[test]
