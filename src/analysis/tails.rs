@@ -55,7 +55,9 @@
 
 use polars::prelude::*;
 
-use super::input::{scan_all, Dataset};
+use std::collections::HashMap;
+
+use super::input::{scan, scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
 use crate::belt::Process;
 use crate::dataset::columns as name;
@@ -160,6 +162,25 @@ fn frame(data: &Dataset) -> PolarsResult<LazyFrame> {
     scan_all(data, false)
 }
 
+/// Rows per run of the tails' pass: the sinks of one `collect_all` share its scan, and polars
+/// buffers a shared scan for its slowest sink without a bound (10^7 realizations in one run:
+/// 13 GB), so the pass is made over runs of at most this many realizations, whose counts add.
+const RUN_ROWS: u64 = 1 << 19;
+
+/// The runs of the pass: (file, first row, rows), at most [`RUN_ROWS`] rows each.
+fn runs(data: &Dataset) -> Vec<(usize, u64, u64)> {
+    let mut out = Vec::new();
+    for (f, &rows) in data.file_rows.iter().enumerate() {
+        let mut offset = 0;
+        while offset < rows {
+            let take = RUN_ROWS.min(rows - offset);
+            out.push((f, offset, take));
+            offset += take;
+        }
+    }
+    out
+}
+
 fn group() -> Expr {
     (col(name::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64).alias(G)
 }
@@ -213,7 +234,7 @@ const V: &str = "__v";
 /// The sticks (`stick`) or slips, one row each: G, K (clamped), DURATION, FLAG (censored: the
 /// one rule of `observables::last_cut`, the last interval cut at t_a), and for sticks with
 /// `entries` their entry position X and belt velocity V.
-fn intervals(data: &Dataset, stick: bool, max_index: u32, entries: bool) -> PolarsResult<LazyFrame> {
+fn intervals(src: LazyFrame, stick: bool, max_index: u32, entries: bool) -> LazyFrame {
     let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
     let mut read = vec![group(), col(list), positions(list), col(count).cast(DataType::Int64).alias("__n"), crate::observables::last_cut(stick).alias("__cut")];
     let mut lists = vec![list, K];
@@ -223,7 +244,7 @@ fn intervals(data: &Dataset, stick: bool, max_index: u32, entries: bool) -> Pola
         lists.extend([name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY]);
         keep.extend([col(name::STICK_ENTRY_POSITION).alias(X), col(name::STICK_ENTRY_VELOCITY).alias(V)]);
     }
-    Ok(frame(data)?.select(read).explode(by_name(lists, true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false }).select(keep))
+    src.select(read).explode(by_name(lists, true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false }).select(keep)
 }
 
 /// The time cell of each duration d ≥ 0: φ(d) = ⌊d/width⌋ + #{τ ∈ `times` : τ ≤ d}, the cells of
@@ -264,7 +285,7 @@ fn entry_plan(sticks: LazyFrame, p: Physics, speeds: (f64, f64), max_index: u32,
 }
 
 /// Per group: realizations, sticks, breakaways, and the exceedance counts of each threshold.
-fn extreme_plan(data: &Dataset, opts: &TailOptions) -> PolarsResult<DslPlan> {
+fn extreme_plan(src: LazyFrame, opts: &TailOptions) -> DslPlan {
     let mut aggs = vec![len().cast(DataType::Int64).alias("__rows"), col(name::N_STICK).cast(DataType::Int64).sum().alias("__sticks"), col("__breakaways").sum().alias("__b")];
     for (i, t) in opts.times.iter().enumerate() {
         aggs.push(col(name::LONGEST_STICK).gt(lit(*t)).cast(DataType::Int64).sum().alias(format!("__l{i}")));
@@ -272,7 +293,7 @@ fn extreme_plan(data: &Dataset, opts: &TailOptions) -> PolarsResult<DslPlan> {
     for (i, s) in opts.severity.iter().enumerate() {
         aggs.push(col(name::SEVERITY).gt(lit(*s)).cast(DataType::Int64).sum().alias(format!("__s{i}")));
     }
-    Ok(frame(data)?.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), crate::observables::breakaways().alias("__breakaways")]).group_by([col(G)]).agg(aggs).logical_plan)
+    src.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), crate::observables::breakaways().alias("__breakaways")]).group_by([col(G)]).agg(aggs).logical_plan
 }
 
 /// The counts of [`extreme_plan`] as [group][column].
@@ -331,26 +352,48 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
         Ok(_) => Some(grid((longest(data)? / rho) as i64 + 1, rho, &opts.times)),
         Err(_) => None,
     };
-    let mut plans = Vec::new();
-    for stick in [true, false] {
-        let entries = stick && entry_grid.is_some();
-        let base = intervals(data, stick, max_index, entries)?;
-        // the estimate on fine cells (groups pooled), the leave-one-group-out curves on coarse ones
-        plans.push(count_plan(base.clone().select([lit(0i64).alias(G), col(K), cell(rho, &times), col(FLAG)]), max_index));
-        plans.push(count_plan(base.clone().select([col(G), col(K), cell(rho * COARSE as f64, &times), col(FLAG)]), max_index));
-        if let (true, Ok(scene), Some(grid)) = (entries, &scene, &entry_grid) {
-            let (_, speeds) = belt_rates(&scene.belt.process);
-            plans.push(entry_plan(base, scene.params.per_unit_mass(), speeds, max_index, grid.iter().map(|g| g.0).collect()));
+    // per run, the sinks in order: for sticks then slips the fine and the coarse counts (and for
+    // sticks the entries), then the extremes; their counts summed over the runs
+    let mut sums: Vec<HashMap<(usize, u32, i64, bool), u64>> = Vec::new();
+    let mut extremes: Vec<Vec<u64>> = Vec::new();
+    for (f, offset, rows) in runs(data) {
+        let src = scan(&data.files[f], None, false)?.slice(offset as i64, rows as IdxSize);
+        let mut plans = Vec::new();
+        for stick in [true, false] {
+            let entries = stick && entry_grid.is_some();
+            let base = intervals(src.clone(), stick, max_index, entries);
+            // the estimate on fine cells (groups pooled), the leave-one-group-out curves on coarse ones
+            plans.push(count_plan(base.clone().select([lit(0i64).alias(G), col(K), cell(rho, &times), col(FLAG)]), max_index));
+            plans.push(count_plan(base.clone().select([col(G), col(K), cell(rho * COARSE as f64, &times), col(FLAG)]), max_index));
+            if let (true, Ok(scene), Some(grid)) = (entries, &scene, &entry_grid) {
+                let (_, speeds) = belt_rates(&scene.belt.process);
+                plans.push(entry_plan(base, scene.params.per_unit_mass(), speeds, max_index, grid.iter().map(|g| g.0).collect()));
+            }
+        }
+        let counted = plans.len();
+        if data.tails_state {
+            plans.push(extreme_plan(src, opts));
+        }
+        let frames = LazyFrame::collect_all_with_engine(plans, Engine::Streaming, OptFlags::default())?;
+        sums.resize_with(counted, HashMap::new);
+        for (sum, df) in sums.iter_mut().zip(&frames) {
+            for (g, k, c, flag, n) in counts(df, max_index)? {
+                *sum.entry((g, k, c, flag)).or_insert(0) += n;
+            }
+        }
+        if let Some(df) = frames.get(counted) {
+            let e = extreme_counts(df)?;
+            extremes.resize_with(e.len(), Vec::new);
+            for (acc, row) in extremes.iter_mut().zip(e) {
+                acc.resize(row.len(), 0);
+                acc.iter_mut().zip(row).for_each(|(a, x)| *a += x);
+            }
         }
     }
-    if data.tails_state {
-        plans.push(extreme_plan(data, opts)?);
-    }
-    let mut frames = LazyFrame::collect_all_with_engine(plans, Engine::Streaming, OptFlags::default())?.into_iter();
-    let mut next = || frames.next().ok_or_else(|| polars_err!(ComputeError: "a tails query returned nothing"));
+    let mut sinks = sums.into_iter().map(|m| m.into_iter().map(|((g, k, c, flag), n)| (g, k, c, flag, n)).collect::<Counts>());
+    let mut next = || sinks.next().ok_or_else(|| polars_err!(ComputeError: "a tails query returned nothing"));
     for (stick, variable) in [(true, "D"), (false, "H")] {
-        let fine = counts(&next()?, max_index)?;
-        let coarse = counts(&next()?, max_index)?;
+        let (fine, coarse) = (next()?, next()?);
         let grid = match (stick, &entry_grid) {
             (true, Some(g)) => g.clone(),
             _ => grid(fine.iter().map(|r| r.2).max().unwrap_or(0) + 1, rho, &opts.times),
@@ -372,7 +415,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
         }
         if let (true, Some(grid), Ok(scene)) = (stick, &entry_grid, &scene) {
             let (rates, _) = belt_rates(&scene.belt.process);
-            let e = counts(&next()?, max_index)?;
+            let e = next()?;
             // held past grid[j].t exactly when the bin exceeds j (`holding_bin`)
             let bins: Vec<(f64, i64)> = grid.iter().enumerate().map(|(j, g)| (g.0, j as i64 + 1)).collect();
             for index in indices(max_index) {
@@ -388,7 +431,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
         }
     }
     if data.tails_state {
-        let per_group = extreme_counts(&next()?)?;
+        let per_group = if extremes.is_empty() { vec![vec![0; 3 + opts.times.len() + opts.severity.len()]; GROUPS] } else { extremes };
         let total = |j: usize, g: Option<usize>| -> u64 { per_group.iter().enumerate().filter(|(h, _)| Some(*h) != g).map(|(_, r)| r[j]).sum() };
         let ratio = |num: usize, den: usize, g: Option<usize>| -> Option<f64> { (total(den, g) > 0).then(|| total(num, g) as f64 / total(den, g) as f64) };
         let mut push = |statistic: &'static str, threshold: Option<f64>, num: usize, den: usize| {
