@@ -45,11 +45,11 @@ fn split(d: f64, q: &[(f64, f64); 4]) -> [[i64; 2]; 4] {
         let (qp, r) = q[p];
         let v = t / qp;
         // |v| ≤ R ≤ 2^61 by the bound (`as` saturates beyond: that pass is run again). hi is v
-        // truncated (any integer within 1 of v keeps |lo| ≤ R and the sums exact; truncation is
-        // one instruction, libm's `round` a call); lo is rounded to nearest, so the only loss,
+        // truncated (any integer within 1 of v keeps |lo| ≤ R and the sums exact; `as` truncates
+        // in one instruction, libm's `round` is a call); lo is rounded to nearest, so the only loss,
         // lo's rounding, does not pile up one way
-        let hi = v.trunc();
-        out[p] = [hi as i64, nearest((v - hi) * r) as i64];
+        let hi = v as i64; // truncation: one instruction (`f64::trunc` is a libm call here)
+        out[p] = [hi, nearest((v - hi as f64) * r) as i64];
     }
     out
 }
