@@ -8,7 +8,7 @@
 //! distributed), `var_T_slope` (± `var_T_slope_se`, the growth of Var T_k with k), and
 //! `mean_T_slope` (the mean cycle length), both over the indices that
 //! [`super::GROWTH_MIN_REACHED`] of the cell's realizations reach, and `T_k_max`, the largest;
-//! then, each with `_lo`/`_hi` (95 %): `stick_rate` (sticks per second, E[S_T]/t_a),
+//! then, each with `_lo`/`_hi` (95 %): `sticks_per_second` (sticks per second, E[S_T]/t_a),
 //! `longest_stick` (its mean, s), `severity` (its mean; schema v3), and from the tails
 //! `breakaway_fraction`, `p_longest_stick_gt_<T>` and `p_severity_gt_<s>` for the asked thresholds.
 
@@ -43,7 +43,7 @@ pub struct CellSummary {
     /// each with its 95 % interval: sticks per second E[S_T]/t_a [1/s], the mean longest stick
     /// [s], the mean severity, and (from the tails) the fraction of sticks ending by breakaway
     /// and P(longest stick > T), P(severity > s) as (column name, value, interval)
-    pub stick_rate: Estimate,
+    pub sticks_per_second: Estimate,
     pub longest_stick: Estimate,
     pub severity: Estimate,
     pub tails: Vec<(String, Estimate)>,
@@ -115,7 +115,7 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
         var_t_slope_se: line("variance").and_then(|l| l.slope_se),
         mean_t_slope: line("mean").map(|l| l.slope),
         t_k_max: a.growth.iter().find(|g| g.family == Observable::StickStart(1)).map(|g| g.k_max),
-        stick_rate: mean_of(a, Observable::Sticks, a.dataset.scenario.run.duration),
+        sticks_per_second: mean_of(a, Observable::Sticks, a.dataset.scenario.run.duration),
         longest_stick: mean_of(a, Observable::LongestStick, 1.0),
         severity: mean_of(a, Observable::Severity, 1.0),
         tails: a
@@ -157,7 +157,7 @@ pub fn table(cells: &[CellSummary]) -> Table {
         t.push(&format!("{name}_lo"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.0)));
         t.push(&format!("{name}_hi"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.1)));
     };
-    estimate(&mut t, "stick_rate", &|c| c.stick_rate);
+    estimate(&mut t, "sticks_per_second", &|c| c.sticks_per_second);
     estimate(&mut t, "longest_stick", &|c| c.longest_stick);
     estimate(&mut t, "severity", &|c| c.severity);
     // the tails' columns, in the order of the first cell that has each

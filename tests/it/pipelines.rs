@@ -41,7 +41,7 @@ fn sweep_maps_show_the_expected_trends() {
     // the tails' columns (issue 22, item 4), each inside its own interval: sticks per second is
     // E[S_T]/t_a (t_a = 10 s); the rarer the belt flips, the more sticks last to breakaway
     let st = t.floats("mean_S_T").unwrap();
-    for name in ["stick_rate", "longest_stick", "severity", "breakaway_fraction"] {
+    for name in ["sticks_per_second", "longest_stick", "severity", "breakaway_fraction"] {
         let (v, lo, hi) = (t.floats(name).unwrap(), t.floats(&format!("{name}_lo")).unwrap(), t.floats(&format!("{name}_hi")).unwrap());
         for r in 0..t.height() {
             match (v[r].unwrap(), lo[r], hi[r]) {
@@ -52,9 +52,9 @@ fn sweep_maps_show_the_expected_trends() {
             }
         }
     }
-    let rate = t.floats("stick_rate").unwrap();
+    let rate = t.floats("sticks_per_second").unwrap();
     for r in 0..t.height() {
-        assert!((rate[r].unwrap() - st[r].unwrap() / 10.0).abs() < 1e-12, "stick_rate = mean S_T / t_a");
+        assert!((rate[r].unwrap() - st[r].unwrap() / 10.0).abs() < 1e-12, "sticks_per_second = mean S_T / t_a");
     }
     let b = t.floats("breakaway_fraction").unwrap();
     for m in [0.3, 1.0] {
