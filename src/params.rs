@@ -23,7 +23,7 @@ use rand_distr::{Distribution, Gamma, StandardNormal};
 use serde::{Deserialize, Serialize};
 
 use crate::belt::{Belt, Process};
-use crate::physics::Params;
+use crate::physics::{Law, Params};
 use crate::rng::{substream, unit_f64};
 
 /// The numeric scene keys (the ones that may be swept or random).
@@ -291,8 +291,16 @@ impl Scene {
                     }
                 }
                 (Key::Static, _) => params.static_ = x,
-                (Key::StribeckVelocity, _) => params.stribeck.velocity = x,
-                (Key::StribeckExponent, _) => params.stribeck.exponent = x,
+                (Key::StribeckVelocity, _) => {
+                    if let Law::Stribeck(s) = &mut params.law {
+                        s.velocity = x;
+                    }
+                }
+                (Key::StribeckExponent, _) => {
+                    if let Law::Stribeck(s) = &mut params.law {
+                        s.exponent = x;
+                    }
+                }
                 (Key::Speed, Process::Symmetric(p)) => p.speed = x,
                 (Key::Speed, Process::Telegraph(p)) => p.forward_speed = x,
                 (Key::SwitchRate, Process::Symmetric(p)) => p.switch_rate = x,

@@ -52,7 +52,8 @@ pub use undamped::Undamped;
 /// Relative width of the band around `p = a_s` treated as a touch at the breakaway point.
 pub const TOUCH_TOLERANCE: f64 = 1e-12;
 
-/// The friction law as data: a new law is a new variant here and one solver file.
+/// The name of a friction law in a scenario (`model.friction_law`); the law with its parameters
+/// is [`Law`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum FrictionLaw {
@@ -60,6 +61,37 @@ pub enum FrictionLaw {
     Coulomb,
     /// Velocity weakening from μ_s n at |u| = 0⁺ to μ_k n, over the Stribeck velocity v_s.
     Stribeck,
+}
+
+/// The friction law with its parameters, as data: every solver asks the law (through
+/// [`Physics`]) for the slip friction, the acceleration after a breakaway, its regularized form
+/// and the step limit near its peak; none branches on which law it is. A new law is a new variant
+/// here and its answers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Law {
+    /// Dry friction: μ_s n holds a stick, μ_k n opposes a slip (μ_s ≥ μ_k; equal in the paper).
+    Coulomb,
+    /// Velocity weakening from μ_s n at |u| = 0⁺ to μ_k n, with the shape v_s, δ.
+    Stribeck(Stribeck),
+}
+
+impl Law {
+    /// Its name in a scenario.
+    pub fn name(&self) -> FrictionLaw {
+        match self {
+            Law::Coulomb => FrictionLaw::Coulomb,
+            Law::Stribeck(_) => FrictionLaw::Stribeck,
+        }
+    }
+
+    /// The half-width in |u| of the window around belt speed where the law changes fast (the
+    /// Stribeck peak: [`Stribeck::window`]); 0 for a law without a peak.
+    pub fn peak_window(&self) -> f64 {
+        match self {
+            Law::Coulomb => 0.0,
+            Law::Stribeck(s) => s.window(),
+        }
+    }
 }
 
 /// The Stribeck law's shape: v_s [m/s] (> 0) and δ (> 0).
@@ -132,9 +164,8 @@ pub struct Params {
     pub kinetic: f64,
     /// μ_s (≥ μ_k)
     pub static_: f64,
-    pub law: FrictionLaw,
-    /// v_s and δ (used by the Stribeck law)
-    pub stribeck: Stribeck,
+    /// the friction law with its parameters
+    pub law: Law,
 }
 
 impl Params {
@@ -146,8 +177,7 @@ impl Params {
         normal_force: 9.8,
         kinetic: 0.51,
         static_: 0.51,
-        law: FrictionLaw::Coulomb,
-        stribeck: Stribeck { velocity: 0.1, exponent: 2.0 },
+        law: Law::Coulomb,
     };
 
     /// The per-unit-mass constants the solvers work with.
@@ -160,7 +190,7 @@ impl Params {
             gamma: self.damping / self.mass,
             kinetic: self.kinetic * self.normal_force / self.mass,
             breakaway: self.static_ * self.normal_force / self.mass,
-            stribeck: (self.law == FrictionLaw::Stribeck).then_some(self.stribeck),
+            law: self.law,
         }
     }
 }
@@ -181,8 +211,8 @@ pub struct Physics {
     pub kinetic: f64,
     /// a_s = μ_s n/m, m/s²
     pub breakaway: f64,
-    /// the Stribeck law's shape (None: Coulomb)
-    pub stribeck: Option<Stribeck>,
+    /// the friction law (its parameters in SI units: they are velocities, not forces)
+    pub law: Law,
 }
 
 /// What a slip that reaches belt velocity v at position x does next (the module docs' rule).
@@ -202,9 +232,9 @@ impl Physics {
     /// `a_k + (a_s − a_k) exp(−(|u|/v_s)^δ)` (Stribeck).
     #[inline]
     pub fn slip_friction(&self, u: f64) -> f64 {
-        match self.stribeck {
-            None => self.kinetic,
-            Some(s) => self.kinetic + (self.breakaway - self.kinetic) * s.peak(u),
+        match self.law {
+            Law::Coulomb => self.kinetic,
+            Law::Stribeck(s) => self.kinetic + (self.breakaway - self.kinetic) * s.peak(u),
         }
     }
 
@@ -216,9 +246,9 @@ impl Physics {
         // σ a_k − (ω² x + γ ẋ) + σ (a_s − a_k) P(u): the peak term P enters last, through one
         // multiply and one add (it is the integrators' longest chain, through `exp`)
         let coulomb = sigma * self.kinetic - (self.omega2 * x + self.gamma * xdot);
-        match self.stribeck {
-            None => coulomb,
-            Some(s) => coulomb + sigma * (self.breakaway - self.kinetic) * s.peak_along(sigma * (v - xdot)),
+        match self.law {
+            Law::Coulomb => coulomb,
+            Law::Stribeck(s) => coulomb + sigma * (self.breakaway - self.kinetic) * s.peak_along(sigma * (v - xdot)),
         }
     }
 
@@ -257,10 +287,46 @@ impl Physics {
     /// Coulomb, 0 for Stribeck (f(0⁺) = a_s).
     #[inline]
     pub fn breakaway_accel(&self, v: f64) -> f64 {
-        match self.stribeck {
-            None => v.signum() * (self.kinetic - self.breakaway) + 0.0,
-            Some(_) => 0.0,
+        match self.law {
+            Law::Coulomb => v.signum() * (self.kinetic - self.breakaway) + 0.0,
+            Law::Stribeck(_) => 0.0,
         }
+    }
+
+    /// The law regularized for the smooth method, per unit mass, at relative velocity u with
+    /// width ε (`solver::smooth`'s module docs): Coulomb `a_k tanh(u/ε) + (a_s − a_k) w
+    /// exp((1 − w²)/2)` with w = u/ε (a bump that reaches the static level at |u| = ε);
+    /// Stribeck `f(|u|) tanh(u/ε)` (its own peak is the static level).
+    #[inline]
+    pub fn regularized_friction(&self, epsilon: f64, u: f64) -> f64 {
+        let w = u / epsilon;
+        match self.law {
+            Law::Stribeck(_) => self.slip_friction(u) * w.tanh(),
+            Law::Coulomb => {
+                let excess = self.breakaway - self.kinetic;
+                let bump = if excess > 0.0 { excess * w * (0.5 * (1.0 - w * w)).exp() } else { 0.0 };
+                self.kinetic * w.tanh() + bump
+            }
+        }
+    }
+
+    /// The longest step up to `want` that keeps the law's peak resolved at state `y = (x, ẋ)`
+    /// under belt velocity `v`, with slip acceleration `acc` and the law's [`Law::peak_window`]
+    /// `window` (`solver::hybrid`'s module docs): the change of u one step may make, bounded by
+    /// |u̇| h + |ü| h²/2 with ü = −(ω² ẋ + γ ẍ), stays within what is left to the window plus
+    /// v_s. `want` for a law without a peak, or when `want` already keeps it.
+    #[inline]
+    pub fn peak_step_limit(&self, window: f64, y: [f64; 2], v: f64, acc: f64, want: f64) -> f64 {
+        let Law::Stribeck(s) = self.law else { return want };
+        let u = v - y[1];
+        let allowed = (u.abs() - window).max(0.0) + s.velocity;
+        let (du, ddu) = (acc.abs(), (self.omega2 * y[1] + self.gamma * acc).abs());
+        if (du + 0.5 * ddu * want) * want <= allowed {
+            return want;
+        }
+        // the positive root of |ü| h²/2 + |u̇| h = allowed, without cancellation
+        let h = 2.0 * allowed / (du + (du * du + 2.0 * ddu * allowed).sqrt());
+        if h > 0.0 { h.min(want) } else { want }
     }
 
     /// The arrival rule at belt velocity v and position x.
@@ -315,7 +381,7 @@ mod tests {
     #[test]
     fn stribeck_law_falls_from_static_to_kinetic() {
         let stribeck = Stribeck { velocity: 0.1, exponent: 2.0 };
-        let p = Params { static_: 0.6, law: FrictionLaw::Stribeck, stribeck, ..Params::PAPER }.per_unit_mass();
+        let p = Params { static_: 0.6, law: Law::Stribeck(stribeck), ..Params::PAPER }.per_unit_mass();
         let (a_s, a_k) = (0.6 * 9.8, 0.51 * 9.8);
         assert!((p.slip_friction(0.0) - a_s).abs() < 1e-12);
         assert!((p.slip_friction(-0.1) - (a_k + (a_s - a_k) / std::f64::consts::E)).abs() < 1e-12);
@@ -323,7 +389,7 @@ mod tests {
         assert_eq!(p.breakaway_accel(1.0), 0.0);
         assert!(!p.grazes_after_breakaway());
         // mu_s = mu_k: the law is Coulomb's constant
-        let c = Params { law: FrictionLaw::Stribeck, stribeck, ..Params::PAPER }.per_unit_mass();
+        let c = Params { law: Law::Stribeck(stribeck), ..Params::PAPER }.per_unit_mass();
         assert_eq!(c.slip_friction(0.05), 0.51 * 9.8);
     }
 

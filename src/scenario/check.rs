@@ -4,7 +4,7 @@
 use super::{invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS, MAX_NATURAL_RADIANS_NUMERICAL, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES};
 use crate::belt::{Belt, Process, Symmetric, Telegraph};
 use crate::params::{Key, Scene};
-use crate::physics::{FrictionLaw, Params, Stribeck};
+use crate::physics::{FrictionLaw, Law, Params, Stribeck};
 use crate::solver::SolverKind;
 
 impl Scenario {
@@ -40,10 +40,13 @@ impl Scenario {
             normal_force: value(&m.normal_force),
             kinetic,
             static_: m.static_friction_coefficient.as_ref().map_or(kinetic, value),
-            law: m.friction_law.unwrap_or(FrictionLaw::Coulomb),
-            stribeck: Stribeck {
-                velocity: m.stribeck_velocity.as_ref().map_or(Params::PAPER.stribeck.velocity, value),
-                exponent: m.stribeck_exponent.as_ref().map_or(2.0, value),
+            law: match m.friction_law.unwrap_or(FrictionLaw::Coulomb) {
+                FrictionLaw::Coulomb => Law::Coulomb,
+                // (v_s is required with the law: `check` refuses its absence)
+                FrictionLaw::Stribeck => Law::Stribeck(Stribeck {
+                    velocity: m.stribeck_velocity.as_ref().map_or(f64::NAN, value),
+                    exponent: m.stribeck_exponent.as_ref().map_or(2.0, value),
+                }),
             },
         };
         let b = &self.belt;

@@ -30,8 +30,10 @@
 //! than `Δ = (|u| − w)₊ + v_s`, where `w = v_s 12^{1/δ}` bounds the window in which the peak term
 //! exceeds e^−12: far from the peak steps are free, approaching it they shrink, and inside it u
 //! moves by at most v_s per step — each step's six stages then sample the peak every ~v_s/5
-//! (`h = 2Δ / (|u̇| + √(u̇² + 2|ü|Δ))`, the cancellation-free root). `numerics.peak_guard = false` turns it
-//! off, only to see what an unguarded controller does.
+//! (`h = 2Δ / (|u̇| + √(u̇² + 2|ü|Δ))`, the cancellation-free root). The law computes that limit
+//! ([`crate::physics::Physics::peak_step_limit`]; a law without a peak leaves the step alone), so
+//! this method never asks which law it runs. `numerics.peak_guard = false` turns it off, only to
+//! see what an unguarded controller does.
 
 use super::rk::{rk4, Dopri, State, Step};
 use super::{step_end, Event, Method, Stop};
@@ -63,7 +65,7 @@ pub struct Hybrid {
     scheme: Scheme,
     step: f64,
     peak_guard: bool,
-    /// the Stribeck peak's window half-width (0 for Coulomb)
+    /// the law's peak window half-width ([`crate::physics::Law::peak_window`]; 0 without a peak)
     peak_window: f64,
     dopri: Dopri,
     steps: u64,
@@ -90,7 +92,7 @@ impl Hybrid {
             scheme,
             step: num.step,
             peak_guard: num.peak_guard,
-            peak_window: p.stribeck.map_or(0.0, |s| s.window()),
+            peak_window: p.law.peak_window(),
             dopri: Dopri { budget: num.step_budget, ..Dopri::new(num.rtol, num.atol, num.max_step) },
             steps: 0,
             mode: Mode::Stick { t0: 0.0, x0: 0.0 },
@@ -134,23 +136,6 @@ impl Hybrid {
     }
 }
 
-/// The longest step up to `want` that keeps the Stribeck peak resolved at state `y` under belt
-/// velocity `v` (module docs; `want` for Coulomb, or when `want` already keeps it).
-fn peak_limit(p: &Physics, window: f64, y: State, v: f64, acc: f64, want: f64) -> f64 {
-    let Some(s) = p.stribeck else { return want };
-    let u = v - y[1];
-    // the change of u one step may make: what is left to the window (where the peak term
-    // exceeds e^−12, [`crate::physics::Stribeck::window`]), plus v_s
-    let allowed = (u.abs() - window).max(0.0) + s.velocity;
-    let (du, ddu) = (acc.abs(), (p.omega2 * y[1] + p.gamma * acc).abs());
-    if (du + 0.5 * ddu * want) * want <= allowed {
-        return want;
-    }
-    // the positive root of |ü| h²/2 + |u̇| h = allowed, without cancellation
-    let h = 2.0 * allowed / (du + (du * du + 2.0 * ddu * allowed).sqrt());
-    if h > 0.0 { h.min(want) } else { want }
-}
-
 impl Method for Hybrid {
     fn start(&mut self, x0: f64, xdot0: f64, v: f64) -> Event {
         self.resume(0.0, [x0, xdot0], v).unwrap_or(Event::Slip { t: 0.0, x: x0, xdot: xdot0 })
@@ -180,7 +165,7 @@ impl Method for Hybrid {
                         Scheme::Rk45 => self.dopri.next(),
                         Scheme::Rk4 => self.step,
                     };
-                    peak_limit(&p, self.peak_window, self.y, v, f0[1], want.min(rest))
+                    p.peak_step_limit(self.peak_window, self.y, v, f0[1], want.min(rest))
                 } else {
                     rest
                 };
@@ -251,13 +236,13 @@ impl Method for Hybrid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::{FrictionLaw, Params, Stribeck};
+    use crate::physics::{Law, Params, Stribeck};
 
     /// One forced Dormand–Prince step of length `h` of a Stribeck slip (σ = +1, belt v = 1) from
     /// (x0, ẋ0), and g = v − ẋ on it.
     fn step(xd0: f64, h: f64) -> (Step, impl Fn(State) -> f64) {
         let stribeck = Stribeck { velocity: 0.1, exponent: 2.0 };
-        let p = Params { static_: 0.6, law: FrictionLaw::Stribeck, stribeck, ..Params::PAPER }.per_unit_mass();
+        let p = Params { static_: 0.6, law: Law::Stribeck(stribeck), ..Params::PAPER }.per_unit_mass();
         let acc = move |y: State| p.slip_accel(y[0], y[1], 1.0, 1.0);
         let mut dp = Dopri::new(1.0, 1.0, h);
         dp.h = h;

@@ -11,7 +11,8 @@
 //!
 //! (for Coulomb the second term, present only when μ_s > μ_k, is a bump of height a_s − a_k at
 //! |u| = ε, so that the largest friction the law can exert is about the static limit; the Stribeck
-//! law reaches it by itself). Classification rule:
+//! law reaches it by itself; the law answers for its form: [`crate::physics::Physics::regularized_friction`]).
+//! Classification rule:
 //! the mass is *stuck* while `|v − ẋ| < δ` (`stick_velocity`), slipping otherwise; the crossings
 //! of `|v − ẋ| = δ` are located on the dense output. With a smooth law the mass never moves
 //! exactly with the belt: it creeps at a relative speed of about ε·|F|/a_k, so stick durations
@@ -63,17 +64,6 @@ impl Smooth {
     }
 }
 
-/// The regularized friction per unit mass at relative velocity u (module docs).
-fn friction(p: &Physics, epsilon: f64, u: f64) -> f64 {
-    let w = u / epsilon;
-    if p.stribeck.is_some() {
-        return p.slip_friction(u) * w.tanh();
-    }
-    let excess = p.breakaway - p.kinetic;
-    let bump = if excess > 0.0 { excess * w * (0.5 * (1.0 - w * w)).exp() } else { 0.0 };
-    p.kinetic * w.tanh() + bump
-}
-
 impl Method for Smooth {
     fn start(&mut self, x0: f64, xdot0: f64, v: f64) -> Event {
         self.y = [x0, xdot0];
@@ -90,7 +80,7 @@ impl Method for Smooth {
             return Stop::SegmentEnd;
         }
         let (p, eps) = (self.p, self.epsilon);
-        let acc = |y: State| friction(&p, eps, v - y[1]) - p.omega2 * y[0] - p.gamma * y[1];
+        let acc = |y: State| p.regularized_friction(eps, v - y[1]) - p.omega2 * y[0] - p.gamma * y[1];
         let step = self.dopri.step(&acc, self.t, self.y, t1 - self.t, &mut self.steps);
         self.piece = Some(step);
         // g > 0 in the current mode; a sign change is a transition
