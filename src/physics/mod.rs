@@ -344,17 +344,6 @@ impl Physics {
             Arrival::Stick { x: if p < -a_s { self.holding_limit(v, -1.0) } else { x } }
         }
     }
-
-    /// The friction direction of a slip with relative velocity `u = v − ẋ ≠ 0`.
-    #[inline]
-    pub fn slip_sign(u: f64) -> f64 {
-        u.signum()
-    }
-
-    /// The damping ratio ζ = γ/(2ω) (∞ without a spring).
-    pub fn damping_ratio(&self) -> f64 {
-        self.gamma / (2.0 * self.omega)
-    }
 }
 
 /// Closed-form slip under constant forcing, from `(x₀, ẋ₀)` with initial acceleration `a₀`.
