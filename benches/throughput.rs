@@ -52,18 +52,18 @@ fn analyze_child(n: u64, dir: &Path) {
     let st = a.stats.iter().find(|s| s.series.to_string() == "S_T").unwrap().moments;
     let sl = a.stats.iter().find(|s| s.series.to_string() == "S_L").unwrap().moments;
     let events = 2.0 * (st.mean + sl.mean) * n as f64;
-    println!(
-        "analyze             N = {n:>8}: {secs:7.2} s  {:>9.1} M events/s  peak RSS {:6.1} MiB",
-        events / secs / 1e6,
-        peak_rss_mib()
-    );
+    println!("analyze             N = {n:>8}: {secs:7.2} s  {:>9.1} M events/s  peak RSS {:6.1} MiB", events / secs / 1e6, peak_rss_mib());
 }
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if let Some(pos) = args.iter().position(|a| a == "--simulate" || a == "--analyze") {
         let (n, dir) = (args[pos + 1].parse().unwrap(), Path::new(&args[pos + 2]));
-        if args[pos] == "--simulate" { simulate_child(n, dir) } else { analyze_child(n, dir) }
+        if args[pos] == "--simulate" {
+            simulate_child(n, dir)
+        } else {
+            analyze_child(n, dir)
+        }
         return;
     }
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -87,10 +87,7 @@ fn main() {
         })
         .collect();
     rates.sort_by(f64::total_cmp);
-    println!(
-        "exact solver, 1 thread, paper scenario: best {:.0}, median {:.0} realizations/s (5 x {n})",
-        rates[4], rates[2]
-    );
+    println!("exact solver, 1 thread, paper scenario: best {:.0}, median {:.0} realizations/s (5 x {n})", rates[4], rates[2]);
 
     // The exact solver against rk45, same realizations, same run.
     {

@@ -380,7 +380,9 @@ fn scenes_command(args: &ScenesArgs) -> anyhow::Result<()> {
         for s in &SHIPPED {
             println!("{:<20} {}", s.name, s.summary());
         }
-        println!("\n`stickslip scenes NAME` prints one; `stickslip scenes NAME --out FILE` writes it to edit; run it with `stickslip simulate FILE --out DIR`.");
+        println!(
+            "\n`stickslip scenes NAME` prints one; `stickslip scenes NAME --out FILE` writes it to edit; run it with `stickslip simulate FILE --out DIR`."
+        );
         return Ok(());
     };
     let names: Vec<&str> = SHIPPED.iter().map(|s| s.name).collect();
@@ -431,7 +433,17 @@ fn tradeoff_command(args: TradeoffArgs, quiet: bool) -> anyhow::Result<()> {
         for r in &rows {
             println!(
                 "| {} | {} | {:.0} | {:.2e} | {:.1e} | {:.1e} | {} | {} | {:+.3} | {:+.4} | {} |",
-                r.solver, r.setting, r.evaluations_per_realization, r.seconds_per_realization, r.error_rms, r.error_max, r.missed_sticks, r.spurious_sticks, r.bias_st, r.bias_h, score(r)
+                r.solver,
+                r.setting,
+                r.evaluations_per_realization,
+                r.seconds_per_realization,
+                r.error_rms,
+                r.error_max,
+                r.missed_sticks,
+                r.spurious_sticks,
+                r.bias_st,
+                r.bias_h,
+                score(r)
             );
         }
         let n = scenario.run.realizations;
@@ -557,10 +569,7 @@ fn analyze_and_print(dataset: &Path, out: &Path, opts: &analysis::Options, quiet
         for (path, a) in &cells {
             let c = analysis::sweep::summarize(path, a);
             let f = |v: Option<f64>| v.map_or("–".into(), |x| format!("{x:.4}"));
-            println!(
-                "| {path} | {} | {:.3} | {:.4} | {} | {} | {} |",
-                c.realizations, c.mean_st, c.stick_fraction, f(c.mean_d), f(c.mean_h), f(c.var_t_slope)
-            );
+            println!("| {path} | {} | {:.3} | {:.4} | {} | {} | {} |", c.realizations, c.mean_st, c.stick_fraction, f(c.mean_d), f(c.mean_h), f(c.var_t_slope));
         }
     }
     for (path, a) in &cells {
@@ -608,7 +617,14 @@ fn print_analysis(a: &analysis::Analysis) {
         if let Some(t) = &j.test {
             println!(
                 "{} vs {}: chi2 = {:.1} (df {}), p {}; G p {}; MI = {:.2e} nats, permutation p {} -> {}",
-                j.pair.0, j.pair.1, t.chi2, t.df, p_is(t.chi2_p_value), p_is(t.g_p_value), t.mutual_information, p_is(t.mi_p_value),
+                j.pair.0,
+                j.pair.1,
+                t.chi2,
+                t.df,
+                p_is(t.chi2_p_value),
+                p_is(t.g_p_value),
+                t.mutual_information,
+                p_is(t.mi_p_value),
                 analysis::output::verdict(t.chi2_p_value)
             );
         }
@@ -683,14 +699,12 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
         // reaching the cap before a target is reported even with --quiet
         match &summary.targets {
             Some((true, se)) if !quiet => eprintln!("targets met after {} realizations: {se}", summary.realizations),
-            Some((false, se)) => eprintln!(
-                "warning: the cap of {} realizations (--realizations / run.realizations) was reached before every target: {se}",
-                summary.realizations
-            ),
+            Some((false, se)) => {
+                eprintln!("warning: the cap of {} realizations (--realizations / run.realizations) was reached before every target: {se}", summary.realizations)
+            }
             _ => {}
         }
     }
     dir.commit();
     Ok(())
 }
-

@@ -36,9 +36,9 @@ use parquet::file::metadata::{KeyValue, SortingColumn};
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 use parquet::schema::types::ColumnPath;
 
-use crate::outdir::{Created, Lock, OutDirError, TempFile};
 use crate::ensemble::Outcome;
 use crate::events::StickEnd;
+use crate::outdir::{Created, Lock, OutDirError, TempFile};
 
 /// Version of the column layout, recorded in every file.
 pub const SCHEMA_VERSION: &str = "3";
@@ -230,12 +230,7 @@ impl Rows {
         self.n_switches.push(count(belt.switch_times.len()));
         self.n_stick.push(count(rec.n_stick()));
         self.n_slip.push(count(rec.n_slip()));
-        for (col, values) in self.lists.iter_mut().zip([
-            &rec.stick_start,
-            &rec.stick_duration,
-            &rec.slip_start,
-            &rec.slip_duration,
-        ]) {
+        for (col, values) in self.lists.iter_mut().zip([&rec.stick_start, &rec.stick_duration, &rec.slip_start, &rec.slip_duration]) {
             col.push(values);
         }
         self.last_truncated.push(rec.last_truncated);
@@ -317,13 +312,7 @@ pub struct PartWriter {
 impl PartWriter {
     /// Open `dir/part-index-of-count.parquet` for writing, with key-value `metadata`; `dir`
     /// exists and is a dataset directory ([`crate::outdir::DatasetDir`]).
-    pub fn create(
-        dir: &Path,
-        index: u64,
-        count: u64,
-        layout: Layout,
-        metadata: Vec<(String, String)>,
-    ) -> Result<PartWriter, DatasetError> {
+    pub fn create(dir: &Path, index: u64, count: u64, layout: Layout, metadata: Vec<(String, String)>) -> Result<PartWriter, DatasetError> {
         let out_err = |e: std::io::Error| DatasetError::Write { path: dir.to_owned(), source: Box::new(e) };
         let created = Created::dir_all(dir)?;
         let name = part_name(index, count);
@@ -358,13 +347,8 @@ impl PartWriter {
     /// Append rows; row groups are cut at a fixed row count (or size), never by timing.
     pub fn write(&mut self, rows: Rows) -> Result<(), DatasetError> {
         let writer = self.writer.as_mut().expect("open until finished");
-        let result = writer.write(&rows.into_batch(&self.layout)).and_then(|()| {
-            if writer.in_progress_size() > ROW_GROUP_BYTES {
-                writer.flush()
-            } else {
-                Ok(())
-            }
-        });
+        let result =
+            writer.write(&rows.into_batch(&self.layout)).and_then(|()| if writer.in_progress_size() > ROW_GROUP_BYTES { writer.flush() } else { Ok(()) });
         result.map_err(|e| self.write_err(e))
     }
 

@@ -108,7 +108,9 @@ impl Observable {
     /// The `index` column: k of an indexed quantity, None for a scalar one.
     pub fn index(self) -> Option<u32> {
         match self {
-            Observable::StickStart(k) | Observable::SlipStart(k) | Observable::StickDuration(k) | Observable::SlipDuration(k) | Observable::SwitchTime(k) => Some(k),
+            Observable::StickStart(k) | Observable::SlipStart(k) | Observable::StickDuration(k) | Observable::SlipDuration(k) | Observable::SwitchTime(k) => {
+                Some(k)
+            }
             _ => None,
         }
     }
@@ -126,7 +128,8 @@ impl Observable {
     }
 
     /// The indexed families, at k = 1.
-    pub const FAMILIES: [Observable; 5] = [Observable::StickStart(1), Observable::SlipStart(1), Observable::StickDuration(1), Observable::SlipDuration(1), Observable::SwitchTime(1)];
+    pub const FAMILIES: [Observable; 5] =
+        [Observable::StickStart(1), Observable::SlipStart(1), Observable::StickDuration(1), Observable::SlipDuration(1), Observable::SwitchTime(1)];
 
     /// The counts S_T, S_L, Q and the breakaways.
     pub const COUNTS: [Observable; 4] = [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::Breakaways];
@@ -147,8 +150,15 @@ impl Observable {
     /// The scalar quantities `analyze` reports beside the indexed families (its moments table has
     /// a row for each; a new scalar listed here is analysed with no other change; those that
     /// [`Observable::needs_tails_state`] only for datasets that have it).
-    pub const ANALYSED_SCALARS: [Observable; 7] =
-        [Observable::Sticks, Observable::Slips, Observable::Switches, Observable::StickFraction, Observable::LongestStick, Observable::Severity, Observable::Breakaways];
+    pub const ANALYSED_SCALARS: [Observable; 7] = [
+        Observable::Sticks,
+        Observable::Slips,
+        Observable::Switches,
+        Observable::StickFraction,
+        Observable::LongestStick,
+        Observable::Severity,
+        Observable::Breakaways,
+    ];
 
     /// Every quantity, the indexed families for k ≤ `max_index` (what the consistency test runs
     /// through: a new quantity is covered once it is listed here).
@@ -206,7 +216,9 @@ impl Observable {
             Observable::MeanStickDuration => "mean duration of the realization's sticks, the censored one left out; none without one",
             Observable::MeanSlipDuration => "mean duration of the realization's slips, the censored one left out; none without one",
             Observable::LongestStick => "the longest stick within [0, t_a], the stick cut at t_a counted for its time in the window; 0 without a stick",
-            Observable::Severity => "(max − min of the mass velocity over [0, t_a]) / (2 v0), v0 the forward belt speed: 1 for a mass that only follows a symmetric belt",
+            Observable::Severity => {
+                "(max − min of the mass velocity over [0, t_a]) / (2 v0), v0 the forward belt speed: 1 for a mass that only follows a symmetric belt"
+            }
             Observable::Breakaways => "number of sticks that end by breakaway (the spring overcoming static friction), not by a belt change or the horizon",
         }
     }
@@ -299,9 +311,15 @@ pub(crate) fn breakaways() -> Expr {
             let ca = c.list()?.rechunk();
             let mut out: Vec<Option<i64>> = Vec::with_capacity(ca.len());
             for arr in ca.downcast_iter() {
-                let values = arr.values().as_any().downcast_ref::<Utf8ViewArray>().ok_or_else(|| polars_err!(SchemaMismatch: "column `stick_end` is not a list of strings"))?;
+                let values = arr
+                    .values()
+                    .as_any()
+                    .downcast_ref::<Utf8ViewArray>()
+                    .ok_or_else(|| polars_err!(SchemaMismatch: "column `stick_end` is not a list of strings"))?;
                 let o = arr.offsets().as_slice();
-                out.extend((0..arr.len()).map(|r| arr.is_valid(r).then(|| (o[r] as usize..o[r + 1] as usize).filter(|&i| values.value(i) == StickEnd::Breakaway.name()).count() as i64)));
+                out.extend((0..arr.len()).map(|r| {
+                    arr.is_valid(r).then(|| (o[r] as usize..o[r + 1] as usize).filter(|&i| values.value(i) == StickEnd::Breakaway.name()).count() as i64)
+                }));
             }
             Ok(Int64Chunked::from_iter_options(c.name().clone(), out.into_iter()).into_column())
         },

@@ -11,11 +11,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-
-use crate::table::Table;
 use crate::analysis::input;
-use crate::analysis::summary::Summary;
 use crate::analysis::paper::{table1, Row};
+use crate::analysis::summary::Summary;
+use crate::table::Table;
 
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
@@ -93,19 +92,38 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
         }
         Table::read_checked(&path, columns).map(Some).map_err(|e| ReportError::Read { path, message: e.to_string() })
     };
-    let Some(e) = read("tails.parquet", &[("statistic", 's'), ("threshold", 'f'), ("value", 'f'), ("lo", 'f'), ("hi", 'f'), ("n", 'i')])? else { return Ok(Vec::new()) };
-    let s = read("survival.parquet", &[("variable", 's'), ("index", 'i'), ("method", 's'), ("n", 'i'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')])?;
+    let Some(e) = read("tails.parquet", &[("statistic", 's'), ("threshold", 'f'), ("value", 'f'), ("lo", 'f'), ("hi", 'f'), ("n", 'i')])? else {
+        return Ok(Vec::new());
+    };
+    let s =
+        read("survival.parquet", &[("variable", 's'), ("index", 'i'), ("method", 's'), ("n", 'i'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')])?;
     let sig = |x: f64| crate::figures::format::significant(x, 4);
     let shown = |v: Option<f64>, lo: Option<f64>, hi: Option<f64>| match (v, lo, hi) {
         (Some(v), Some(lo), Some(hi)) => format!("{} [{} – {}]", sig(v), sig(lo), sig(hi)),
         (v, _, _) => format!("{} (no band)", v.map_or("–".into(), sig)),
     };
     let short = crate::scenario::short;
-    let (stat, threshold, value, lo, hi, n) = (e.strings("statistic").unwrap_or_default(), e.floats("threshold").unwrap_or_default(), e.floats("value").unwrap_or_default(), e.floats("lo").unwrap_or_default(), e.floats("hi").unwrap_or_default(), e.ints("n").unwrap_or_default());
+    let (stat, threshold, value, lo, hi, n) = (
+        e.strings("statistic").unwrap_or_default(),
+        e.floats("threshold").unwrap_or_default(),
+        e.floats("value").unwrap_or_default(),
+        e.floats("lo").unwrap_or_default(),
+        e.floats("hi").unwrap_or_default(),
+        e.ints("n").unwrap_or_default(),
+    );
     let mut out = Vec::new();
     // P(D > t) at the asked times (the longest stick's thresholds are those times)
     if let Some(s) = &s {
-        let (var, idx, method, sn, t, sv, slo, shi) = (s.strings("variable").unwrap_or_default(), s.ints("index").unwrap_or_default(), s.strings("method").unwrap_or_default(), s.ints("n").unwrap_or_default(), s.floats("t").unwrap_or_default(), s.floats("survival").unwrap_or_default(), s.floats("lo").unwrap_or_default(), s.floats("hi").unwrap_or_default());
+        let (var, idx, method, sn, t, sv, slo, shi) = (
+            s.strings("variable").unwrap_or_default(),
+            s.ints("index").unwrap_or_default(),
+            s.strings("method").unwrap_or_default(),
+            s.ints("n").unwrap_or_default(),
+            s.floats("t").unwrap_or_default(),
+            s.floats("survival").unwrap_or_default(),
+            s.floats("lo").unwrap_or_default(),
+            s.floats("hi").unwrap_or_default(),
+        );
         for r in (0..e.height()).filter(|&r| stat[r] == "longest_stick") {
             for m in ["kaplan_meier", "naive", "conditional"] {
                 if let Some(q) = (0..s.height()).find(|&q| var[q] == "D" && idx[q].is_none() && method[q] == m && t[q] == threshold[r]) {
@@ -116,11 +134,21 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
         }
     }
     // stick cycles per unit time: E[S_T]/t_a, with the mean's interval
-    let (var, mean, mlo, mhi, mn) = (moments.strings("variable").unwrap_or_default(), moments.floats("mean").unwrap_or_default(), moments.floats("mean_lo").unwrap_or_default(), moments.floats("mean_hi").unwrap_or_default(), moments.ints("n").unwrap_or_default());
+    let (var, mean, mlo, mhi, mn) = (
+        moments.strings("variable").unwrap_or_default(),
+        moments.floats("mean").unwrap_or_default(),
+        moments.floats("mean_lo").unwrap_or_default(),
+        moments.floats("mean_hi").unwrap_or_default(),
+        moments.ints("n").unwrap_or_default(),
+    );
     if let Some(r) = (0..moments.height()).find(|&r| var[r] == "S_T") {
         // (columns an older analysis may lack read as missing, not as a panic)
         let per = |c: &[Option<f64>]| c.get(r).copied().flatten().map(|x| x / t_a);
-        out.push(["sticks per second, E[S_T]/t_a [1/s]".into(), shown(per(&mean), per(&mlo), per(&mhi)), format!("{} realizations", mn.get(r).copied().flatten().unwrap_or(0))]);
+        out.push([
+            "sticks per second, E[S_T]/t_a [1/s]".into(),
+            shown(per(&mean), per(&mlo), per(&mhi)),
+            format!("{} realizations", mn.get(r).copied().flatten().unwrap_or(0)),
+        ]);
     }
     for r in 0..e.height() {
         let label = match threshold[r] {
@@ -141,7 +169,18 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
     let moments_path = adir.join("moments.parquet");
     let moments = Table::read_checked(
         &moments_path,
-        &[("variable", 's'), ("index", 'i'), ("n", 'i'), ("mean", 'f'), ("variance", 'f'), ("mode", 'f'), ("skewness", 'f'), ("kurtosis", 'f'), ("mean_se", 'f'), ("variance_se", 'f')],
+        &[
+            ("variable", 's'),
+            ("index", 'i'),
+            ("n", 'i'),
+            ("mean", 'f'),
+            ("variance", 'f'),
+            ("mode", 'f'),
+            ("skewness", 'f'),
+            ("kurtosis", 'f'),
+            ("mean_se", 'f'),
+            ("variance_se", 'f'),
+        ],
     )
     .map_err(|e| read_err(&moments_path, &e))?;
     let sc = &data.scenario;
@@ -160,12 +199,15 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
     }
     let provenance = vec![
         ("dataset".into(), format!("{} ({} part file(s))", dataset.display(), data.files.len())),
-        ("realizations".into(), if data.missing.is_empty() {
-            data.rows.to_string()
-        } else {
-            let gaps: Vec<String> = data.missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect();
-            format!("{} of the run's {} — PARTIAL (--allow-partial): missing {}", data.rows, data.expected_rows, gaps.join(", "))
-        }),
+        (
+            "realizations".into(),
+            if data.missing.is_empty() {
+                data.rows.to_string()
+            } else {
+                let gaps: Vec<String> = data.missing.iter().map(|r| format!("{}..{}", r.start, r.end)).collect();
+                format!("{} of the run's {} — PARTIAL (--allow-partial): missing {}", data.rows, data.expected_rows, gaps.join(", "))
+            },
+        ),
         ("seed".into(), sc.run.seed.to_string()),
         ("solver".into(), solver_settings(sc)),
         ("generator".into(), crate::rng::GENERATOR.into()),
@@ -182,9 +224,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
     let growth = summary
         .growth
         .iter()
-        .map(|g| {
-            [format!("{} of {}_k", g.statistic, g.variable), with_interval(g.slope, g.slope_95), num(g.slope_se), num(g.intercept), num(g.r2)]
-        })
+        .map(|g| [format!("{} of {}_k", g.statistic, g.variable), with_interval(g.slope, g.slope_95), num(g.slope_se), num(g.intercept), num(g.r2)])
         .collect();
     // (without a renewal check, the rows read "–")
     let r = summary.renewal_check.as_ref();
@@ -220,7 +260,17 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         .collect();
     figures.sort();
     let paper = sc.is_paper_scene();
-    Ok(Content { provenance, scenario: sc.to_toml(), paper, table1: table1(&moments, paper), growth, renewal, tests, tails: tails_rows(adir, &moments, sc.run.duration)?, figures })
+    Ok(Content {
+        provenance,
+        scenario: sc.to_toml(),
+        paper,
+        table1: table1(&moments, paper),
+        growth,
+        renewal,
+        tests,
+        tails: tails_rows(adir, &moments, sc.run.duration)?,
+        figures,
+    })
 }
 
 /// The solver actually run and, for a numerical one, the `[numerics]` settings it used.
@@ -258,7 +308,11 @@ fn intro(paper: bool) -> &'static str {
 }
 
 fn table1_heading(paper: bool) -> &'static str {
-    if paper { "Table 1: ours beside the paper's" } else { "Table 1 statistics of this scene" }
+    if paper {
+        "Table 1: ours beside the paper's"
+    } else {
+        "Table 1 statistics of this scene"
+    }
 }
 
 fn table1_legend(paper: bool) -> &'static str {
@@ -307,7 +361,17 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
             };
             format!("<td{class}>{}</td>", escape(&text))
         };
-        let _ = writeln!(h, "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}{}{}</tr>", escape(&r.label), r.n, cell(0, 3), cell(1, 3), cell(2, 3), cell(3, 2), cell(4, 2));
+        let _ = writeln!(
+            h,
+            "<tr><td class=\"l\">{}</td><td>{}</td>{}{}{}{}{}</tr>",
+            escape(&r.label),
+            r.n,
+            cell(0, 3),
+            cell(1, 3),
+            cell(2, 3),
+            cell(3, 2),
+            cell(4, 2)
+        );
     }
     h += "</table>\n<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope [95 %]</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
     for g in &c.growth {
@@ -337,7 +401,11 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
         let body = svg.find("<svg").map_or(svg.as_str(), |i| &svg[i..]);
         let body = if is_inert(body) { body } else { "<p>(not inlined: the SVG holds active content)</p>" };
         let name = escape(name);
-        let _ = write!(h, "<figure id=\"{name}\">\n{body}\n<figcaption>{name} (PNG: {})</figcaption>\n</figure>\n", escape(&figdir.join(format!("{name}.png")).display().to_string()));
+        let _ = write!(
+            h,
+            "<figure id=\"{name}\">\n{body}\n<figcaption>{name} (PNG: {})</figcaption>\n</figure>\n",
+            escape(&figdir.join(format!("{name}.png")).display().to_string())
+        );
     }
     h += "</body>\n</html>\n";
     Ok(h)

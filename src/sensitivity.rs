@@ -29,12 +29,12 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::table::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
-use crate::observables::Observable;
 use crate::figures::{render, Figure, Panel, Series};
+use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
+use crate::table::{Col, Table};
 
 /// The per-realization outputs whose variance is apportioned.
 pub const OUTPUTS: [Observable; 4] = [Observable::Sticks, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
@@ -200,10 +200,14 @@ pub fn figure(rows: &[Index]) -> Figure {
                 color,
                 // (an index without enough complete samples is not drawn)
                 points: mine.iter().enumerate().filter(|(_, r)| get(r).0.is_finite()).map(|(i, r)| (i as f64 + shift, get(r).0)).collect(),
-                errors: mine.iter().filter(|r| get(r).0.is_finite()).map(|r| {
-                    let (x, (lo, hi)) = get(r);
-                    (x - lo).max(hi - x).max(0.0)
-                }).collect(),
+                errors: mine
+                    .iter()
+                    .filter(|r| get(r).0.is_finite())
+                    .map(|r| {
+                        let (x, (lo, hi)) = get(r);
+                        (x - lo).max(hi - x).max(0.0)
+                    })
+                    .collect(),
             };
             let short = |p: &str| if p == INTRINSIC { "intrinsic".to_string() } else { p.to_string() };
             Panel {
@@ -211,10 +215,7 @@ pub fn figure(rows: &[Index]) -> Figure {
                 x_label: "input".into(),
                 x_ticks: mine.iter().enumerate().map(|(i, r)| (i as f64, short(&r.parameter))).collect(),
                 y_label: "Sobol index".into(),
-                points: vec![
-                    series("first order", 0, -0.1, &|r| (r.first_order, r.first_order_ci)),
-                    series("total", 1, 0.1, &|r| (r.total, r.total_ci)),
-                ],
+                points: vec![series("first order", 0, -0.1, &|r| (r.first_order, r.first_order_ci)), series("total", 1, 0.1, &|r| (r.total, r.total_ci))],
                 x_range: Some((-0.5, mine.len() as f64 - 0.5)),
                 y_range: Some((-0.1, 1.1)),
                 ..Default::default()
@@ -242,7 +243,8 @@ pub fn markdown(rows: &[Index], n: u64) -> String {
     let mut m = format!(
         "## Global sensitivity (Sobol indices, {n} pick-freeze samples)\n\nFirst order (Saltelli 2010) and total (Jansen 1999), bootstrap 95 % intervals.\n\n| output | input | first order | total |\n|---|---|---|---|\n"
     );
-    let shown = |x: f64, (lo, hi): (f64, f64)| if x.is_finite() { format!("{x:.3} [{lo:.3} – {hi:.3}]") } else { "– (fewer than 2 complete samples)".into() };
+    let shown =
+        |x: f64, (lo, hi): (f64, f64)| if x.is_finite() { format!("{x:.3} [{lo:.3} – {hi:.3}]") } else { "– (fewer than 2 complete samples)".into() };
     for r in rows {
         m += &format!("| {} | {} | {} | {} |\n", r.output, r.parameter, shown(r.first_order, r.first_order_ci), shown(r.total, r.total_ci));
     }
@@ -265,11 +267,13 @@ mod tests {
         let (fa, fb): (Vec<f64>, Vec<f64>) = (a.iter().map(|&x| f(x)).collect(), b.iter().map(|&x| f(x)).collect());
         let (s_true, t_true) = ([0.3139, 0.4424, 0.0], [0.5576, 0.4424, 0.2437]);
         for i in 0..3 {
-            let fab: Vec<f64> = (0..n).map(|j| {
-                let mut x = a[j];
-                x[i] = b[j][i];
-                f(x)
-            }).collect();
+            let fab: Vec<f64> = (0..n)
+                .map(|j| {
+                    let mut x = a[j];
+                    x[i] = b[j][i];
+                    f(x)
+                })
+                .collect();
             let ((s, s_ci), (t, t_ci)) = with_intervals(&fa, &fb, &fab, i as u64);
             assert!((s - s_true[i]).abs() < 0.02 && (t - t_true[i]).abs() < 0.02, "x{}: S {s} ST {t}", i + 1);
             assert!(s_ci.0 <= s_true[i] + 0.01 && s_true[i] - 0.01 <= s_ci.1, "x{}: S interval {s_ci:?}", i + 1);

@@ -12,13 +12,12 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-
 use crate::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
+use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::metadata as meta;
 use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
-use crate::ensemble::{Ensemble, Outcome, RunError};
-use crate::rng::GENERATOR;
 use crate::precision::{Target, Tracker};
+use crate::rng::GENERATOR;
 use crate::scenario::{Scenario, ScenarioError};
 use crate::trajectory;
 
@@ -165,10 +164,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     let start = Instant::now();
 
     let threads = worker_threads(opts.threads)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| SimulateError::Pool(e.to_string()))?;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| SimulateError::Pool(e.to_string()))?;
     let range = opts.shard.range(scenario.run.realizations);
     let ensemble = Ensemble::new(scenario)?;
     let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
@@ -204,8 +200,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
         let computed = (|| -> Result<(), RunError> {
             while chunks.peek().is_some() {
                 let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
-                let rows: Vec<Result<(Rows, Tracker), RunError>> =
-                    pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), targets)).collect());
+                let rows: Vec<Result<(Rows, Tracker), RunError>> = pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), targets)).collect());
                 for (r, range) in rows.into_iter().zip(&window) {
                     let (r, t) = r?;
                     progress.inc(r.len() as u64);
@@ -233,7 +228,12 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     let mut written = written?;
     if !targets.is_empty() {
         let rule = targets.iter().map(|t| format!("{t}={}", t.se)).collect::<Vec<_>>().join(", ");
-        let reached_se = targets.iter().zip(tracker.errors()).map(|(t, se)| format!("{t}={}", se.map_or("none".into(), |x| format!("{x:e}")))).collect::<Vec<_>>().join(", ");
+        let reached_se = targets
+            .iter()
+            .zip(tracker.errors())
+            .map(|(t, se)| format!("{t}={}", se.map_or("none".into(), |x| format!("{x:e}"))))
+            .collect::<Vec<_>>()
+            .join(", ");
         let mut written_meta = vec![(meta::REALIZATION_RANGE, format!("{}..{reached}", range.start))];
         if sharded {
             written_meta.push((meta::SHARD_BLOCK, format!("{}..{}", range.start, range.end)));
@@ -251,11 +251,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     }
     let part = written.finish()?;
     // Trajectories (Fig. 4) of realizations 0..N, written by the shard that holds realization 0.
-    let trajectories = if scenario.output.trajectories > 0 && range.start == 0 {
-        Some(write_trajectories(&ensemble, scenario, &opts.out)?)
-    } else {
-        None
-    };
+    let trajectories = if scenario.output.trajectories > 0 && range.start == 0 { Some(write_trajectories(&ensemble, scenario, &opts.out)?) } else { None };
     let summary = Summary {
         path: part.path().to_owned(),
         realizations: reached - range.start,
@@ -284,7 +280,11 @@ fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target]) ->
 /// Sample the first `output.trajectories` realizations into the trajectory tables beside the
 /// dataset ([`trajectory::dir_for`]), under temporary names (committed with the part).
 fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path::Path) -> Result<(Vec<(TempFile, Lock)>, Created), SimulateError> {
-    let place = trajectory::dir_for(dir).ok_or_else(|| OutDirError { path: dir.to_owned(), message: "has no parent to put its trajectories beside".into(), refused: true })?;
+    let place = trajectory::dir_for(dir).ok_or_else(|| OutDirError {
+        path: dir.to_owned(),
+        message: "has no parent to put its trajectories beside".into(),
+        refused: true,
+    })?;
     let created = Created::dir_all(&place)?;
     let mut tables = trajectory::Tables::default();
     let mut out = Outcome::default();
@@ -300,9 +300,6 @@ fn progress_bar(len: u64, enabled: bool) -> ProgressBar {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::new(len);
-    bar.set_style(
-        ProgressStyle::with_template("simulate {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}  {msg}")
-            .expect("valid template"),
-    );
+    bar.set_style(ProgressStyle::with_template("simulate {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}  {msg}").expect("valid template"));
     bar
 }

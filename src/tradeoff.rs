@@ -39,13 +39,13 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::table::{Col, Table};
 use crate::ensemble::{Ensemble, Outcome, RunError};
-use crate::observables::Observable;
 use crate::figures::{render, Figure, Panel, Series};
+use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Numerics, Scenario, ScenarioError};
 use crate::solver::SolverKind;
+use crate::table::{Col, Table};
 
 /// Largest time difference [s] at which a numerical event is matched to an exact one.
 pub const MATCH_WINDOW: f64 = 0.05;
@@ -204,7 +204,13 @@ fn bias_over_se(records: &[Outcome], reference: &[Outcome], n_run: u64) -> f64 {
         let n_stat = n_run as f64 * r.len() as f64 / reference.len() as f64;
         let se = (var / n_stat).sqrt();
         let bias = (mo - mr).abs();
-        worst = worst.max(if se > 0.0 { bias / se } else if bias > 0.0 { f64::INFINITY } else { 0.0 });
+        worst = worst.max(if se > 0.0 {
+            bias / se
+        } else if bias > 0.0 {
+            f64::INFINITY
+        } else {
+            0.0
+        });
     }
     worst
 }
@@ -309,7 +315,11 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, 
         .iter()
         .enumerate()
         .filter(|(_, r)| r.max_bias_over_se.is_some_and(|b| b < bias_fraction))
-        .min_by(|a, b| (a.1.solver != "exact", a.1.evaluations_per_realization).partial_cmp(&(b.1.solver != "exact", b.1.evaluations_per_realization)).unwrap_or(std::cmp::Ordering::Equal))
+        .min_by(|a, b| {
+            (a.1.solver != "exact", a.1.evaluations_per_realization)
+                .partial_cmp(&(b.1.solver != "exact", b.1.evaluations_per_realization))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })
         .map(|(i, _)| i);
     if let Some(i) = cheapest {
         rows[i].recommended = true;

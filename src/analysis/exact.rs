@@ -188,7 +188,8 @@ mod tests {
 
     #[test]
     fn nearest_is_round_half_to_even() {
-        let mut xs = vec![0.5, 1.5, 2.5, -0.5, -1.5, -2.5, 0.49999999999999994, 2f64.powi(51) + 0.5, 2f64.powi(52) - 0.5, 2f64.powi(52), -2f64.powi(60), 1e-300, -0.0];
+        let mut xs =
+            vec![0.5, 1.5, 2.5, -0.5, -1.5, -2.5, 0.49999999999999994, 2f64.powi(51) + 0.5, 2f64.powi(52) - 0.5, 2f64.powi(52), -2f64.powi(60), 1e-300, -0.0];
         xs.extend((0..10_000).map(|i| ((i as f64) * 0.7123).sin() * 10f64.powi(i % 19)));
         for x in xs {
             assert_eq!(nearest(x), x.round_ties_even(), "{x:e}");

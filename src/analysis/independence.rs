@@ -13,8 +13,8 @@
 
 use rand::Rng;
 
-use crate::special::chi2_sf;
 use crate::rng::realization_rng;
+use crate::special::chi2_sf;
 
 /// Results of the three tests.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

@@ -247,7 +247,11 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
                 f,
                 format!(
                     "realizations {}..{} overlap {} ({}..{}): a duplicated or copied part, or shards of different splits; remove one",
-                    p.range.start, p.range.end, g.display(), q.range.start, q.range.end
+                    p.range.start,
+                    p.range.end,
+                    g.display(),
+                    q.range.start,
+                    q.range.end
                 ),
             ));
         }
@@ -273,7 +277,10 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
     // the one recorded value the analysis computes with: every event time lies in [0, t_a]
     let t_a = scenario.run.duration;
     if !(t_a.is_finite() && t_a > 0.0 && t_a <= crate::scenario::DURATION_RANGE.1) {
-        return Err(bad(&first, format!("its recorded run.duration = {t_a:e} s lies outside (0, {:e}] s, the window the analysis is proven on", crate::scenario::DURATION_RANGE.1)));
+        return Err(bad(
+            &first,
+            format!("its recorded run.duration = {t_a:e} s lies outside (0, {:e}] s, the window the analysis is proven on", crate::scenario::DURATION_RANGE.1),
+        ));
     }
     // the trajectory tables beside the dataset, only if this run sampled them (tables another run
     // left there record another scenario, and are not taken for these realizations)

@@ -19,8 +19,8 @@ pub mod density;
 mod exact;
 pub mod growth;
 pub mod independence;
-pub mod jackknife;
 pub mod input;
+pub mod jackknife;
 pub mod output;
 pub mod paper;
 mod query;
@@ -35,10 +35,10 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 use accum::{Histogram, Moments};
-use rayon::prelude::*;
 use growth::{Line, Renewal};
 use independence::Independence;
 use input::{Dataset, InputError};
+use rayon::prelude::*;
 use sketch::{Sketch, Sketch2};
 
 use crate::observables::Observable;
@@ -315,13 +315,13 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
         return Ok(out.into_iter().map(|(_, a)| a).collect());
     }
     if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.needs_switch_times()) && !switch_times) {
-        return Err(AnalysisError::Options(format!(
-            "--pair {},{}: the dataset has no switch_times (simulate with output.switch_times = true)",
-            p.0, p.1
-        )));
+        return Err(AnalysisError::Options(format!("--pair {},{}: the dataset has no switch_times (simulate with output.switch_times = true)", p.0, p.1)));
     }
     if let Some(p) = opts.pairs.iter().find(|p| [p.0, p.1].iter().any(|s| s.needs_tails_state()) && !tails_state) {
-        return Err(AnalysisError::Options(format!("--pair {},{}: the dataset has no stick ends or severity (schema v1 or v2): simulate it again with this version", p.0, p.1)));
+        return Err(AnalysisError::Options(format!(
+            "--pair {},{}: the dataset has no stick ends or severity (schema v1 or v2): simulate it again with this version",
+            p.0, p.1
+        )));
     }
     let series = series_list(opts, switch_times, tails_state);
     let index_of = |s: &Observable| series.iter().position(|x| x == s).expect("pair series are analysed");
@@ -371,18 +371,29 @@ fn progress(show: bool, rows: u64) -> indicatif::ProgressBar {
 }
 
 /// The analysis of one cell from what the scan aggregated.
-fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize, usize)], grid: &[u64], agg: &query::Aggregates, pilot: &query::Pilot) -> Analysis {
+fn finish(
+    data: Dataset,
+    opts: &Options,
+    series: &[Observable],
+    pairs: &[(usize, usize)],
+    grid: &[u64],
+    agg: &query::Aggregates,
+    pilot: &query::Pilot,
+) -> Analysis {
     let n = series.len();
     let t_a = data.scenario.run.duration;
     let groups = 0..jackknife::GROUPS;
-    let group_moments: Vec<Vec<Moments>> = (0..n).map(|i| agg.sums[i].iter().map(|s| s.moments(pilot.center[i], &exact::quanta(pilot.bound[i], pilot.rows))).collect()).collect();
+    let group_moments: Vec<Vec<Moments>> =
+        (0..n).map(|i| agg.sums[i].iter().map(|s| s.moments(pilot.center[i], &exact::quanta(pilot.bound[i], pilot.rows))).collect()).collect();
     let moments: Vec<Moments> = group_moments.iter().map(|g| g.iter().fold(Moments::default(), |a, m| a.merge(m))).collect();
     // per group: the sketch of a continuous observable, the distribution of a count
     let group_sketches: Vec<Option<Vec<Sketch>>> = (0..n)
         .map(|i| (!series[i].is_count()).then(|| agg.bins[i].iter().map(|b| Sketch::from_counts(series[i].scale(t_a), pilot.exp[i], b)).collect()))
         .collect();
     let group_pmf: Vec<Vec<BTreeMap<i64, u64>>> = (0..n)
-        .map(|i| if series[i].is_count() { agg.bins[i].iter().map(|b| b.iter().copied().collect()).collect() } else { vec![BTreeMap::new(); jackknife::GROUPS] })
+        .map(
+            |i| if series[i].is_count() { agg.bins[i].iter().map(|b| b.iter().copied().collect()).collect() } else { vec![BTreeMap::new(); jackknife::GROUPS] },
+        )
         .collect();
     let merge_pmf = |a: &BTreeMap<i64, u64>, b: &BTreeMap<i64, u64>| {
         let mut m = a.clone();
@@ -391,7 +402,8 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
         }
         m
     };
-    let sketches: Vec<Option<Sketch>> = (0..n).map(|i| group_sketches[i].as_ref().map(|g| g.iter().fold(Sketch::new(series[i].scale(t_a)), |a, s| a.merge(s)))).collect();
+    let sketches: Vec<Option<Sketch>> =
+        (0..n).map(|i| group_sketches[i].as_ref().map(|g| g.iter().fold(Sketch::new(series[i].scale(t_a)), |a, s| a.merge(s)))).collect();
     let pmf: Vec<BTreeMap<i64, u64>> = group_pmf.iter().map(|g| g.iter().fold(BTreeMap::new(), |a, p| merge_pmf(&a, p))).collect();
     let joints: Vec<Sketch2> = pairs.iter().enumerate().map(|(p, &(i, _))| Sketch2::from_counts(series[i].scale(t_a), pilot.joint[p], &agg.joint[p])).collect();
 
@@ -488,13 +500,22 @@ fn finish(data: Dataset, opts: &Options, series: &[Observable], pairs: &[(usize,
     let st = stats.iter().find(|s| s.series == Observable::Sticks);
     let renewal_at = |g: Option<usize>| -> Option<Renewal> {
         let st = moments_of(st?, g);
-        growth::renewal(t_a, &fit(Observable::StickStart(1), "mean", g)?, &fit(Observable::StickStart(1), "variance", g)?, st.mean, st.variance().unwrap_or(0.0))
+        growth::renewal(
+            t_a,
+            &fit(Observable::StickStart(1), "mean", g)?,
+            &fit(Observable::StickStart(1), "variance", g)?,
+            st.mean,
+            st.variance().unwrap_or(0.0),
+        )
     };
     let renewal = renewal_at(None).map(|r| {
         let loo: Vec<Option<Renewal>> = groups.clone().map(|g| renewal_at(Some(g))).collect();
         Renewal {
             predicted_mean_interval: jackknife::interval(Some(r.predicted_mean), &loo.iter().map(|x| x.as_ref().map(|x| x.predicted_mean)).collect::<Vec<_>>()),
-            predicted_variance_interval: jackknife::interval(Some(r.predicted_variance), &loo.iter().map(|x| x.as_ref().map(|x| x.predicted_variance)).collect::<Vec<_>>()),
+            predicted_variance_interval: jackknife::interval(
+                Some(r.predicted_variance),
+                &loo.iter().map(|x| x.as_ref().map(|x| x.predicted_variance)).collect::<Vec<_>>(),
+            ),
             ..r
         }
     });

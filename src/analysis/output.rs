@@ -31,12 +31,11 @@
 
 use std::path::Path;
 
-
-use crate::table::{Col, Table};
 use super::paper;
 use super::summary::{Bins, CountSummary, DatasetSummary, GrowthSummary, OptionsSummary, Policies, RenewalSummary, Summary, TestSummary};
 use super::{Analysis, AnalysisError};
 use crate::outdir::{Kind, StagedDir};
+use crate::table::{Col, Table};
 
 /// Significance level of the reported verdicts.
 pub const ALPHA: f64 = 0.05;
@@ -76,8 +75,7 @@ fn moments_table(a: &Analysis) -> Table {
         t.push(&format!("{name}_hi"), float(&|x| iv(x).map(|i| i.1)));
     }
     // no silent survivorship: how many realizations the statistics of each row describe
-    t.push("reached", Col::Int(s.iter().map(|x| Some(x.reached as i64)).collect()))
-        .push("reached_fraction", float(&|x| Some(x.reached as f64 / rows)));
+    t.push("reached", Col::Int(s.iter().map(|x| Some(x.reached as i64)).collect())).push("reached_fraction", float(&|x| Some(x.reached as f64 / rows)));
     t
 }
 

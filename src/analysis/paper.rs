@@ -1,7 +1,7 @@
 //! The paper's reported numbers (Lima & Sampaio, Table 1 and section 4), for comparison only.
 
-use crate::table::Table;
 use crate::observables::Observable;
+use crate::table::Table;
 
 /// (variable, k, mean, variance, mode, skewness, kurtosis) from Table 1.
 pub const TABLE1: &[(Observable, [f64; 5])] = &[
@@ -153,13 +153,7 @@ pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
         rows.push(Row {
             label: o.name(),
             n: n.get(r).copied().flatten().unwrap_or(0),
-            cells: [
-                cell(at(mean), at(mse), 0),
-                cell(at(var), at(vse), 1),
-                mode_cell,
-                cell(at(skew), None, 3),
-                cell(at(kurt), None, 4),
-            ],
+            cells: [cell(at(mean), at(mse), 0), cell(at(var), at(vse), 1), mode_cell, cell(at(skew), None, 3), cell(at(kurt), None, 4)],
             count,
         });
     }

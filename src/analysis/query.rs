@@ -139,7 +139,17 @@ fn bin_expr(x: Expr, exp: i32) -> Expr {
 /// The frame of one part file for the main query (see the module docs), in two stages so that
 /// each observable's expression is evaluated once per row and the second stage reads its column.
 #[allow(clippy::too_many_arguments)]
-fn file_frame(data: &Dataset, file: usize, cell: usize, (offset, rows): (u64, u64), position: u64, plan: &Plan, pilot: &Pilot, batch: &Batch, n_rules: &mut usize) -> PolarsResult<LazyFrame> {
+fn file_frame(
+    data: &Dataset,
+    file: usize,
+    cell: usize,
+    (offset, rows): (u64, u64),
+    position: u64,
+    plan: &Plan,
+    pilot: &Pilot,
+    batch: &Batch,
+    n_rules: &mut usize,
+) -> PolarsResult<LazyFrame> {
     let t_a = data.scenario.run.duration;
     let rules = if batch.extras { rules(data.file_starts[file], t_a, data.switch_times, data.tails_state) } else { Vec::new() };
     *n_rules = rules.len();
@@ -236,7 +246,9 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
         }
         for &(i, j) in plan.pairs {
             let both = |a: &[Option<f64>], b: &[Option<f64>]| a.iter().zip(b).map(|(x, y)| x.and(*y).and(*x)).collect::<Vec<_>>();
-            pilot.joint.push((finest(&both(&all[i], &all[j]), plan.series[i], sketch::CAP_2D), finest(&both(&all[j], &all[i]), plan.series[j], sketch::CAP_2D)));
+            pilot
+                .joint
+                .push((finest(&both(&all[i], &all[j]), plan.series[i], sketch::CAP_2D), finest(&both(&all[j], &all[i]), plan.series[j], sketch::CAP_2D)));
         }
         out.push(pilot);
     }
@@ -332,20 +344,32 @@ fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usiz
 }
 
 /// One query of [`aggregate_run`].
-fn aggregate_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usize, usize, u64, u64, u64)], batch: &Batch, out: &mut [Aggregates]) -> PolarsResult<()> {
+fn aggregate_batch(
+    cells: &[&Dataset],
+    plan: &Plan,
+    pilots: &[Pilot],
+    run: &[(usize, usize, u64, u64, u64)],
+    batch: &Batch,
+    out: &mut [Aggregates],
+) -> PolarsResult<()> {
     let mut frames = Vec::new();
     let mut n_rules = 0;
     for &(c, f, offset, rows, position) in run {
         frames.push(file_frame(cells[c], f, c, (offset, rows), position, plan, &pilots[c], batch, &mut n_rules)?);
     }
     let (pairs, convergence): (&[(usize, usize)], &[usize]) = if batch.extras { (plan.pairs, plan.convergence) } else { (&[], &[]) };
-    let args = UnionArgs { parallel: true, rechunk: false, to_supertypes: false, diagonal: false, strict: true, from_partitioned_ds: false, maintain_order: false };
+    let args =
+        UnionArgs { parallel: true, rechunk: false, to_supertypes: false, diagonal: false, strict: true, from_partitioned_ds: false, maintain_order: false };
     let base = concat(frames, args)?;
     // per slot (cell and group): the power sums, ranges, censored counts and broken rules
     let mut aggs = vec![len().cast(DataType::Int64).alias("__rows")];
     for &i in &batch.owned {
         let o = plan.series[i];
-        aggs.extend([col(value(i)).count().cast(DataType::Int64).alias(format!("n{i}")), col(value(i)).min().alias(format!("lo{i}")), col(value(i)).max().alias(format!("hi{i}"))]);
+        aggs.extend([
+            col(value(i)).count().cast(DataType::Int64).alias(format!("n{i}")),
+            col(value(i)).min().alias(format!("lo{i}")),
+            col(value(i)).max().alias(format!("hi{i}")),
+        ]);
         for p in 1..=4 {
             aggs.extend(['h', 'l'].map(|part| part_of(&parts(i), p, part).sum().alias(term(i, p, part))));
         }

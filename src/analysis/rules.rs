@@ -97,7 +97,11 @@ fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool, t
             let (arr, n) = (lists.downcast_iter().next(), counts.downcast_iter().next());
             let bad: BooleanChunked = match (arr, n) {
                 (Some(arr), Some(n)) => {
-                    let values = arr.values().as_any().downcast_ref::<PrimitiveArray<f64>>().ok_or_else(|| polars_err!(SchemaMismatch: "column `{list}` is not a list of float64"))?;
+                    let values = arr
+                        .values()
+                        .as_any()
+                        .downcast_ref::<PrimitiveArray<f64>>()
+                        .ok_or_else(|| polars_err!(SchemaMismatch: "column `{list}` is not a list of float64"))?;
                     let offsets = arr.offsets().as_slice();
                     (0..arr.len())
                         .map(|r| {
@@ -138,7 +142,8 @@ pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
                 Ok(df) => df,
                 Err(e) => return polars_err!(ComputeError: "{}: {e}", data.files[f].display()),
             };
-            let why = row_problem(&df, data.file_starts[f], data.scenario.run.duration, data.switch_times, data.tails_state).unwrap_or_else(|| "a value breaks the dataset's rules".into());
+            let why = row_problem(&df, data.file_starts[f], data.scenario.run.duration, data.switch_times, data.tails_state)
+                .unwrap_or_else(|| "a value breaks the dataset's rules".into());
             return polars_err!(ComputeError: "{}: {why}", data.files[f].display());
         }
     }
@@ -153,7 +158,10 @@ fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool, tai
     let id = int(name::REALIZATION);
     let at = |c: &str, why: String| Some(format!("row {} (realization {}), column `{c}`: {why}", first + row, id.map_or("null".into(), |i| i.to_string())));
     if id != Some((first + row) as i64) {
-        return at(name::REALIZATION, format!("expected realization {} (the part's declared range), found {}", first + row, id.map_or("null".into(), |i| i.to_string())));
+        return at(
+            name::REALIZATION,
+            format!("expected realization {} (the part's declared range), found {}", first + row, id.map_or("null".into(), |i| i.to_string())),
+        );
     }
     for (c, count, ordered) in lists(switch_times) {
         let n = int(count);

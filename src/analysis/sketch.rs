@@ -287,7 +287,12 @@ mod tests {
     #[test]
     fn joint_table_marginals_equal_the_one_dimensional_histograms() {
         let mut u = lcg(2);
-        let pairs: Vec<(f64, f64)> = (0..20_000).map(|_| { let a = u(); (a, a + u()) }).collect();
+        let pairs: Vec<(f64, f64)> = (0..20_000)
+            .map(|_| {
+                let a = u();
+                (a, a + u())
+            })
+            .collect();
         let (xs, ys): (Vec<f64>, Vec<f64>) = pairs.iter().copied().unzip();
         let (sx, sy) = (of(&xs, 10.0), of(&ys, 10.0));
         let e = start_exponent(10.0);

@@ -15,11 +15,11 @@
 use std::path::Path;
 
 use super::accum::Moments;
-use crate::table::{Col, Table};
 use super::input::open_cells;
 use super::{analyze_cells, output, Analysis, AnalysisError, Options};
 use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
+use crate::table::{Col, Table};
 
 /// The summary of one sweep cell.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,7 +60,11 @@ fn mean_of(a: &Analysis, o: Observable, scale: f64) -> Estimate {
 
 /// The mean of a duration family's values over every analysed index k (D_1..D_K pooled).
 fn pooled(a: &Analysis, family: Observable) -> Option<f64> {
-    let m = a.stats.iter().filter(|s| s.series.index().is_some() && s.series.variable() == family.variable()).fold(Moments::default(), |acc, s| acc.merge(&s.moments));
+    let m = a
+        .stats
+        .iter()
+        .filter(|s| s.series.index().is_some() && s.series.variable() == family.variable())
+        .fold(Moments::default(), |acc, s| acc.merge(&s.moments));
     (m.n > 0).then_some(m.mean)
 }
 
@@ -93,11 +97,7 @@ pub fn cell_order(a: &str, b: &str) -> std::cmp::Ordering {
 
 /// Summarize one cell's analysis.
 pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
-    let keys = path
-        .split('/')
-        .filter_map(|part| part.split_once('='))
-        .map(|(k, v)| (k.to_string(), v.parse().unwrap_or(f64::NAN)))
-        .collect();
+    let keys = path.split('/').filter_map(|part| part.split_once('=')).map(|(k, v)| (k.to_string(), v.parse().unwrap_or(f64::NAN))).collect();
     let st = a.get(Observable::Sticks).map(|s| s.moments).unwrap_or_default();
     let stick_stats = a.get(Observable::StickFraction);
     let stick = stick_stats.map(|s| s.moments).unwrap_or_default();
@@ -193,9 +193,7 @@ pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String
     if done.len() > 1 || done.first().is_some_and(|(p, _)| !p.is_empty()) {
         let summaries: Vec<CellSummary> = done.iter().map(|(p, a)| summarize(p, a)).collect();
         let path = out.join("sweep.parquet");
-        table(&summaries)
-            .write_parquet(&staged.path().join("sweep.parquet"))
-            .map_err(|e| AnalysisError::Write { path, message: e.to_string() })?;
+        table(&summaries).write_parquet(&staged.path().join("sweep.parquet")).map_err(|e| AnalysisError::Write { path, message: e.to_string() })?;
     }
     staged.commit()?;
     Ok(done)

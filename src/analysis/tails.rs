@@ -197,7 +197,8 @@ fn clamp_k(max_index: u32) -> Expr {
 fn packed(max_index: u32) -> Expr {
     let ks = i64::from(max_index) + 2;
     let cell = col(CELL).cast(DataType::Int64);
-    let key = ((cell * lit(ks) + col(K).cast(DataType::Int64)) * lit(2i64) + col(FLAG).cast(DataType::Int64)) * lit(GROUPS as i64) + col(G).cast(DataType::Int64);
+    let key =
+        ((cell * lit(ks) + col(K).cast(DataType::Int64)) * lit(2i64) + col(FLAG).cast(DataType::Int64)) * lit(GROUPS as i64) + col(G).cast(DataType::Int64);
     key.alias("__key")
 }
 
@@ -286,14 +287,21 @@ fn entry_plan(sticks: LazyFrame, p: Physics, speeds: (f64, f64), max_index: u32,
 
 /// Per group: realizations, sticks, breakaways, and the exceedance counts of each threshold.
 fn extreme_plan(src: LazyFrame, opts: &TailOptions) -> DslPlan {
-    let mut aggs = vec![len().cast(DataType::Int64).alias("__rows"), col(name::N_STICK).cast(DataType::Int64).sum().alias("__sticks"), col("__breakaways").sum().alias("__b")];
+    let mut aggs = vec![
+        len().cast(DataType::Int64).alias("__rows"),
+        col(name::N_STICK).cast(DataType::Int64).sum().alias("__sticks"),
+        col("__breakaways").sum().alias("__b"),
+    ];
     for (i, t) in opts.times.iter().enumerate() {
         aggs.push(col(name::LONGEST_STICK).gt(lit(*t)).cast(DataType::Int64).sum().alias(format!("__l{i}")));
     }
     for (i, s) in opts.severity.iter().enumerate() {
         aggs.push(col(name::SEVERITY).gt(lit(*s)).cast(DataType::Int64).sum().alias(format!("__s{i}")));
     }
-    src.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), crate::observables::breakaways().alias("__breakaways")]).group_by([col(G)]).agg(aggs).logical_plan
+    src.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), crate::observables::breakaways().alias("__breakaways")])
+        .group_by([col(G)])
+        .agg(aggs)
+        .logical_plan
 }
 
 /// The counts of [`extreme_plan`] as [group][column].
@@ -400,7 +408,8 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
         };
         let (fine_grid, coarse_grid) = (on_cells(&grid, &times, false), on_cells(&grid, &times, true));
         for index in indices(max_index) {
-            let of_k = |rows: &Counts, censored: bool| -> Counts { rows.iter().filter(|r| index.is_none_or(|k| r.1 == k) && (censored || !r.3)).copied().collect() };
+            let of_k =
+                |rows: &Counts, censored: bool| -> Counts { rows.iter().filter(|r| index.is_none_or(|k| r.1 == k) && (censored || !r.3)).copied().collect() };
             let (fine_k, coarse_k) = (of_k(&fine, true), of_k(&coarse, true));
             if fine_k.is_empty() {
                 continue;
@@ -501,7 +510,12 @@ impl Axis {
 /// `full` (rows and the grid's (t, cell) on their cells), the leave-one-group-out values from
 /// `loo` (on their own, possibly coarser, cells); `estimate` maps an axis' cells, their counts
 /// and the evaluation points to the curve's values.
-fn curve(full: (&Counts, &[(f64, i64)]), loo: (&Counts, &[(f64, i64)]), estimate: impl Fn(&[i64], &[[u64; 2]], &[(f64, i64)]) -> Vec<f64>, scale: (fn(f64) -> Option<f64>, fn(f64) -> f64)) -> Vec<(f64, f64, Option<Interval>)> {
+fn curve(
+    full: (&Counts, &[(f64, i64)]),
+    loo: (&Counts, &[(f64, i64)]),
+    estimate: impl Fn(&[i64], &[[u64; 2]], &[(f64, i64)]) -> Vec<f64>,
+    scale: (fn(f64) -> Option<f64>, fn(f64) -> f64),
+) -> Vec<(f64, f64, Option<Interval>)> {
     let axis = |rows: &Counts| Axis::new(&rows.iter().map(|r| (r.0, r.2, r.3, r.4)).collect::<Vec<_>>());
     let (whole, parts) = (axis(full.0), axis(loo.0));
     let value = estimate(&whole.cells, &whole.without(None), full.1);

@@ -13,10 +13,10 @@ pub mod render;
 
 use std::path::{Path, PathBuf};
 
-use crate::table::Table;
-use crate::special::ln_gamma;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::Scenario;
+use crate::special::ln_gamma;
+use crate::table::Table;
 
 pub use chart::{Figure, Panel, Series};
 
@@ -48,12 +48,15 @@ impl Trajectory {
         if !(sp.is_file() && ep.is_file()) {
             return Ok(None);
         }
-        let read = |path: &Path, columns: &[(&str, char)]| Table::read_checked(path, columns).map_err(|e| FigureError::Read { path: path.to_owned(), message: e.to_string() });
+        let read = |path: &Path, columns: &[(&str, char)]| {
+            Table::read_checked(path, columns).map_err(|e| FigureError::Read { path: path.to_owned(), message: e.to_string() })
+        };
         let s = read(&sp, &[("realization", 'i'), ("t", 'f'), ("xdot", 'f'), ("belt_velocity", 'f')])?;
         let e = read(&ep, &[("realization", 'i'), ("event", 's'), ("t", 'f')])?;
         let first = |t: &Table| t.ints("realization").unwrap_or_default().iter().map(|r| *r == Some(0)).collect::<Vec<bool>>();
         let mut out = Trajectory::default();
-        let (keep, t, xdot, v) = (first(&s), s.floats("t").unwrap_or_default(), s.floats("xdot").unwrap_or_default(), s.floats("belt_velocity").unwrap_or_default());
+        let (keep, t, xdot, v) =
+            (first(&s), s.floats("t").unwrap_or_default(), s.floats("xdot").unwrap_or_default(), s.floats("belt_velocity").unwrap_or_default());
         for i in (0..keep.len()).filter(|&i| keep[i]) {
             if let (Some(t), Some(x), Some(v)) = (t[i], xdot[i], v[i]) {
                 out.samples.push([t, x, v]);
@@ -99,7 +102,9 @@ impl Inputs {
             let path = adir.join(name);
             Table::read_checked(&path, columns).map_err(|e| FigureError::Read { path, message: e.to_string() })
         };
-        let keyed = |more: &[(&'static str, char)]| -> Vec<(&'static str, char)> { [("variable", 's'), ("index", 'i')].into_iter().chain(more.iter().copied()).collect() };
+        let keyed = |more: &[(&'static str, char)]| -> Vec<(&'static str, char)> {
+            [("variable", 's'), ("index", 'i')].into_iter().chain(more.iter().copied()).collect()
+        };
         let summary_path = adir.join("summary.json");
         let bad = |message: String| FigureError::Read { path: summary_path.clone(), message };
         let toml = crate::analysis::summary::Summary::read_scenario(&summary_path).map_err(bad)?;
@@ -112,7 +117,8 @@ impl Inputs {
             None
         };
         let optional = |name: &str, columns: &[(&str, char)]| if adir.join(name).exists() { read(name, columns).map(Some) } else { Ok(None) };
-        let survival = optional("survival.parquet", &[("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')])?;
+        let survival =
+            optional("survival.parquet", &[("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')])?;
         let tails = optional("tails.parquet", &[("statistic", 's'), ("threshold", 'f'), ("value", 'f'), ("lo", 'f'), ("hi", 'f'), ("n", 'i')])?;
         Ok(Inputs {
             survival,
@@ -174,9 +180,7 @@ fn histogram_panel(title: String, x_label: &str, bars: Vec<(f64, f64, f64)>) -> 
 
 /// Figs 6, 9, 10, 12, 14: the densities of X_1..X_6 on a 2 × 3 grid.
 pub fn indexed_histograms(inp: &Inputs, var: &str, name: &str, what: &str) -> Option<Figure> {
-    let panels: Vec<Panel> = (1..=6)
-        .map(|k| histogram_panel(format!("{var}_{k}"), &format!("{var}_{k} [s]"), inp.histogram(var, Some(k))))
-        .collect();
+    let panels: Vec<Panel> = (1..=6).map(|k| histogram_panel(format!("{var}_{k}"), &format!("{var}_{k} [s]"), inp.histogram(var, Some(k)))).collect();
     panels.iter().any(|p| !p.bars.is_empty()).then(|| Figure {
         name: name.into(),
         title: format!("Normalized histograms of {what}"),
@@ -279,7 +283,11 @@ pub fn growth_figure(inp: &Inputs) -> Option<Figure> {
 /// Fig 8: the distributions of S_T and S_L.
 pub fn counts_figure(inp: &Inputs) -> Figure {
     let panel = |var: &str, what: &str| Panel {
-        title: format!("{var}: mean {:.2}, variance {:.2}", inp.moment(var, None, "mean").unwrap_or(f64::NAN), inp.moment(var, None, "variance").unwrap_or(f64::NAN)),
+        title: format!(
+            "{var}: mean {:.2}, variance {:.2}",
+            inp.moment(var, None, "mean").unwrap_or(f64::NAN),
+            inp.moment(var, None, "variance").unwrap_or(f64::NAN)
+        ),
         x_label: what.into(),
         y_label: "probability".into(),
         stems: vec![pmf_stems(&inp.histogram(var, None), "", 0)],
@@ -498,14 +506,22 @@ pub fn tails_figure(inp: &Inputs) -> Option<Figure> {
     let bars = inp.histogram("severity", None);
     if !bars.is_empty() {
         let mut above = 1.0;
-        let line: Vec<(f64, f64)> = bars.iter().map(|&(lo, hi, d)| {
-            above -= d * (hi - lo);
-            (hi, above.max(0.0))
-        }).filter(|p| p.1 > 1e-12).collect();
-        let marks: Vec<(f64, f64)> = inp.tails.as_ref().and_then(|e| {
-            let (names, threshold, value) = (e.strings("statistic")?, e.floats("threshold")?, e.floats("value")?);
-            Some((0..e.height()).filter(|&r| names[r] == "severity").filter_map(|r| Some((threshold[r]?, value[r]?))).filter(|p| p.1 > 0.0).collect())
-        }).unwrap_or_default();
+        let line: Vec<(f64, f64)> = bars
+            .iter()
+            .map(|&(lo, hi, d)| {
+                above -= d * (hi - lo);
+                (hi, above.max(0.0))
+            })
+            .filter(|p| p.1 > 1e-12)
+            .collect();
+        let marks: Vec<(f64, f64)> = inp
+            .tails
+            .as_ref()
+            .and_then(|e| {
+                let (names, threshold, value) = (e.strings("statistic")?, e.floats("threshold")?, e.floats("value")?);
+                Some((0..e.height()).filter(|&r| names[r] == "severity").filter_map(|r| Some((threshold[r]?, value[r]?))).filter(|p| p.1 > 0.0).collect())
+            })
+            .unwrap_or_default();
         panels.push(Panel {
             title: "P(severity > s), severity = (max ẋ − min ẋ)/(2 v0)".into(),
             x_label: "s".into(),
@@ -612,8 +628,20 @@ fn edges(v: &[f64], log: bool) -> Vec<(f64, f64)> {
     let u: Vec<f64> = v.iter().map(|&x| to(x)).collect();
     (0..u.len())
         .map(|i| {
-            let left = if i > 0 { 0.5 * (u[i - 1] + u[i]) } else if u.len() > 1 { u[0] - 0.5 * (u[1] - u[0]) } else { u[0] - 0.5 };
-            let right = if i + 1 < u.len() { 0.5 * (u[i] + u[i + 1]) } else if u.len() > 1 { u[i] + 0.5 * (u[i] - u[i - 1]) } else { u[0] + 0.5 };
+            let left = if i > 0 {
+                0.5 * (u[i - 1] + u[i])
+            } else if u.len() > 1 {
+                u[0] - 0.5 * (u[1] - u[0])
+            } else {
+                u[0] - 0.5
+            };
+            let right = if i + 1 < u.len() {
+                0.5 * (u[i] + u[i + 1])
+            } else if u.len() > 1 {
+                u[i] + 0.5 * (u[i] - u[i - 1])
+            } else {
+                u[0] + 0.5
+            };
             (from(left), from(right))
         })
         .collect()

@@ -42,13 +42,8 @@ fn err(e: impl std::fmt::Display) -> String {
 /// The sequential colour of a heat map at `t` ∈ [0, 1]: white through light blue to dark navy,
 /// so that empty and nearly empty cells look alike (no stripes where a marginal bin is empty).
 pub fn heat_color(t: f64) -> RGBColor {
-    const STOPS: [(f64, [f64; 3]); 5] = [
-        (0.0, [255.0, 255.0, 255.0]),
-        (0.25, [198.0, 219.0, 239.0]),
-        (0.5, [107.0, 174.0, 214.0]),
-        (0.75, [33.0, 113.0, 181.0]),
-        (1.0, [8.0, 48.0, 107.0]),
-    ];
+    const STOPS: [(f64, [f64; 3]); 5] =
+        [(0.0, [255.0, 255.0, 255.0]), (0.25, [198.0, 219.0, 239.0]), (0.5, [107.0, 174.0, 214.0]), (0.75, [33.0, 113.0, 181.0]), (1.0, [8.0, 48.0, 107.0])];
     let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
     let i = STOPS.iter().rposition(|(s, _)| *s <= t).unwrap_or(0).min(STOPS.len() - 2);
     let (a, b) = (STOPS[i], STOPS[i + 1]);
@@ -120,7 +115,11 @@ fn tick(log: bool) -> impl Fn(&f64) -> String {
             // two significant digits on a log axis (3.2, not 3.162), three decimals otherwise
             let decimals = if log { (1 - x.abs().log10().floor() as i32).max(0) as usize } else { 3 };
             let s = format!("{x:.decimals$}");
-            if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+            if s.contains('.') {
+                s.trim_end_matches('0').trim_end_matches('.').to_string()
+            } else {
+                s
+            }
         }
     }
 }
@@ -175,12 +174,7 @@ fn key_points(ticks: &[(f64, String)], log: bool, (lo, hi): (f64, f64)) -> Vec<f
 /// has its own ticks, else the value in short form.
 fn tick_label(ticks: &[(f64, String)], log: bool) -> impl Fn(&f64) -> String + '_ {
     let (f, plain) = (axis(log), tick(log));
-    move |v: &f64| {
-        ticks
-            .iter()
-            .min_by(|a, b| (f(a.0) - v).abs().total_cmp(&(f(b.0) - v).abs()))
-            .map_or_else(|| plain(v), |t| t.1.clone())
-    }
+    move |v: &f64| ticks.iter().min_by(|a, b| (f(a.0) - v).abs().total_cmp(&(f(b.0) - v).abs())).map_or_else(|| plain(v), |t| t.1.clone())
 }
 
 /// The corner of the plot where the legend covers the fewest data points.
@@ -189,9 +183,8 @@ fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> Serie
     let mut pts: Vec<(f64, f64)> = p.lines.iter().chain(&p.points).chain(&p.stems).flat_map(|s| s.points.iter().copied()).collect();
     pts.extend(p.bars.iter().map(|b| (0.5 * (b.0 + b.1), b.2)));
     let norm: Vec<(f64, f64)> = pts.iter().map(|&(x, y)| ((fx(x) - x0) / (x1 - x0), (fy(y) - y0) / (y1 - y0))).collect();
-    let count = |left: bool, top: bool| {
-        norm.iter().filter(|(u, v)| (if left { *u < 0.4 } else { *u > 0.6 }) && (if top { *v > 0.55 } else { *v < 0.45 })).count()
-    };
+    let count =
+        |left: bool, top: bool| norm.iter().filter(|(u, v)| (if left { *u < 0.4 } else { *u > 0.6 }) && (if top { *v > 0.55 } else { *v < 0.45 })).count();
     [
         (SeriesLabelPosition::UpperRight, count(false, true)),
         (SeriesLabelPosition::UpperLeft, count(true, true)),
@@ -223,10 +216,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
         .margin(8)
         .x_label_area_size(36)
         .y_label_area_size(52)
-        .build_cartesian_2d(
-            Ticked::new((x0, x1), key_points(&p.x_ticks, p.x_log, (x0, x1))),
-            Ticked::new((y0, y1), key_points(&p.y_ticks, p.y_log, (y0, y1))),
-        )
+        .build_cartesian_2d(Ticked::new((x0, x1), key_points(&p.x_ticks, p.x_log, (x0, x1))), Ticked::new((y0, y1), key_points(&p.y_ticks, p.y_log, (y0, y1))))
         .map_err(err)?;
     let (tx, ty) = (tick_label(&p.x_ticks, p.x_log), tick_label(&p.y_ticks, p.y_log));
     chart
@@ -274,9 +264,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
             .draw_series(p.contours.iter().map(|&[a, b]| PathElement::new([(fx(a.0), fy(a.1)), (fx(b.0), fy(b.1))], BLACK.mix(0.75).stroke_width(1))))
             .map_err(err)?;
     }
-    chart
-        .draw_series(p.bars.iter().map(|&(lo, hi, h)| Rectangle::new([(fx(lo), fy(0.0)), (fx(hi), fy(h))], PALETTE[0].mix(0.55).filled())))
-        .map_err(err)?;
+    chart.draw_series(p.bars.iter().map(|&(lo, hi, h)| Rectangle::new([(fx(lo), fy(0.0)), (fx(hi), fy(h))], PALETTE[0].mix(0.55).filled()))).map_err(err)?;
     for &x in &p.vlines {
         chart.draw_series(LineSeries::new([(fx(x), y0), (fx(x), y1)], RGBColor(170, 170, 170).stroke_width(1))).map_err(err)?;
     }
@@ -294,16 +282,18 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     for s in p.points.iter().chain(&p.lines) {
         let color = PALETTE[s.color % PALETTE.len()];
         chart
-            .draw_series(s.points.iter().zip(&s.errors).filter(|(_, e)| e.is_finite() && **e > 0.0).map(|(&(x, y), &e)| {
-                ErrorBar::new_vertical(fx(x), fy(y - e), fy(y), fy(y + e), color.stroke_width(1), 8)
-            }))
+            .draw_series(
+                s.points
+                    .iter()
+                    .zip(&s.errors)
+                    .filter(|(_, e)| e.is_finite() && **e > 0.0)
+                    .map(|(&(x, y), &e)| ErrorBar::new_vertical(fx(x), fy(y - e), fy(y), fy(y + e), color.stroke_width(1), 8)),
+            )
             .map_err(err)?;
     }
     for s in &p.points {
         let color = PALETTE[s.color % PALETTE.len()];
-        let series = chart
-            .draw_series(s.points.iter().map(|&(x, y)| Circle::new((fx(x), fy(y)), 3, color.filled())))
-            .map_err(err)?;
+        let series = chart.draw_series(s.points.iter().map(|&(x, y)| Circle::new((fx(x), fy(y)), 3, color.filled()))).map_err(err)?;
         if !s.label.is_empty() {
             labelled = true;
             series.label(s.label.as_str()).legend(move |(x, y)| Circle::new((x + 8, y), 3, color.filled()));
@@ -311,12 +301,8 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
     }
     for s in &p.stems {
         let color = PALETTE[s.color % PALETTE.len()];
-        chart
-            .draw_series(s.points.iter().map(|&(x, y)| PathElement::new([(fx(x), fy(0.0).max(y0)), (fx(x), fy(y))], color.stroke_width(1))))
-            .map_err(err)?;
-        let series = chart
-            .draw_series(s.points.iter().map(|&(x, y)| Circle::new((fx(x), fy(y)), 3, color.filled())))
-            .map_err(err)?;
+        chart.draw_series(s.points.iter().map(|&(x, y)| PathElement::new([(fx(x), fy(0.0).max(y0)), (fx(x), fy(y))], color.stroke_width(1)))).map_err(err)?;
+        let series = chart.draw_series(s.points.iter().map(|&(x, y)| Circle::new((fx(x), fy(y)), 3, color.filled()))).map_err(err)?;
         if !s.label.is_empty() {
             labelled = true;
             series.label(s.label.as_str()).legend(move |(x, y)| Circle::new((x + 8, y), 3, color.filled()));
@@ -366,12 +352,8 @@ fn colour_bar<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, scale: HeatScal
     let (lo, hi) = (scale.lo, scale.hi);
     // round ticks not crowding the ends, then the ends
     let near = 0.08 * (hi - lo);
-    let mut ticks: Vec<(f64, String)> = RangedCoordf64::from(lo..hi)
-        .key_points(5)
-        .into_iter()
-        .filter(|&v| v > lo + near && v < hi - near)
-        .map(|v| (v, tick(false)(&v)))
-        .collect();
+    let mut ticks: Vec<(f64, String)> =
+        RangedCoordf64::from(lo..hi).key_points(5).into_iter().filter(|&v| v > lo + near && v < hi - near).map(|v| (v, tick(false)(&v))).collect();
     ticks.push((lo, super::format::significant(lo, 3)));
     ticks.push((hi, format!("{}{}", if clipped { "≥ " } else { "" }, super::format::significant(hi, 3))));
     let mut chart = ChartBuilder::on(area)
@@ -406,11 +388,7 @@ fn colour_bar<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, scale: HeatScal
 
 fn draw<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, f: &Figure) -> Result<(), String> {
     root.fill(&WHITE).map_err(err)?;
-    let body = if f.title.is_empty() {
-        root.clone()
-    } else {
-        root.titled(&f.title, ("sans-serif", 20)).map_err(err)?
-    };
+    let body = if f.title.is_empty() { root.clone() } else { root.titled(&f.title, ("sans-serif", 20)).map_err(err)? };
     for (area, panel) in body.split_evenly((f.rows, f.cols)).iter().zip(&f.panels) {
         draw_panel(area, panel)?;
     }

@@ -46,7 +46,8 @@ impl Lock {
                 return Err(refuse(&path, "exists and is not a stickslip lock file; refusing to touch it: move it away or choose another output"));
             }
             use std::io::Seek;
-            let _ = file.set_len(0).and_then(|()| file.seek(std::io::SeekFrom::Start(0))).and_then(|_| file.write_all(std::process::id().to_string().as_bytes()));
+            let _ =
+                file.set_len(0).and_then(|()| file.seek(std::io::SeekFrom::Start(0))).and_then(|_| file.write_all(std::process::id().to_string().as_bytes()));
             interrupt::register(&path);
             remove_stale(dir, &name_of(target)?);
             return Ok(Lock { path, file });

@@ -91,11 +91,7 @@ fn refuse(path: &Path, message: impl Into<String>) -> OutDirError {
 /// `path` made absolute with `.`/`..` and symlinks of its existing ancestors resolved (the
 /// part that does not exist yet is appended as written, without `.` and `..`).
 pub fn resolved(path: &Path) -> PathBuf {
-    let absolute = if path.is_absolute() {
-        path.to_owned()
-    } else {
-        std::env::current_dir().unwrap_or_default().join(path)
-    };
+    let absolute = if path.is_absolute() { path.to_owned() } else { std::env::current_dir().unwrap_or_default().join(path) };
     let mut existing = absolute.as_path();
     let mut rest: Vec<&std::ffi::OsStr> = Vec::new();
     loop {
@@ -244,10 +240,7 @@ fn check_replaceable(target: &Path, kind: Kind, flag: &str) -> Result<(), OutDir
         ));
     };
     if marker.kind != kind.name() {
-        return Err(refuse(
-            target,
-            format!("{flag} holds a stickslip {}, not a {}; refusing to replace it: choose another {flag}", marker.kind, kind.name()),
-        ));
+        return Err(refuse(target, format!("{flag} holds a stickslip {}, not a {}; refusing to replace it: choose another {flag}", marker.kind, kind.name())));
     }
     let present = files_below(target).map_err(|e| fail(target, e))?;
     if let Some(foreign) = present.iter().find(|f| !marker.files.contains(f)) {
@@ -258,7 +251,6 @@ fn check_replaceable(target: &Path, kind: Kind, flag: &str) -> Result<(), OutDir
     }
     Ok(())
 }
-
 
 /// Open a new file exclusively: fails if anything, a symlink included, is at `path`.
 fn create_new(path: &Path) -> std::io::Result<File> {

@@ -15,7 +15,9 @@ pub(super) fn unique() -> String {
 /// Whether `s` is a token [`unique`] makes: decimal, decimal and hexadecimal fields.
 fn is_token(s: &str) -> bool {
     let f: Vec<&str> = s.split('-').collect();
-    let digits = |x: &str, hex: bool| !x.is_empty() && x.len() <= 20 && x.chars().all(|c| if hex { c.is_ascii_hexdigit() && !c.is_ascii_uppercase() } else { c.is_ascii_digit() });
+    let digits = |x: &str, hex: bool| {
+        !x.is_empty() && x.len() <= 20 && x.chars().all(|c| if hex { c.is_ascii_hexdigit() && !c.is_ascii_uppercase() } else { c.is_ascii_digit() })
+    };
     f.len() == 3 && digits(f[0], false) && digits(f[1], false) && digits(f[2], true)
 }
 

@@ -164,7 +164,9 @@ impl Damped {
     fn velocity_basis(&self, tau: f64) -> (f64, f64) {
         let y = self.q * tau * tau;
         if self.q >= 0.0 || y >= -0.0625 {
-            let (s, c) = if y.abs() <= 0.0625 { sc_series(y, tau) } else {
+            let (s, c) = if y.abs() <= 0.0625 {
+                sc_series(y, tau)
+            } else {
                 let (sin, cos) = (self.h * tau).sin_cos();
                 (sin / self.h, cos)
             };
@@ -387,7 +389,11 @@ mod tests {
         assert!(peak(lo) < 1.0 && peak(hi) > 1.0);
         for _ in 0..200 {
             let mid = 0.5 * (lo + hi);
-            if peak(mid) > 1.0 + 1e-9 { hi = mid } else { lo = mid }
+            if peak(mid) > 1.0 + 1e-9 {
+                hi = mid
+            } else {
+                lo = mid
+            }
         }
         let a0 = p.slip_accel(x0, hi, 1.0, sig);
         let (tau, _) = f.crossing(x0, hi, a0, 1.0, 10.0).expect("the dip is found");

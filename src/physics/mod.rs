@@ -140,7 +140,11 @@ impl Stribeck {
         } else {
             (-r).powf(d)
         };
-        if z > PEAK_CUTOFF { 0.0 } else { (-z).exp() }
+        if z > PEAK_CUTOFF {
+            0.0
+        } else {
+            (-z).exp()
+        }
     }
 
     /// The half-width of the window in which the peak term exceeds e^−12 (6e-6): `v_s 12^{1/δ}`.
@@ -170,15 +174,7 @@ pub struct Params {
 
 impl Params {
     /// The paper's parameters: m = 1 kg, k = 4 N/m, c = 0, n = 9.8 N, μ_s = μ_k = 0.51.
-    pub const PAPER: Params = Params {
-        mass: 1.0,
-        stiffness: 4.0,
-        damping: 0.0,
-        normal_force: 9.8,
-        kinetic: 0.51,
-        static_: 0.51,
-        law: Law::Coulomb,
-    };
+    pub const PAPER: Params = Params { mass: 1.0, stiffness: 4.0, damping: 0.0, normal_force: 9.8, kinetic: 0.51, static_: 0.51, law: Law::Coulomb };
 
     /// The per-unit-mass constants the solvers work with.
     #[inline]
@@ -326,7 +322,11 @@ impl Physics {
         }
         // the positive root of |ü| h²/2 + |u̇| h = allowed, without cancellation
         let h = 2.0 * allowed / (du + (du * du + 2.0 * ddu * allowed).sqrt());
-        if h > 0.0 { h.min(want) } else { want }
+        if h > 0.0 {
+            h.min(want)
+        } else {
+            want
+        }
     }
 
     /// The arrival rule at belt velocity v and position x.

@@ -1,7 +1,10 @@
 //! Validation of a typed scenario — every key in its range, every distribution's support inside
 //! its key's, the combinations — and the scene it describes.
 
-use super::{invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS, MAX_NATURAL_RADIANS_NUMERICAL, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES};
+use super::{
+    invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS,
+    MAX_NATURAL_RADIANS_NUMERICAL, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES,
+};
 use crate::belt::{Belt, Process, Symmetric, Telegraph};
 use crate::params::{Key, Scene};
 use crate::physics::{FrictionLaw, Law, Params, Stribeck};
@@ -57,7 +60,11 @@ impl Scenario {
             (Some(Param::Value(rs)), Some(Param::Value(rr))) => b.speed == Param::Value(*rs) && b.switch_rate == Param::Value(*rr),
             (Some(_), Some(_)) => false,
             (Some(_), None) | (None, Some(_)) => {
-                let (k, other) = if b.reverse_speed.is_some() { ("belt.reverse_speed", "belt.reverse_switch_rate") } else { ("belt.reverse_switch_rate", "belt.reverse_speed") };
+                let (k, other) = if b.reverse_speed.is_some() {
+                    ("belt.reverse_speed", "belt.reverse_switch_rate")
+                } else {
+                    ("belt.reverse_switch_rate", "belt.reverse_speed")
+                };
                 return Err(invalid(k, "(set)", &format!("the asymmetric belt needs {other} too (give both, or neither for the paper's symmetric belt)")));
             }
         };
@@ -124,7 +131,11 @@ impl Scenario {
             return Err(invalid(
                 "model.static_friction_coefficient",
                 &shown_param(self.model.static_friction_coefficient.as_ref().unwrap()),
-                &format!("must be >= model.friction_coefficient for every draw (the smallest possible is {}, the largest friction_coefficient {})", short(lo_s), short(hi_k)),
+                &format!(
+                    "must be >= model.friction_coefficient for every draw (the smallest possible is {}, the largest friction_coefficient {})",
+                    short(lo_s),
+                    short(hi_k)
+                ),
             ));
         }
         let law = self.model.friction_law.unwrap_or(FrictionLaw::Coulomb);
@@ -157,7 +168,9 @@ impl Scenario {
         if r.seed > i64::MAX as u64 {
             return Err(invalid("run.seed", &r.seed.to_string(), &format!("must be at most {}", i64::MAX)));
         }
-        for (key, [lo, hi]) in [("initial_conditions.position", self.initial_conditions.position), ("initial_conditions.velocity", self.initial_conditions.velocity)] {
+        for (key, [lo, hi]) in
+            [("initial_conditions.position", self.initial_conditions.position), ("initial_conditions.velocity", self.initial_conditions.velocity)]
+        {
             if !(lo.is_finite() && hi.is_finite() && lo <= hi && (hi - lo).is_finite()) {
                 return Err(invalid(key, &format!("[{}, {}]", short(lo), short(hi)), "must be [lo, hi] with finite lo <= hi and a finite width hi - lo"));
             }
@@ -254,7 +267,6 @@ impl Scenario {
     }
 }
 
-
 /// The smallest and largest value a key can take: the number, or the distribution's support
 /// (a sweep's extremes).
 fn support(p: &Param) -> (f64, f64) {
@@ -287,7 +299,11 @@ fn check_param(key: Key, p: &Param) -> Result<(), ScenarioError> {
             d.check().map_err(|reason| invalid(key.dotted(), &shown_param(p), &reason))?;
             if let crate::params::Dist::Uniform { low, high } = *d {
                 if !(ok(low) && ok(high)) {
-                    return Err(invalid(key.dotted(), &shown_param(p), &format!("the distribution can draw from {} to {}, but the key must be {range}", short(low), short(high))));
+                    return Err(invalid(
+                        key.dotted(),
+                        &shown_param(p),
+                        &format!("the distribution can draw from {} to {}, but the key must be {range}", short(low), short(high)),
+                    ));
                 }
             } else if d.truncated() && !ok(d.mean()) {
                 return Err(invalid(key.dotted(), &shown_param(p), &format!("a normal is truncated to the key's range; its mean must lie in it ({range})")));

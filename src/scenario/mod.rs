@@ -176,11 +176,9 @@ impl Scenario {
             Some(Param::Sweep(list)) => Some((k, list)),
             _ => None,
         }) {
-            Some((key, list)) => Err(invalid(
-                key.dotted(),
-                &shown_list(list),
-                &format!("{stage} runs one scene, not a sweep: give one value (run {stage} once per value)"),
-            )),
+            Some((key, list)) => {
+                Err(invalid(key.dotted(), &shown_list(list), &format!("{stage} runs one scene, not a sweep: give one value (run {stage} once per value)")))
+            }
             None => Ok(()),
         }
     }
@@ -322,7 +320,10 @@ fn read(file: Option<&Path>) -> Result<Option<String>, ScenarioError> {
     let mut bytes = Vec::new();
     std::fs::File::open(path).and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)).map_err(err)?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(ScenarioError::Unreadable { path: path.to_owned(), reason: format!("larger than {MAX_FILE_BYTES} bytes; a scenario is a small TOML file") });
+        return Err(ScenarioError::Unreadable {
+            path: path.to_owned(),
+            reason: format!("larger than {MAX_FILE_BYTES} bytes; a scenario is a small TOML file"),
+        });
     }
     String::from_utf8(bytes).map(Some).map_err(|_| ScenarioError::Unreadable { path: path.to_owned(), reason: "is not UTF-8 text".into() })
 }
@@ -364,7 +365,10 @@ fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, S
     }
     for arg in sets {
         if arg.chars().any(char::is_control) {
-            return Err(ScenarioError::BadSetValue { arg: arg.clone(), reason: "contains a newline or control character; give one KEY=VALUE per --set".into() });
+            return Err(ScenarioError::BadSetValue {
+                arg: arg.clone(),
+                reason: "contains a newline or control character; give one KEY=VALUE per --set".into(),
+            });
         }
         let (key, value) = arg.split_once('=').ok_or_else(|| ScenarioError::BadSet { arg: arg.clone() })?;
         set(&mut table, key.trim(), parse_value(value.trim()))?;
@@ -375,11 +379,7 @@ fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, S
 /// A `--set` value: TOML if it parses as TOML (`1.0`, `[-1, 1]`, `{ dist = … }`, `"x"`), else a
 /// bare string.
 fn parse_value(text: &str) -> Value {
-    format!("v = {text}")
-        .parse::<Table>()
-        .ok()
-        .and_then(|mut t| t.remove("v"))
-        .unwrap_or_else(|| Value::String(text.to_owned()))
+    format!("v = {text}").parse::<Table>().ok().and_then(|mut t| t.remove("v")).unwrap_or_else(|| Value::String(text.to_owned()))
 }
 
 /// Merge `user` into `base` (tables merge, values replace; unknown keys are left for the typed
@@ -476,7 +476,8 @@ mod tests {
 
     #[test]
     fn provenance_round_trips() {
-        let s = Scenario::resolve(None, &["model.damping=0.5".into(), "model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}".into()]).unwrap();
+        let s =
+            Scenario::resolve(None, &["model.damping=0.5".into(), "model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}".into()]).unwrap();
         let again = Scenario::from_text(Some(&s.to_toml()), Path::new("x"), &[]).unwrap();
         assert_eq!(s, again);
     }

@@ -29,9 +29,12 @@ impl<'de> Deserialize<'de> for Param {
         };
         let v = Value::deserialize(d)?;
         match &v {
-            Value::Array(list) => list.iter().map(number).collect::<Option<Vec<f64>>>().map(Param::Sweep).ok_or_else(|| {
-                D::Error::custom("a list is a sweep and lists numbers only (a key cannot be both swept and random)")
-            }),
+            Value::Array(list) => list
+                .iter()
+                .map(number)
+                .collect::<Option<Vec<f64>>>()
+                .map(Param::Sweep)
+                .ok_or_else(|| D::Error::custom("a list is a sweep and lists numbers only (a key cannot be both swept and random)")),
             Value::Table(t) => Dist::deserialize(t.clone()).map(Param::Random).map_err(|e| D::Error::custom(e.message())),
             other => number(other).map(Param::Value).ok_or_else(|| {
                 D::Error::custom("must be a number, a list of numbers (a sweep) or a distribution such as { dist = \"uniform\", low = 0.3, high = 0.7 }")
@@ -198,4 +201,3 @@ impl ParamSlot<'_> {
         }
     }
 }
-

@@ -42,15 +42,7 @@ pub struct Exact<K> {
 impl<K: SlipForm> Exact<K> {
     pub fn new(p: &Physics) -> Exact<K> {
         let phase = Phase::Stick { t0: 0.0, x0: 0.0 };
-        Exact {
-            p: *p,
-            form: K::new(p),
-            frictionless: p.kinetic == 0.0 && p.breakaway == 0.0,
-            phase,
-            piece: (phase, 0.0),
-            end: (0.0, 0.0, 0.0),
-            t: 0.0,
-        }
+        Exact { p: *p, form: K::new(p), frictionless: p.kinetic == 0.0 && p.breakaway == 0.0, phase, piece: (phase, 0.0), end: (0.0, 0.0, 0.0), t: 0.0 }
     }
 
     /// The mass is at belt velocity `v` at time `t` and position `x` (the arrival rule).

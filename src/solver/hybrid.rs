@@ -36,9 +36,9 @@
 //! see what an unguarded controller does.
 
 use super::rk::{rk4, Dopri, State, Step};
+use super::Numerics;
 use super::{step_end, Event, Method, Stop};
 use crate::physics::{Arrival, Physics};
-use super::Numerics;
 
 /// Which Runge–Kutta scheme.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -51,11 +51,17 @@ pub enum Scheme {
 
 #[derive(Debug, Clone, Copy)]
 enum Mode {
-    Stick { t0: f64, x0: f64 },
+    Stick {
+        t0: f64,
+        x0: f64,
+    },
     /// Slipping with the friction `σ a_k`; `grazing`: on the orbit that leaves a breakaway (or a
     /// touch) at belt speed with zero acceleration, which never crosses belt speed again before
     /// the next switch — no crossing is looked for, as in the exact method.
-    Slip { sigma: f64, grazing: bool },
+    Slip {
+        sigma: f64,
+        grazing: bool,
+    },
 }
 
 /// One realization's integration by rk45 or rk4.
@@ -264,7 +270,11 @@ mod tests {
         assert!(!dips(lo) && dips(hi));
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
-            if dips(mid) { hi = mid } else { lo = mid }
+            if dips(mid) {
+                hi = mid
+            } else {
+                lo = mid
+            }
         }
         let (s, g) = step(hi, h);
         assert!(g(s.y0) > 0.0 && g(s.y1) > 0.0, "both ends below belt speed");

@@ -300,10 +300,7 @@ impl Dopri {
             let k3 = deriv(a, axpy(y0, h, &[(3.0 / 40.0, k1), (9.0 / 40.0, k2)]));
             let k4 = deriv(a, axpy(y0, h, &[(44.0 / 45.0, k1), (-56.0 / 15.0, k2), (32.0 / 9.0, k3)]));
             let k5 = deriv(a, axpy(y0, h, &[(19372.0 / 6561.0, k1), (-25360.0 / 2187.0, k2), (64448.0 / 6561.0, k3), (-212.0 / 729.0, k4)]));
-            let k6 = deriv(
-                a,
-                axpy(y0, h, &[(9017.0 / 3168.0, k1), (-355.0 / 33.0, k2), (46732.0 / 5247.0, k3), (49.0 / 176.0, k4), (-5103.0 / 18656.0, k5)]),
-            );
+            let k6 = deriv(a, axpy(y0, h, &[(9017.0 / 3168.0, k1), (-355.0 / 33.0, k2), (46732.0 / 5247.0, k3), (49.0 / 176.0, k4), (-5103.0 / 18656.0, k5)]));
             let y1 = axpy(y0, h, &[(35.0 / 384.0, k1), (500.0 / 1113.0, k3), (125.0 / 192.0, k4), (-2187.0 / 6784.0, k5), (11.0 / 84.0, k6)]);
             let k7 = deriv(a, y1);
             let e = axpy(
@@ -311,11 +308,7 @@ impl Dopri {
                 h,
                 &[(71.0 / 57600.0, k1), (-71.0 / 16695.0, k3), (71.0 / 1920.0, k4), (-17253.0 / 339200.0, k5), (22.0 / 525.0, k6), (-1.0 / 40.0, k7)],
             );
-            let err = ((0..2)
-                .map(|i| (e[i] / (self.atol + self.rtol * y0[i].abs().max(y1[i].abs()))).powi(2))
-                .sum::<f64>()
-                / 2.0)
-                .sqrt();
+            let err = ((0..2).map(|i| (e[i] / (self.atol + self.rtol * y0[i].abs().max(y1[i].abs()))).powi(2)).sum::<f64>() / 2.0).sqrt();
             // the controller's factor 0.9 err^(−1/5), clamped to [0.2, 5]; ≥ 5 for
             // err ≤ (0.9/5)^5 = 1.89e-4 and < 1 only for err > 0.9^5 = 0.59, so the power is
             // taken only where it changes the step (most steps are cut short by a belt switch or

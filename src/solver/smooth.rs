@@ -19,9 +19,9 @@
 //! and breakaway depend on ε and δ.
 
 use super::rk::{Dopri, State, Step};
+use super::Numerics;
 use super::{step_end, Event, Method, Stop};
 use crate::physics::Physics;
-use super::Numerics;
 
 /// One realization's regularized integration.
 #[derive(Debug, Clone)]
@@ -51,7 +51,6 @@ impl Smooth {
             piece: None,
         }
     }
-
 
     fn mode_event(&mut self, now: bool) -> Option<Event> {
         let was = std::mem::replace(&mut self.stuck, now);
@@ -87,7 +86,11 @@ impl Method for Smooth {
         let (delta, stuck) = (self.delta, self.stuck);
         let g = |y: State| {
             let d = delta - (v - y[1]).abs();
-            if stuck { d } else { -d }
+            if stuck {
+                d
+            } else {
+                -d
+            }
         };
         if let Some(theta) = step.first_zero(g, false) {
             (self.t, self.y) = (step.t0 + theta * step.h, step.at(theta));

@@ -4,10 +4,10 @@
 use std::path::Path;
 
 use polars::prelude::*;
-use stickslip::observables::Observable;
 use stickslip::analysis::{self, output, Options};
 use stickslip::dataset::{Layout, PartWriter, Rows};
 use stickslip::ensemble::Outcome;
+use stickslip::observables::Observable;
 use stickslip::simulate::{self, provenance, Shard};
 
 use crate::common::{outcomes, scenario, stickslip};

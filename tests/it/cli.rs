@@ -131,7 +131,11 @@ fn the_smaller_doors_refuse_in_one_printable_line() {
     let t = tmp.path();
     // a swept key in a stage that runs one scene
     refused_in_one_line(&["tradeoff", "--out", "to", "--set", "belt.switch_rate=[1, 10]"], t, "belt.switch_rate");
-    refused_in_one_line(&["sensitivity", "--out", "so", "--set", "model.damping=[0.5, 5]", "--set", "model.friction_coefficient={dist=\"uniform\", low=0.3, high=0.7}"], t, "model.damping");
+    refused_in_one_line(
+        &["sensitivity", "--out", "so", "--set", "model.damping=[0.5, 5]", "--set", "model.friction_coefficient={dist=\"uniform\", low=0.3, high=0.7}"],
+        t,
+        "model.damping",
+    );
     // a 100,000-character value is shortened, a TOML syntax error is one line
     let long = format!("model.mass={}", "1".repeat(100_000));
     refused_in_one_line(&["simulate", "--out", "o", "--set", &long], t, "characters");
@@ -155,7 +159,11 @@ fn the_smaller_doors_refuse_in_one_printable_line() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("k must be an integer"), "{}", stderr(&o));
     // sensitivity keeps its samples in memory: bounded, naming the largest N
-    refused_in_one_line(&["sensitivity", "--out", "so", "--realizations", "100000000", "--set", "model.friction_coefficient={dist=\"uniform\", low=0.3, high=0.7}"], t, "use N <=");
+    refused_in_one_line(
+        &["sensitivity", "--out", "so", "--realizations", "100000000", "--set", "model.friction_coefficient={dist=\"uniform\", low=0.3, high=0.7}"],
+        t,
+        "use N <=",
+    );
 }
 
 /// Issue 20, item 16: the shipped scenes without a clone.

@@ -91,7 +91,7 @@ fn without_friction_the_mass_never_sticks() {
 #[test]
 fn without_spring_slips_decelerate_uniformly() {
     let af = FMAX; // m = 1
-    // Constant belt: one slip of |u0|/a_f, then stuck for good.
+                   // Constant belt: one slip of |u0|/a_f, then stuck for good.
     let sc = scenario(&["model.stiffness=0", "belt.switch_rate=0"]);
     for o in outcomes(&sc, 50) {
         let r = &o.record;

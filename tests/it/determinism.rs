@@ -29,9 +29,7 @@ fn shards_union_equals_the_unsharded_run() {
         run(&tmp.path().join("sharded"), Shard { index: i, count: 3 }, 1 + i as usize % 2);
     }
     let whole = read_dir(&tmp.path().join("whole"));
-    let sharded = read_dir(&tmp.path().join("sharded"))
-        .sort(["realization"], SortMultipleOptions::default())
-        .unwrap();
+    let sharded = read_dir(&tmp.path().join("sharded")).sort(["realization"], SortMultipleOptions::default()).unwrap();
     assert_eq!(whole.height(), 3000);
     assert!(whole.equals(&sharded), "sharded rows differ from the whole run");
 }

@@ -17,7 +17,9 @@ fn companions(key: Key, x: f64) -> Vec<String> {
         Key::ReverseSwitchRate if x > 1e3 => &["belt.reverse_speed=1", "run.duration=0.1"],
         Key::ReverseSwitchRate => &["belt.reverse_speed=1"],
         Key::SwitchRate if x > 1e3 => &["run.duration=0.1"],
-        Key::StribeckVelocity | Key::StribeckExponent => &["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"],
+        Key::StribeckVelocity | Key::StribeckExponent => {
+            &["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"]
+        }
         _ => &[],
     };
     v.iter().map(|s| s.to_string()).collect()
@@ -62,7 +64,6 @@ fn every_key_runs_at_both_ends_of_its_range() {
         }
     }
 }
-
 
 /// (overrides, realizations, strictly increasing event times expected)
 const MATRIX: &[(&[&str], u64, bool)] = &[

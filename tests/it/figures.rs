@@ -2,9 +2,9 @@
 
 use std::path::Path;
 
-use stickslip::table::{Col, Table};
 use stickslip::figures::{self, Inputs};
 use stickslip::scenario::PAPER_TOML;
+use stickslip::table::{Col, Table};
 
 use crate::common::stickslip;
 
@@ -125,7 +125,11 @@ fn check_tags(html: &str) -> Result<(), String> {
             stack.push(name);
         }
     }
-    if stack.is_empty() { Ok(()) } else { Err(format!("unclosed {stack:?}")) }
+    if stack.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("unclosed {stack:?}"))
+    }
 }
 
 #[test]
@@ -136,16 +140,36 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     // the layout: the dataset directory holds only its parts (and its hidden marker); the
     // trajectory tables, analysis, figures and report sit beside it
-    let mut dataset: Vec<String> = std::fs::read_dir(tmp.path().join("run/dataset")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut dataset: Vec<String> =
+        std::fs::read_dir(tmp.path().join("run/dataset")).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     dataset.sort();
     assert_eq!(dataset, [".stickslip-dataset", "part-00000-of-00001.parquet"]);
-    for beside in ["dataset.trajectories/samples.parquet", "dataset.trajectories/events.parquet", "analysis/moments.parquet", "analysis/summary.json", "figures", "report.html", "report.md"] {
+    for beside in [
+        "dataset.trajectories/samples.parquet",
+        "dataset.trajectories/events.parquet",
+        "analysis/moments.parquet",
+        "analysis/summary.json",
+        "figures",
+        "report.html",
+        "report.md",
+    ] {
         assert!(tmp.path().join("run").join(beside).exists(), "run/{beside}");
     }
     let figs = tmp.path().join("run/figures");
     let names = [
-        "fig02_poisson_pmf", "fig04_trajectories", "fig05_q", "fig06_y", "fig07_variance_growth", "fig08_counts",
-        "fig09_t", "fig10_l", "fig11_t1_t2", "fig12_d", "fig13_d1_d2", "fig14_h", "tails",
+        "fig02_poisson_pmf",
+        "fig04_trajectories",
+        "fig05_q",
+        "fig06_y",
+        "fig07_variance_growth",
+        "fig08_counts",
+        "fig09_t",
+        "fig10_l",
+        "fig11_t1_t2",
+        "fig12_d",
+        "fig13_d1_d2",
+        "fig14_h",
+        "tails",
     ];
     for name in names {
         let png = std::fs::read(figs.join(format!("{name}.png"))).unwrap_or_else(|e| panic!("{name}.png: {e}"));
@@ -202,7 +226,8 @@ fn only_the_papers_scene_is_compared_with_the_papers_table() {
         assert_eq!(summary["counts"]["S_T"]["paper_mean"].as_f64(), paper.then_some(16.71), "{name}: summary.json");
         assert_eq!(html.contains("Reproduction of Lima"), paper, "{name}: the report's first sentence");
         // the solver actually run, and for a numerical one the settings it ran at
-        let solver = if name == "stribeck" { "rk45 (rtol = 0.000000001, atol = 0.000000001, max_step = 0.0001 s, peak guard on)" } else { "<td class=\"l\">exact</td>" };
+        let solver =
+            if name == "stribeck" { "rk45 (rtol = 0.000000001, atol = 0.000000001, max_step = 0.0001 s, peak guard on)" } else { "<td class=\"l\">exact</td>" };
         assert!(html.contains(solver), "{name}: provenance names {solver}");
     }
 }
@@ -211,11 +236,7 @@ fn only_the_papers_scene_is_compared_with_the_papers_table() {
 fn the_report_escapes_what_it_interpolates() {
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
-    for args in [
-        &["simulate", "--out", "d", "--realizations", "300", "-q"][..],
-        &["analyze", "d", "--out", "a", "-q"],
-        &["figures", "a", "--out", "f", "-q"],
-    ] {
+    for args in [&["simulate", "--out", "d", "--realizations", "300", "-q"][..], &["analyze", "d", "--out", "a", "-q"], &["figures", "a", "--out", "f", "-q"]] {
         let o = stickslip(args, t);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }

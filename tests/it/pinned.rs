@@ -24,7 +24,9 @@ fn same_json(a: &serde_json::Value, b: &serde_json::Value, at: &str) -> Result<(
                 return Err(format!("{at}: keys {kx:?} vs {ky:?}"));
             }
             // the dataset's file paths depend on where it was written
-            x.iter().filter(|(k, _)| !(at == "dataset" && *k == "files")).try_for_each(|(k, v)| same_json(v, &y[k], &if at.is_empty() { k.clone() } else { format!("{at}.{k}") }))
+            x.iter()
+                .filter(|(k, _)| !(at == "dataset" && *k == "files"))
+                .try_for_each(|(k, v)| same_json(v, &y[k], &if at.is_empty() { k.clone() } else { format!("{at}.{k}") }))
         }
         (V::Array(x), V::Array(y)) if x.len() == y.len() => x.iter().zip(y).enumerate().try_for_each(|(i, (p, q))| same_json(p, q, &format!("{at}[{i}]"))),
         _ if a == b => Ok(()),

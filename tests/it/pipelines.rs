@@ -13,7 +13,18 @@ fn ok(o: &std::process::Output) {
 
 /// Simulate and analyse a 3 × 2 sweep of (λ, μ) into `tmp/sweep`, `tmp/sweep-a`.
 fn sweep(tmp: &Path) -> Table {
-    let args = ["simulate", "--out", "sweep", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[2.5, 10, 20.5]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
+    let args = [
+        "simulate",
+        "--out",
+        "sweep",
+        "--realizations",
+        "1500",
+        "--quiet",
+        "--set",
+        "belt.switch_rate=[2.5, 10, 20.5]",
+        "--set",
+        "model.friction_coefficient=[0.3, 1.0]",
+    ];
     ok(&stickslip(&args, tmp));
     ok(&stickslip(&["analyze", "sweep", "--out", "sweep-a", "--quiet"], tmp));
     Table::read_parquet(&tmp.join("sweep-a/sweep.parquet")).unwrap()
@@ -66,7 +77,18 @@ fn sweep_maps_show_the_expected_trends() {
     // each cell is a complete analysis, and has its own, reproducible stream
     assert!(tmp.path().join("sweep-a/switch_rate=10/friction_coefficient=1/moments.parquet").is_file());
     let part = |dir: &str| std::fs::read(tmp.path().join(dir).join("switch_rate=10/friction_coefficient=0.3/part-00000-of-00001.parquet")).unwrap();
-    let args = ["simulate", "--out", "again", "--realizations", "1500", "--quiet", "--set", "belt.switch_rate=[10, 2.5, 20.5]", "--set", "model.friction_coefficient=[0.3, 1.0]"];
+    let args = [
+        "simulate",
+        "--out",
+        "again",
+        "--realizations",
+        "1500",
+        "--quiet",
+        "--set",
+        "belt.switch_rate=[10, 2.5, 20.5]",
+        "--set",
+        "model.friction_coefficient=[0.3, 1.0]",
+    ];
     ok(&stickslip(&args, tmp.path()));
     assert!(part("sweep") == part("again"), "a cell's output must not depend on the grid's order");
     let x0 = |cell: &str| {
@@ -173,10 +195,7 @@ fn python(script: &str) -> Vec<(String, f64)> {
         "python failed (are polars, duckdb and pyarrow installed? `pip install polars duckdb pyarrow`, see .ci/run):\n{}",
         String::from_utf8_lossy(&o.stderr)
     );
-    String::from_utf8_lossy(&o.stdout)
-        .lines()
-        .filter_map(|l| l.rsplit_once(' ').map(|(k, v)| (k.to_string(), v.parse().unwrap())))
-        .collect()
+    String::from_utf8_lossy(&o.stdout).lines().filter_map(|l| l.rsplit_once(' ').map(|(k, v)| (k.to_string(), v.parse().unwrap()))).collect()
 }
 
 fn close(a: f64, b: f64) -> bool {

@@ -75,7 +75,11 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
                 let (mut a, mut b) = (0.0, h);
                 for _ in 0..100 {
                     let (c1, c2) = (b - 0.618 * (b - a), a + 0.618 * (b - a));
-                    if g(c1) < g(c2) { b = c2 } else { a = c1 }
+                    if g(c1) < g(c2) {
+                        b = c2
+                    } else {
+                        a = c1
+                    }
                 }
                 if g(0.5 * (a + b)) <= 0.0 {
                     end = 0.5 * (a + b);
@@ -86,7 +90,11 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
                 for _ in 0..80 {
                     let mid = 0.5 * (lo + hi);
                     let (_, mv) = rk4(p, sigma, (x, xd), mid);
-                    if sigma * (v - mv) > 0.0 { lo = mid } else { hi = mid }
+                    if sigma * (v - mv) > 0.0 {
+                        lo = mid
+                    } else {
+                        hi = mid
+                    }
                 }
                 let (ex, _) = rk4(p, sigma, (x, xd), hi);
                 t += hi;

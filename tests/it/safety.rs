@@ -352,12 +352,8 @@ fn rewrite(
             cols
         })
         .collect();
-    let fields: Vec<Field> = schema
-        .fields()
-        .iter()
-        .enumerate()
-        .map(|(j, fl)| Field::new(fl.name(), mutated[0][j].data_type().clone(), fl.is_nullable()))
-        .collect();
+    let fields: Vec<Field> =
+        schema.fields().iter().enumerate().map(|(j, fl)| Field::new(fl.name(), mutated[0][j].data_type().clone(), fl.is_nullable())).collect();
     let schema = Arc::new(arrow_schema::Schema::new(fields));
     let props = WriterProperties::builder().set_key_value_metadata(kv).build();
     let mut w = ArrowWriter::try_new(std::fs::File::create(&path).unwrap(), schema.clone(), Some(props)).unwrap();
@@ -590,7 +586,14 @@ fn only_entries_the_tool_provably_wrote_are_ever_deleted() {
     ok(&stickslip(&["analyze", "d", "--out", "uan", "-q"], t));
     ok(&stickslip(&["figures", "uan", "--out", "fig", "-q"], t));
     // the user's entries with names like the tool's hidden ones
-    let users = [".uan.old-backup/keep.txt", ".uan.tmp-notes", ".uan.stickslip-tmp-notes", ".rep.html.old", "d/.part-00000-of-00001.parquet.old", "d/.part-00000-of-00001.parquet.tmp"];
+    let users = [
+        ".uan.old-backup/keep.txt",
+        ".uan.tmp-notes",
+        ".uan.stickslip-tmp-notes",
+        ".rep.html.old",
+        "d/.part-00000-of-00001.parquet.old",
+        "d/.part-00000-of-00001.parquet.tmp",
+    ];
     for u in users {
         let p = t.join(u);
         std::fs::create_dir_all(p.parent().unwrap()).unwrap();

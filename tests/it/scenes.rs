@@ -85,12 +85,12 @@ fn vanishing_damping_tends_to_the_undamped_solver_and_zero_is_the_paper() {
 #[test]
 fn random_scenes_keep_every_invariant_at_the_extremes() {
     let cases: &[&[&str]] = &[
-        &["model.damping=1e6"],                                            // c huge (ζ = 2.5e5)
-        &["model.damping=4", "belt.switch_rate=20"],                       // ζ = 1
-        &["model.static_friction_coefficient=25"],                         // mu_s ≫ mu_k
+        &["model.damping=1e6"],                      // c huge (ζ = 2.5e5)
+        &["model.damping=4", "belt.switch_rate=20"], // ζ = 1
+        &["model.static_friction_coefficient=25"],   // mu_s ≫ mu_k
         &["model.static_friction_coefficient=0.6", "model.damping=0.5"],
-        &["belt.reverse_speed=1e-6", "belt.reverse_switch_rate=5"],        // v_r ≪ v_f
-        &["belt.reverse_speed=0.5", "belt.reverse_switch_rate=1e-9"],      // λ_r → 0
+        &["belt.reverse_speed=1e-6", "belt.reverse_switch_rate=5"],   // v_r ≪ v_f
+        &["belt.reverse_speed=0.5", "belt.reverse_switch_rate=1e-9"], // λ_r → 0
         &["belt.reverse_speed=3", "belt.reverse_switch_rate=0", "belt.initial_sign=\"random\""],
         &["model.friction_coefficient={dist = \"uniform\", low = 0.5, high = 0.5}"], // no spread
         &["model.friction_coefficient={dist = \"lognormal\", mean = 0.5, cv = 1e-12}"],
@@ -113,7 +113,11 @@ fn a_random_key_draws_its_own_stream_and_is_stored() {
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
     let dist = "model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}";
-    for (dir, extra) in [("plain", vec![]), ("mu", vec!["--set", dist]), ("mu_lambda", vec!["--set", dist, "--set", "belt.switch_rate={dist = \"uniform\", low = 2, high = 10}"])] {
+    for (dir, extra) in [
+        ("plain", vec![]),
+        ("mu", vec!["--set", dist]),
+        ("mu_lambda", vec!["--set", dist, "--set", "belt.switch_rate={dist = \"uniform\", low = 2, high = 10}"]),
+    ] {
         let mut args = vec!["simulate", "--out", dir, "--realizations", "400", "--set", "output.switch_times=true", "--quiet"];
         args.extend(extra);
         let o = stickslip(&args, t);
@@ -169,9 +173,17 @@ fn random_scenes_are_the_same_for_any_threads_and_shards() {
 fn the_door_refuses_impossible_scenes_naming_the_key() {
     let tmp = tempfile::tempdir().unwrap();
     let cases: &[(&[&str], &str, &str)] = &[
-        (&["model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}", "model.static_friction_coefficient=0.6"], "model.static_friction_coefficient", "every draw"),
+        (
+            &["model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}", "model.static_friction_coefficient=0.6"],
+            "model.static_friction_coefficient",
+            "every draw",
+        ),
         (&["model.static_friction_coefficient=0.4"], "model.static_friction_coefficient", "friction_coefficient"),
-        (&["model.friction_coefficient={dist = \"normal\", mean = 0.5, sd = 0.1}", "model.static_friction_coefficient=0.9"], "model.static_friction_coefficient", "every draw"),
+        (
+            &["model.friction_coefficient={dist = \"normal\", mean = 0.5, sd = 0.1}", "model.static_friction_coefficient=0.9"],
+            "model.static_friction_coefficient",
+            "every draw",
+        ),
         (&["model.mass={dist = \"uniform\", low = 0, high = 1}"], "model.mass", "between 1e-9 and 1e6"),
         (&["model.damping={dist = \"uniform\", low = -1, high = 1}"], "model.damping", "between 0 and 1e9"),
         (&["model.friction_coefficient=[{dist = \"uniform\", low = 0.3, high = 0.7}]"], "model.friction_coefficient", "both swept and random"),
@@ -184,8 +196,16 @@ fn the_door_refuses_impossible_scenes_naming_the_key() {
         (&["model.friction_law=\"dahl\""], "model.friction_law", "stribeck"),
         (&["model.friction_law=\"stribeck\""], "model.stribeck_velocity", "v_s"),
         (&["model.stribeck_velocity=0.1"], "model.stribeck_velocity", "friction_law"),
-        (&["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "run.solver=\"exact\""], "model.friction_law", "exact"),
-        (&["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0", "model.static_friction_coefficient=0.6"], "model.stribeck_velocity", "between 1e-9 and 1e6"),
+        (
+            &["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "run.solver=\"exact\""],
+            "model.friction_law",
+            "exact",
+        ),
+        (
+            &["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0", "model.static_friction_coefficient=0.6"],
+            "model.stribeck_velocity",
+            "between 1e-9 and 1e6",
+        ),
         (&["model.dampin=1"], "model.dampin", "damping"),
     ];
     for (sets, key, words) in cases {
@@ -211,7 +231,11 @@ fn every_numerical_solver_runs_damped_and_static_friction_scenes() {
     let rk45 = with(&["run.solver=rk45", "numerics.rtol=1e-11", "numerics.atol=1e-11", "numerics.max_step=1e-2"]);
     assert_same_events(&exact, &rk45, 1e-7, "rk45");
     let sticks = |e: &[(Vec<f64>, Vec<f64>)]| e.iter().map(|r| r.0.len()).sum::<usize>() as f64;
-    for extra in [&["run.solver=rk4", "numerics.step=1e-3"][..], &["run.solver=moreau", "numerics.step=1e-4"], &["run.solver=smooth", "numerics.epsilon=1e-4", "numerics.stick_velocity=1e-4", "numerics.rtol=1e-8", "numerics.atol=1e-8", "numerics.max_step=1"]] {
+    for extra in [
+        &["run.solver=rk4", "numerics.step=1e-3"][..],
+        &["run.solver=moreau", "numerics.step=1e-4"],
+        &["run.solver=smooth", "numerics.epsilon=1e-4", "numerics.stick_velocity=1e-4", "numerics.rtol=1e-8", "numerics.atol=1e-8", "numerics.max_step=1"],
+    ] {
         let n = sticks(&with(extra));
         assert!((n / sticks(&exact) - 1.0).abs() < 0.05, "{extra:?}: {n} sticks vs exact {}", sticks(&exact));
     }
@@ -255,7 +279,17 @@ fn trajectories_are_sampled_for_every_method() {
         (&["run.solver=rk45", "numerics.rtol=1e-10", "numerics.atol=1e-10", "numerics.max_step=1e-2"][..], 1e-6),
         (&["run.solver=rk4", "numerics.step=1e-3"], 1e-6),
         (&["run.solver=moreau", "numerics.step=1e-4"], 2e-2),
-        (&["run.solver=smooth", "numerics.epsilon=1e-4", "numerics.stick_velocity=1e-4", "numerics.max_step=1e-2", "numerics.rtol=1e-8", "numerics.atol=1e-8"], 2e-2),
+        (
+            &[
+                "run.solver=smooth",
+                "numerics.epsilon=1e-4",
+                "numerics.stick_velocity=1e-4",
+                "numerics.max_step=1e-2",
+                "numerics.rtol=1e-8",
+                "numerics.atol=1e-8",
+            ],
+            2e-2,
+        ),
     ] {
         let other = sample(extra);
         assert_eq!(other.len(), exact.len(), "{extra:?}");

@@ -100,7 +100,19 @@ fn moreau_event_times_converge_at_first_order() {
 #[test]
 fn smooth_law_approaches_exact_sticks_as_epsilon_shrinks() {
     // the classification threshold shrinks with the regularization (as in the trade-off ladder)
-    let run = |e: &str| errors(&["run.solver=smooth", &format!("numerics.epsilon={e}"), &format!("numerics.stick_velocity={e}"), "numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10"], 10);
+    let run = |e: &str| {
+        errors(
+            &[
+                "run.solver=smooth",
+                &format!("numerics.epsilon={e}"),
+                &format!("numerics.stick_velocity={e}"),
+                "numerics.rtol=1e-6",
+                "numerics.atol=1e-6",
+                "numerics.max_step=10",
+            ],
+            10,
+        )
+    };
     let (wide, narrow) = (run("1e-2"), run("1e-3"));
     assert!(median(&narrow.0) < median(&wide.0), "{} vs {}", median(&narrow.0), median(&wide.0));
 }
@@ -162,7 +174,10 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
         (&["model.mass=1e-4", "model.stiffness=1e9", "model.damping=0.5"][..], "run.duration must be at most 1e7 radians"),
         // a stiff dashpot: c/m = 1e9 /s sets a numerical solver's step (the reviewer's Stribeck
         // scene ran 10 s and failed on the step budget), refused naming model.damping
-        (&["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "model.damping=1e9"][..], "model.damping"),
+        (
+            &["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "model.damping=1e9"][..],
+            "model.damping",
+        ),
     ] {
         let mut args = vec!["simulate", "--out", "o", "--realizations", "3"];
         for s in sets {
@@ -173,7 +188,10 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
         assert!(!o.status.success() && err.contains(culprit), "{sets:?}: {err}");
     }
     // a solver over its step budget stops with an error naming the realization
-    let o = stickslip(&["simulate", "--out", "o", "--realizations", "3", "--set", "run.solver=rk4", "--set", "numerics.step_budget=30", "--set", "numerics.step=0.5"], tmp.path());
+    let o = stickslip(
+        &["simulate", "--out", "o", "--realizations", "3", "--set", "run.solver=rk4", "--set", "numerics.step_budget=30", "--set", "numerics.step=0.5"],
+        tmp.path(),
+    );
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && err.contains("realization 0") && err.contains("step_budget"), "{err}");
     assert!(!tmp.path().join("o").exists());
@@ -186,7 +204,16 @@ fn tradeoff_writes_one_row_per_setting() {
     let t = stickslip::table::Table::read_parquet(&tmp.path().join("t/tradeoff.parquet")).unwrap();
     assert_eq!(t.height(), tradeoff::ladder(2.0).len());
     assert_eq!(rows.len(), t.height());
-    for col in ["cpu_seconds_per_realization", "event_time_error_max", "event_time_error_rms", "bias_mean_S_T", "bias_mean_D", "bias_mean_H", "bias_mean_T_k_max", "max_bias_over_se"] {
+    for col in [
+        "cpu_seconds_per_realization",
+        "event_time_error_max",
+        "event_time_error_rms",
+        "bias_mean_S_T",
+        "bias_mean_D",
+        "bias_mean_H",
+        "bias_mean_T_k_max",
+        "max_bias_over_se",
+    ] {
         assert!(t.floats(col).unwrap().iter().all(Option::is_some), "{col}");
     }
     for col in ["missed_sticks", "spurious_sticks", "matched_events"] {
@@ -219,7 +246,11 @@ fn tradeoff_recommends_nothing_without_a_standard_error_and_the_same_thing_every
     assert_eq!(pick(&a), pick(&b));
     let evals = |rows: &[tradeoff::Row]| rows.iter().map(|r| r.evaluations_per_realization).collect::<Vec<_>>();
     assert_eq!(evals(&a), evals(&b));
-    let least = a.iter().filter(|r| r.max_bias_over_se.is_some_and(|x| x < tradeoff::BIAS_FRACTION)).map(|r| r.evaluations_per_realization).fold(f64::INFINITY, f64::min);
+    let least = a
+        .iter()
+        .filter(|r| r.max_bias_over_se.is_some_and(|x| x < tradeoff::BIAS_FRACTION))
+        .map(|r| r.evaluations_per_realization)
+        .fold(f64::INFINITY, f64::min);
     assert_eq!(a.iter().find(|r| r.recommended).map(|r| r.evaluations_per_realization), Some(least));
 }
 
@@ -233,7 +264,11 @@ fn without_closed_forms_the_reference_is_tight_rk45_and_the_answer_is_numerical(
     assert_eq!((rows[0].solver, rows[0].error_max), ("rk45", 0.0));
     assert!(rows[0].setting.contains("1e-14"), "{}", rows[0].setting);
     assert!(rows.iter().all(|r| r.solver != "exact"));
-    let cheapest = rows.iter().filter(|r| r.max_bias_over_se.is_some_and(|b| b < tradeoff::BIAS_FRACTION)).map(|r| r.evaluations_per_realization).fold(f64::INFINITY, f64::min);
+    let cheapest = rows
+        .iter()
+        .filter(|r| r.max_bias_over_se.is_some_and(|b| b < tradeoff::BIAS_FRACTION))
+        .map(|r| r.evaluations_per_realization)
+        .fold(f64::INFINITY, f64::min);
     let rec: Vec<&tradeoff::Row> = rows.iter().filter(|r| r.recommended).collect();
     assert_eq!(rec.len(), 1);
     assert_eq!(rec[0].evaluations_per_realization, cheapest);

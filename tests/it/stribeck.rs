@@ -9,7 +9,8 @@ use stickslip::solver::SolverKind;
 use crate::common::{check_invariants, event_errors as errors, outcomes, rms, scenario, stickslip};
 
 /// The scene: mu_s = 0.6, mu_k = 0.51, v_s = 0.1, δ = 2.
-const SCENE: [&str; 4] = ["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "model.stribeck_exponent=2"];
+const SCENE: [&str; 4] =
+    ["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6", "model.stribeck_exponent=2"];
 
 fn records(sets: &[&str], n: u64) -> Vec<Record> {
     outcomes(&scenario(sets), n).into_iter().map(|o| o.record).collect()
@@ -28,7 +29,9 @@ fn reference(sets: &[&str], n: u64) -> Vec<Record> {
 fn with_equal_coefficients_the_law_is_coulomb_for_every_solver() {
     let law = ["model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.51"];
     let exact = records(&[], 30);
-    for extra in [&["run.solver=\"rk45\"", "numerics.rtol=1e-12", "numerics.atol=1e-12", "numerics.max_step=1e-2"][..], &["run.solver=\"rk4\"", "numerics.step=1e-3"]] {
+    for extra in
+        [&["run.solver=\"rk45\"", "numerics.rtol=1e-12", "numerics.atol=1e-12", "numerics.max_step=1e-2"][..], &["run.solver=\"rk4\"", "numerics.step=1e-3"]]
+    {
         let (errs, missed, spurious) = errors(&exact, &records(&with(&law, extra), 30));
         assert_eq!((missed, spurious), (0, 0), "{extra:?}");
         assert!(errs.len() > 300 && *errs.last().unwrap() < 1e-8, "{extra:?}: largest event-time error {:e}", errs.last().unwrap());
@@ -37,7 +40,9 @@ fn with_equal_coefficients_the_law_is_coulomb_for_every_solver() {
     // affordable step; what the reduction means for them: on the Stribeck law with μ_s = μ_k they
     // produce exactly the events they produce on the Coulomb scene (their own distance to `exact`
     // is measured by `tradeoff` and tested in solvers.rs)
-    for extra in [&["run.solver=\"moreau\"", "numerics.step=1e-3"][..], &["run.solver=\"smooth\"", "numerics.max_step=1e-2", "numerics.rtol=1e-6", "numerics.atol=1e-6"]] {
+    for extra in
+        [&["run.solver=\"moreau\"", "numerics.step=1e-3"][..], &["run.solver=\"smooth\"", "numerics.max_step=1e-2", "numerics.rtol=1e-6", "numerics.atol=1e-6"]]
+    {
         let coulomb = records(extra, 30);
         let stribeck = records(&with(&law, extra), 30);
         assert!(coulomb.iter().map(|r| r.stick_start.len()).sum::<usize>() > 300, "{extra:?}");
@@ -54,7 +59,16 @@ fn a_delta_one_slip_is_continued_smoothly_past_its_arrival() {
     // bound the located time: rk45 at 1e-11 put realization 48's third stick 3.1e-8 s away from
     // the 1e-14 run. Continued smoothly (`Stribeck::peak_along`) every event of these 60
     // realizations stays within 1e-9 s. (The damped δ = 1 example scene.)
-    let scene = ["model.friction_law=\"stribeck\"", "model.friction_coefficient=0.4", "model.static_friction_coefficient=0.7", "model.stribeck_velocity=0.05", "model.stribeck_exponent=1", "model.damping=0.5", "run.solver=\"rk45\"", "numerics.max_step=1e-2"];
+    let scene = [
+        "model.friction_law=\"stribeck\"",
+        "model.friction_coefficient=0.4",
+        "model.static_friction_coefficient=0.7",
+        "model.stribeck_velocity=0.05",
+        "model.stribeck_exponent=1",
+        "model.damping=0.5",
+        "run.solver=\"rk45\"",
+        "numerics.max_step=1e-2",
+    ];
     let at = |tol: &str| records(&with(&scene, &[&format!("numerics.rtol={tol}"), &format!("numerics.atol={tol}")]), 60);
     let (errs, missed, spurious) = errors(&at("1e-14"), &at("1e-11"));
     assert_eq!((missed, spurious), (0, 0));
@@ -71,7 +85,12 @@ fn rk4_and_rk45_converge_at_their_orders_on_a_stribeck_scene() {
     assert_eq!((coarse.1, coarse.2, fine.1, fine.2), (0, 0, 0, 0));
     let ratio = rms(&coarse.0) / rms(&fine.0);
     assert!((8.0..=32.0).contains(&ratio), "rk4 error ratio for h/2: {ratio} (fourth order: 16)");
-    let rk45 = |tol: &str| errors(&reference, &records(&with(&SCENE, &["run.solver=\"rk45\"", &format!("numerics.rtol={tol}"), &format!("numerics.atol={tol}"), "numerics.max_step=10"]), 20));
+    let rk45 = |tol: &str| {
+        errors(
+            &reference,
+            &records(&with(&SCENE, &["run.solver=\"rk45\"", &format!("numerics.rtol={tol}"), &format!("numerics.atol={tol}"), "numerics.max_step=10"]), 20),
+        )
+    };
     let (e5, e7, e9) = (rk45("1e-5"), rk45("1e-7"), rk45("1e-9"));
     assert!(e9.1 + e9.2 == 0 && e7.1 + e7.2 == 0);
     // a tolerance 100 times tighter gives event times at least 20 times closer (DP5(4): ~100^(5/5))
@@ -191,7 +210,11 @@ fn the_extremes_converge_or_stop_with_the_culprit_named() {
 #[test]
 fn the_law_composes_with_damping_random_keys_and_every_solver() {
     let cases: &[&[&str]] = &[
-        &["model.damping=0.5", "model.stribeck_velocity={dist = \"lognormal\", mean = 0.1, cv = 0.5}", "model.stribeck_exponent={dist = \"uniform\", low = 1, high = 3}"],
+        &[
+            "model.damping=0.5",
+            "model.stribeck_velocity={dist = \"lognormal\", mean = 0.1, cv = 0.5}",
+            "model.stribeck_exponent={dist = \"uniform\", low = 1, high = 3}",
+        ],
         &["model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.5}", "belt.reverse_speed=0.5", "belt.reverse_switch_rate=2"],
         &["run.solver=\"moreau\"", "numerics.step=1e-3"],
         &["run.solver=\"smooth\"", "numerics.epsilon=1e-3", "numerics.stick_velocity=1e-3", "numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10"],

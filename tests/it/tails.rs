@@ -76,8 +76,18 @@ fn velocity_extremes_enclose_a_fine_trajectory_and_are_reached() {
             // ẍ is bounded by ω² |x| + γ |ẋ| + a_s: a few m/s² here, so 1 ms moves ẋ by < 0.05 m/s
             let tol = 0.05;
             let tight = if sets.contains(&"run.solver=rk45") { 1e-6 } else { 1e-12 };
-            assert!(r.min_velocity <= lo + tight && r.max_velocity >= hi - tight, "{sets:?} #{i}: [{}, {}] vs samples [{lo}, {hi}]", r.min_velocity, r.max_velocity);
-            assert!(lo - r.min_velocity <= tol && r.max_velocity - hi <= tol, "{sets:?} #{i}: [{}, {}] vs samples [{lo}, {hi}]", r.min_velocity, r.max_velocity);
+            assert!(
+                r.min_velocity <= lo + tight && r.max_velocity >= hi - tight,
+                "{sets:?} #{i}: [{}, {}] vs samples [{lo}, {hi}]",
+                r.min_velocity,
+                r.max_velocity
+            );
+            assert!(
+                lo - r.min_velocity <= tol && r.max_velocity - hi <= tol,
+                "{sets:?} #{i}: [{}, {}] vs samples [{lo}, {hi}]",
+                r.min_velocity,
+                r.max_velocity
+            );
             assert!(r.max_slip_speed >= slip - tight && r.max_slip_speed - slip <= 2.0 * tol, "{sets:?} #{i}: {} vs {slip}", r.max_slip_speed);
         }
     }
