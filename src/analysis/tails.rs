@@ -398,6 +398,8 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
             }
         }
     }
+    // (a dataset without rows runs no query: every count is empty)
+    sums.resize_with(4 + usize::from(entry_grid.is_some()), HashMap::new);
     let mut sinks = sums.into_iter().map(|m| m.into_iter().map(|((g, k, c, flag), n)| (g, k, c, flag, n)).collect::<Counts>());
     let mut next = || sinks.next().ok_or_else(|| polars_err!(ComputeError: "a tails query returned nothing"));
     for (stick, variable) in [(true, "D"), (false, "H")] {
