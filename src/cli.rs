@@ -583,33 +583,6 @@ fn analyze_and_print(dataset: &Path, out: &Path, opts: &analysis::Options, quiet
     Ok(paths)
 }
 
-/// The tails at the user's times: pooled P(D > t) by the product limit and the conditional
-/// estimator, and the extremes.
-fn print_tails(t: &analysis::tails::Tails, times: &[f64]) {
-    let at = |method: &str, variable: &str, time: f64| {
-        let c = t.curves.iter().find(|c| c.method == method && c.variable == variable && c.index.is_none())?;
-        c.points.iter().find(|p| p.0 == time).map(|p| {
-            let band = p.2.map_or(String::new(), |(lo, hi)| format!(" [{lo:.3e}, {hi:.3e}]"));
-            format!("{:.4e}{band}", p.1)
-        })
-    };
-    for &time in times {
-        let km = at("kaplan_meier", "D", time).unwrap_or_else(|| "–".into());
-        let cond = at("conditional", "D", time).unwrap_or_else(|| "–".into());
-        println!("P(D > {time} s): Kaplan-Meier {km}; conditional {cond}");
-    }
-    for e in &t.exceedances {
-        let band = e.interval.map_or(String::new(), |(lo, hi)| format!(" [{lo:.3e}, {hi:.3e}]"));
-        match e.threshold {
-            Some(x) => println!("P({} > {x}) = {:.4e}{band} ({} realizations)", e.statistic, e.value, e.n),
-            None => println!("{} = {:.4}{band} ({} sticks)", e.statistic, e.value, e.n),
-        }
-    }
-    if let Some(why) = &t.conditional_refused {
-        eprintln!("note: no conditional tail estimate: {why}");
-    }
-}
-
 fn print_analysis(a: &analysis::Analysis) {
     let p_is = crate::figures::format::p_relation;
     println!("{}", analysis::output::table1_markdown(a));
@@ -630,7 +603,10 @@ fn print_analysis(a: &analysis::Analysis) {
         }
     }
     if let Some(t) = &a.tails {
-        print_tails(t, &a.options.tail.times);
+        t.lines(&a.options.tail.times).iter().for_each(|l| println!("{l}"));
+        if let Some(why) = &t.conditional_refused {
+            eprintln!("note: no conditional tail estimate: {why}");
+        }
     }
     if let Some(r) = &a.renewal {
         println!(

@@ -122,6 +122,30 @@ pub struct Tails {
     pub conditional_refused: Option<String>,
 }
 
+impl Tails {
+    /// What `analyze` prints of the tails: pooled P(D > t) at each of `times` by the product
+    /// limit and the conditional estimator, then every exceedance, with their 95 % intervals.
+    pub fn lines(&self, times: &[f64]) -> Vec<String> {
+        let band = |i: Option<Interval>| i.map_or(String::new(), |(lo, hi)| format!(" [{lo:.3e}, {hi:.3e}]"));
+        let at = |method: &str, time: f64| {
+            let c = self.curves.iter().find(|c| c.method == method && c.variable == "D" && c.index.is_none())?;
+            c.points.iter().find(|p| p.0 == time).map(|p| format!("{:.4e}{}", p.1, band(p.2)))
+        };
+        let mut out: Vec<String> = times
+            .iter()
+            .map(|&time| {
+                let (km, cond) = (at("kaplan_meier", time).unwrap_or_else(|| "–".into()), at("conditional", time).unwrap_or_else(|| "–".into()));
+                format!("P(D > {time} s): Kaplan-Meier {km}; conditional {cond}")
+            })
+            .collect();
+        out.extend(self.exceedances.iter().map(|e| match e.threshold {
+            Some(x) => format!("P({} > {x}) = {:.4e}{} ({} realizations)", e.statistic, e.value, band(e.interval), e.n),
+            None => format!("{} = {:.4}{} ({} sticks)", e.statistic, e.value, band(e.interval), e.n),
+        }));
+        out
+    }
+}
+
 /// Counts per (group, index, cell, flag) as the queries return them.
 type Counts = Vec<(usize, u32, i64, bool, u64)>;
 
@@ -357,7 +381,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
     times.dedup();
     // the entries are binned on the D curve's times, so those are fixed before the pass
     let entry_grid = match &scene {
-        Ok(_) => Some(grid((longest(data)? / rho) as i64 + 1, rho, &opts.times)),
+        Ok(_) => Some(grid((longest(data)? / rho) as i64 + 1, rho, &times)),
         Err(_) => None,
     };
     // per run, the sinks in order: for sticks then slips the fine and the coarse counts (and for
@@ -406,7 +430,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
         let (fine, coarse) = (next()?, next()?);
         let grid = match (stick, &entry_grid) {
             (true, Some(g)) => g.clone(),
-            _ => grid(fine.iter().map(|r| r.2).max().unwrap_or(0) + 1, rho, &opts.times),
+            _ => grid(fine.iter().map(|r| r.2).max().unwrap_or(0) + 1, rho, &times),
         };
         let (fine_grid, coarse_grid) = (on_cells(&grid, &times, false), on_cells(&grid, &times, true));
         for index in indices(max_index) {

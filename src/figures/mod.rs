@@ -10,6 +10,7 @@ pub mod chart;
 pub mod contour;
 pub mod format;
 pub mod render;
+pub mod tails;
 
 use std::path::{Path, PathBuf};
 
@@ -456,90 +457,8 @@ pub fn all(inp: &Inputs) -> Vec<Figure> {
     out.extend(joint_figure(inp, "D_1", "D_2", "fig13_d1_d2"));
     out.extend(indexed_histograms(inp, "H", "fig14_h", "the first six slip durations H_1..H_6"));
     out.extend(convergence_figure(inp));
-    out.extend(tails_figure(inp));
+    out.extend(tails::tails_figure(inp));
     out
-}
-
-/// The tails: P(D > t) and P(H > t) pooled over every stick (slip) on a log axis — product limit
-/// with its 95 % band, the naive curve that drops the censored intervals, and for sticks the
-/// conditional estimator — and the laws of the longest stick and of the severity.
-pub fn tails_figure(inp: &Inputs) -> Option<Figure> {
-    let s = inp.survival.as_ref()?;
-    let (vars, idx, method) = (s.strings("variable")?, s.ints("index")?, s.strings("method")?);
-    let (t, surv, lo, hi) = (s.floats("t")?, s.floats("survival")?, s.floats("lo")?, s.floats("hi")?);
-    let curve = |var: &str, m: &str, col: &[Option<f64>]| -> Vec<(f64, f64)> {
-        (0..s.height())
-            .filter(|&r| vars[r] == var && idx[r].is_none() && method[r] == m)
-            .filter_map(|r| Some((t[r]?, col[r]?)))
-            .filter(|&(_, p)| p > 0.0)
-            .collect()
-    };
-    let survival_panel = |var: &str, what: &str| {
-        let mut lines = vec![
-            Series { label: "Kaplan–Meier (censored kept)".into(), color: 0, points: curve(var, "kaplan_meier", surv), ..Default::default() },
-            Series { label: "95 % band".into(), color: 4, points: curve(var, "kaplan_meier", lo), ..Default::default() },
-            Series { label: String::new(), color: 4, points: curve(var, "kaplan_meier", hi), ..Default::default() },
-            Series { label: "naive (censored dropped)".into(), color: 3, points: curve(var, "naive", surv), ..Default::default() },
-        ];
-        let conditional = curve(var, "conditional", surv);
-        if !conditional.is_empty() {
-            lines.push(Series { label: "conditional (exact in t)".into(), color: 1, points: conditional, ..Default::default() });
-        }
-        Panel { title: format!("P({var} > t), {what}"), x_label: "t [s]".into(), y_label: format!("P({var} > t)"), lines, y_log: true, ..Default::default() }
-    };
-    let law = |var: &str, title: String, x_label: &'static str| {
-        let bars = inp.histogram(var, None);
-        (!bars.is_empty()).then(|| Panel { title, x_label: x_label.into(), y_label: "density".into(), bars, ..Default::default() })
-    };
-    let exceed = |stat: &str| -> Option<String> {
-        let e = inp.tails.as_ref()?;
-        let (names, value, lo, hi) = (e.strings("statistic")?, e.floats("value")?, e.floats("lo")?, e.floats("hi")?);
-        let r = (0..e.height()).find(|&r| names[r] == stat)?;
-        let band = lo[r].zip(hi[r]).map_or(String::new(), |(a, b)| format!(" [{} – {}]", format::significant(a, 3), format::significant(b, 3)));
-        Some(format!("{}{band}", format::significant(value[r]?, 3)))
-    };
-    let breakaway = exceed("breakaway_fraction").map_or(String::new(), |b| format!("; sticks ending by breakaway: {b}"));
-    let mut panels = vec![survival_panel("D", "every stick"), survival_panel("H", "every slip")];
-    panels.extend(law("longest_stick", "law of the longest stick of a realization".into(), "longest stick [s]"));
-    // the severity's exceedance P(S > s) from its histogram (mostly a point mass at 1: a mass
-    // that follows the belt), with the thresholds of `tails.parquet` as markers
-    let bars = inp.histogram("severity", None);
-    if !bars.is_empty() {
-        let mut above = 1.0;
-        let line: Vec<(f64, f64)> = bars
-            .iter()
-            .map(|&(lo, hi, d)| {
-                above -= d * (hi - lo);
-                (hi, above.max(0.0))
-            })
-            .filter(|p| p.1 > 1e-12)
-            .collect();
-        let marks: Vec<(f64, f64)> = inp
-            .tails
-            .as_ref()
-            .and_then(|e| {
-                let (names, threshold, value) = (e.strings("statistic")?, e.floats("threshold")?, e.floats("value")?);
-                Some((0..e.height()).filter(|&r| names[r] == "severity").filter_map(|r| Some((threshold[r]?, value[r]?))).filter(|p| p.1 > 0.0).collect())
-            })
-            .unwrap_or_default();
-        panels.push(Panel {
-            title: "P(severity > s), severity = (max ẋ − min ẋ)/(2 v0)".into(),
-            x_label: "s".into(),
-            y_label: "P(severity > s)".into(),
-            lines: vec![Series { label: "from the histogram".into(), color: 0, points: line, ..Default::default() }],
-            points: vec![Series { label: "asked thresholds (tails.parquet)".into(), color: 1, points: marks, ..Default::default() }],
-            y_log: true,
-            ..Default::default()
-        });
-    }
-    (!panels[0].lines[0].points.is_empty()).then(|| Figure {
-        name: "tails".into(),
-        title: format!("Tails: survival of stick and slip durations (log axis), longest stick, severity{breakaway}"),
-        rows: 2,
-        cols: 2,
-        size: (1200, 900),
-        panels,
-    })
 }
 
 /// The running mean of S_T, T_1, D_1 and H_1 against the number of realizations (log axis), with
