@@ -177,8 +177,10 @@ impl SeriesStats {
     pub fn kurtosis_interval(&self) -> Option<jackknife::Interval> {
         let ln = |x: f64| (x > 0.0).then(|| x.ln());
         let loo: Vec<Option<f64>> = self.loo_moments.iter().map(Moments::kurtosis).collect();
-        let t = self.moments.kurtosis().and_then(ln)?;
-        let (a, b) = jackknife::transformed(Some(t.exp()), &loo, ln, |x| x)?;
+        let kurtosis = self.moments.kurtosis();
+        let t = kurtosis.and_then(ln)?;
+        // the interval on the log scale (not mapped back), widened about t
+        let (a, b) = jackknife::transformed(kurtosis, &loo, ln, |x| x)?;
         Some(((t - KURTOSIS_WIDENING * (t - a)).exp(), (t + KURTOSIS_WIDENING * (b - t)).exp()))
     }
 

@@ -99,8 +99,7 @@ pub fn cell_order(a: &str, b: &str) -> std::cmp::Ordering {
 pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
     let keys = path.split('/').filter_map(|part| part.split_once('=')).map(|(k, v)| (k.to_string(), v.parse().unwrap_or(f64::NAN))).collect();
     let st = a.get(Observable::Sticks).map(|s| s.moments).unwrap_or_default();
-    let stick_stats = a.get(Observable::StickFraction);
-    let stick = stick_stats.map(|s| s.moments).unwrap_or_default();
+    let stick = a.get(Observable::StickFraction).map(|s| s.moments).unwrap_or_default();
     let line = |stat: &str| a.growth.iter().find(|g| g.family == Observable::StickStart(1) && g.statistic == stat).map(|g| g.line.clone());
     CellSummary {
         keys,
@@ -108,7 +107,7 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
         mean_st: st.mean,
         mean_st_se: st.mean_se(),
         stick_fraction: stick.mean,
-        stick_fraction_interval: stick_stats.and_then(|s| s.interval(|m| (m.n > 0).then_some(m.mean))),
+        stick_fraction_interval: mean_of(a, Observable::StickFraction, 1.0).and_then(|e| e.1),
         mean_d: pooled(a, Observable::StickDuration(1)),
         mean_h: pooled(a, Observable::SlipDuration(1)),
         var_t_slope: line("variance").map(|l| l.slope),
