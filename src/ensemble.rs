@@ -131,18 +131,18 @@ impl Ensemble {
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }
             physics = out.params.per_unit_mass();
-            if ![physics.omega2, physics.gamma, physics.kinetic, physics.breakaway].iter().all(|x| x.is_finite()) {
+            if ![physics.omega2, physics.gamma, physics.viscous, physics.kinetic, physics.breakaway].iter().all(|x| x.is_finite()) {
                 let values = self.scene.columns().iter().zip(&out.drawn).map(|(k, x)| format!("{k} = {x:e}")).collect::<Vec<_>>().join(", ");
-                let drawn = format!("{values} give non-finite k/m, c/m or mu n/m");
+                let drawn = format!("{values} give non-finite k/m, c/m, sigma_v/m or mu n/m");
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }
             let (max_rate, rule, numerical) = &self.max_rate;
-            let (rate, _, symbol) = crate::scenario::fastest_rate(*numerical, physics.omega2.sqrt(), physics.gamma);
+            let (rate, _, symbol) = crate::scenario::fastest_rate(*numerical, physics.omega2.sqrt(), physics.slip_damping(), crate::params::Key::Damping);
             if rate > *max_rate {
                 let p = &out.params;
                 let drawn = format!(
-                    "model.stiffness = {:e} N/m, model.damping = {:e} N·s/m, model.mass = {:e} kg give {symbol} = {rate:e} 1/s, but {rule}",
-                    p.stiffness, p.damping, p.mass
+                    "model.stiffness = {:e} N/m, model.damping = {:e} N·s/m, model.viscous_friction = {:e} N·s/m, model.mass = {:e} kg give {symbol} = {rate:e} 1/s, but {rule}",
+                    p.stiffness, p.damping, p.viscous, p.mass
                 );
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }

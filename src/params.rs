@@ -41,10 +41,12 @@ pub enum Key {
     ReverseSwitchRate,
     StribeckVelocity,
     StribeckExponent,
+    /// (last: a key's sub-stream is its place here, so new keys go at the end)
+    Viscous,
 }
 
 impl Key {
-    pub const ALL: [Key; 12] = [
+    pub const ALL: [Key; 13] = [
         Key::Mass,
         Key::Stiffness,
         Key::Damping,
@@ -57,6 +59,7 @@ impl Key {
         Key::ReverseSwitchRate,
         Key::StribeckVelocity,
         Key::StribeckExponent,
+        Key::Viscous,
     ];
 
     /// The key as written, e.g. `model.friction_coefficient`.
@@ -74,6 +77,7 @@ impl Key {
             Key::ReverseSwitchRate => "belt.reverse_switch_rate",
             Key::StribeckVelocity => "model.stribeck_velocity",
             Key::StribeckExponent => "model.stribeck_exponent",
+            Key::Viscous => "model.viscous_friction",
         }
     }
 
@@ -90,7 +94,7 @@ impl Key {
     pub fn range(self) -> (f64, f64) {
         match self {
             Key::Mass => (1e-9, 1e6),
-            Key::Stiffness | Key::Damping | Key::NormalForce => (0.0, 1e9),
+            Key::Stiffness | Key::Damping | Key::NormalForce | Key::Viscous => (0.0, 1e9),
             Key::Kinetic | Key::Static => (0.0, 1e6),
             Key::Speed | Key::ReverseSpeed => (1e-9, 1e6),
             Key::SwitchRate | Key::ReverseSwitchRate => (0.0, 1e6),
@@ -104,7 +108,7 @@ impl Key {
         match self {
             Key::Mass => " (kg)",
             Key::Stiffness => " (N/m)",
-            Key::Damping => " (N·s/m)",
+            Key::Damping | Key::Viscous => " (N·s/m)",
             Key::NormalForce => " (N)",
             Key::Kinetic | Key::Static | Key::StribeckExponent => "",
             Key::StribeckVelocity => " (m/s)",
@@ -258,9 +262,10 @@ impl Scene {
         Scene { params, belt, random, static_follows_kinetic }
     }
 
-    /// Whether the damping can be nonzero (the exact method then uses the damped forms).
+    /// Whether a slip's damping (the dashpot or the viscous friction) can be nonzero (the exact
+    /// method then uses the damped forms).
     pub fn damped(&self) -> bool {
-        self.params.damping != 0.0 || self.random.iter().any(|(k, _)| *k == Key::Damping)
+        self.params.damping != 0.0 || self.params.viscous != 0.0 || self.random.iter().any(|(k, _)| matches!(k, Key::Damping | Key::Viscous))
     }
 
     /// The column names of the drawn keys.
@@ -291,6 +296,7 @@ impl Scene {
                     }
                 }
                 (Key::Static, _) => params.static_ = x,
+                (Key::Viscous, _) => params.viscous = x,
                 (Key::StribeckVelocity, _) => {
                     if let Law::Stribeck(s) = &mut params.law {
                         s.velocity = x;

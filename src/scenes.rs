@@ -23,7 +23,7 @@ impl Shipped {
 }
 
 /// Every shipped scenario, the paper's first.
-pub const SHIPPED: [Shipped; 7] = [
+pub const SHIPPED: [Shipped; 8] = [
     Shipped { name: "paper", path: "pipelines/paper.toml", text: PAPER_TOML },
     Shipped { name: "stribeck", path: "pipelines/stribeck.toml", text: include_str!("../pipelines/stribeck.toml") },
     Shipped { name: "damped", path: "pipelines/scenes/damped.toml", text: include_str!("../pipelines/scenes/damped.toml") },
@@ -31,6 +31,7 @@ pub const SHIPPED: [Shipped; 7] = [
     Shipped { name: "asymmetric_belt", path: "pipelines/scenes/asymmetric_belt.toml", text: include_str!("../pipelines/scenes/asymmetric_belt.toml") },
     Shipped { name: "uncertain_friction", path: "pipelines/scenes/uncertain_friction.toml", text: include_str!("../pipelines/scenes/uncertain_friction.toml") },
     Shipped { name: "stribeck_damped", path: "pipelines/scenes/stribeck_damped.toml", text: include_str!("../pipelines/scenes/stribeck_damped.toml") },
+    Shipped { name: "viscous", path: "pipelines/scenes/viscous.toml", text: include_str!("../pipelines/scenes/viscous.toml") },
 ];
 
 /// The shipped scenario called `name`.

@@ -72,11 +72,11 @@ struct Basis {
 
 impl SlipForm for Damped {
     fn new(p: &Physics) -> Damped {
-        let a = 0.5 * p.gamma;
+        let a = 0.5 * p.slip_damping();
         let q = (p.omega - a) * (p.omega + a);
         let h = q.abs().sqrt();
         let r2 = a + h;
-        Damped { omega2: p.omega2, gamma: p.gamma, a, q, h, r1: if r2 > 0.0 { p.omega2 / r2 } else { 0.0 }, r2, scale: a.max(p.omega) }
+        Damped { omega2: p.omega2, gamma: p.slip_damping(), a, q, h, r1: if r2 > 0.0 { p.omega2 / r2 } else { 0.0 }, r2, scale: a.max(p.omega) }
     }
 
     fn state(&self, x0: f64, xdot0: f64, a0: f64, tau: f64) -> (f64, f64) {

@@ -7,11 +7,18 @@
 //!
 //! ```text
 //!     m ẍ + c ẋ + k x = f
-//!     slip:  f = f(|u|) · σ,   σ = sgn(u)
-//!            Coulomb:  f = μ_k n
-//!            Stribeck: f = n [μ_k + (μ_s − μ_k) exp(−(|u|/v_s)^δ)]    (velocity weakening)
+//!     slip:  f = f_dry(|u|) · σ + σ_v u,   σ = sgn(u)
+//!            Coulomb:  f_dry = μ_k n
+//!            Stribeck: f_dry = n [μ_k + (μ_s − μ_k) exp(−(|u|/v_s)^δ)]    (velocity weakening)
 //!     stick: ẋ = v,  f = F := k x + c v,  |F| ≤ μ_s n           (static coefficient μ_s ≥ μ_k)
 //! ```
+//!
+//! The viscous term σ_v u [N·s/m · m/s] (the static friction map of Armstrong-Hélouvry et al.,
+//! below) acts only while the mass slides: in a stick u = 0, so the holding force, the breakaway
+//! and the arrival rule do not see it. In a slip it is a dashpot towards the *belt*: the
+//! equation is `ẍ = σ a_k + β v − ω² x − (γ + β) ẋ` with β = σ_v/m, a linear oscillator with
+//! damping γ + β ([`Physics::slip_damping`]) under constant forcing while v is constant — so
+//! Coulomb with a viscous term keeps its closed forms (the damped ones).
 //!
 //! The Stribeck law (R. Stribeck 1902; the exponential form of B. Armstrong-Hélouvry, P. Dupont,
 //! C. Canudas de Wit, "A survey of models, analysis tools and compensation methods for the
@@ -168,13 +175,15 @@ pub struct Params {
     pub kinetic: f64,
     /// μ_s (≥ μ_k)
     pub static_: f64,
+    /// σ_v, N·s/m (≥ 0): the viscous term of the slip friction, σ_v u
+    pub viscous: f64,
     /// the friction law with its parameters
     pub law: Law,
 }
 
 impl Params {
     /// The paper's parameters: m = 1 kg, k = 4 N/m, c = 0, n = 9.8 N, μ_s = μ_k = 0.51.
-    pub const PAPER: Params = Params { mass: 1.0, stiffness: 4.0, damping: 0.0, normal_force: 9.8, kinetic: 0.51, static_: 0.51, law: Law::Coulomb };
+    pub const PAPER: Params = Params { mass: 1.0, stiffness: 4.0, damping: 0.0, normal_force: 9.8, kinetic: 0.51, static_: 0.51, viscous: 0.0, law: Law::Coulomb };
 
     /// The per-unit-mass constants the solvers work with.
     #[inline]
@@ -186,6 +195,7 @@ impl Params {
             gamma: self.damping / self.mass,
             kinetic: self.kinetic * self.normal_force / self.mass,
             breakaway: self.static_ * self.normal_force / self.mass,
+            viscous: self.viscous / self.mass,
             law: self.law,
         }
     }
@@ -207,6 +217,8 @@ pub struct Physics {
     pub kinetic: f64,
     /// a_s = μ_s n/m, m/s²
     pub breakaway: f64,
+    /// β = σ_v/m, 1/s: the viscous term of the slip friction per unit mass, β u
+    pub viscous: f64,
     /// the friction law (its parameters in SI units: they are velocities, not forces)
     pub law: Law,
 }
@@ -235,17 +247,27 @@ impl Physics {
     }
 
     /// The equation of motion in slip under belt velocity v with friction direction σ:
-    /// `ẍ = σ f(|v − ẋ|)/m − ω² x − γ ẋ` [m/s²] (past the slip's arrival, σ(v − ẋ) < 0, the
-    /// Stribeck peak continued smoothly: [`Stribeck::peak_along`]).
+    /// `ẍ = σ f_dry(|v − ẋ|)/m + β (v − ẋ) − ω² x − γ ẋ` [m/s²] (past the slip's arrival,
+    /// σ(v − ẋ) < 0, the Stribeck peak continued smoothly: [`Stribeck::peak_along`]).
     #[inline]
     pub fn slip_accel(&self, x: f64, xdot: f64, v: f64, sigma: f64) -> f64 {
         // σ a_k − (ω² x + γ ẋ) + σ (a_s − a_k) P(u): the peak term P enters last, through one
         // multiply and one add (it is the integrators' longest chain, through `exp`)
-        let coulomb = sigma * self.kinetic - (self.omega2 * x + self.gamma * xdot);
+        let mut coulomb = sigma * self.kinetic - (self.omega2 * x + self.gamma * xdot);
+        if self.viscous != 0.0 {
+            // (added only when present: without it the sum is the paper's to the bit)
+            coulomb += self.viscous * (v - xdot);
+        }
         match self.law {
             Law::Coulomb => coulomb,
             Law::Stribeck(s) => coulomb + sigma * (self.breakaway - self.kinetic) * s.peak_along(sigma * (v - xdot)),
         }
+    }
+
+    /// The damping a slip sees, per unit mass [1/s]: γ + β (the dashpot and the viscous term).
+    #[inline]
+    pub fn slip_damping(&self) -> f64 {
+        self.gamma + self.viscous
     }
 
     /// Whether the slip after a breakaway only touches belt speed until the next switch (the
@@ -292,31 +314,37 @@ impl Physics {
     /// The law regularized for the smooth method, per unit mass, at relative velocity u with
     /// width ε (`solver::smooth`'s module docs): Coulomb `a_k tanh(u/ε) + (a_s − a_k) w
     /// exp((1 − w²)/2)` with w = u/ε (a bump that reaches the static level at |u| = ε);
-    /// Stribeck `f(|u|) tanh(u/ε)` (its own peak is the static level).
+    /// Stribeck `f(|u|) tanh(u/ε)` (its own peak is the static level); plus the viscous term β u,
+    /// smooth already.
     #[inline]
     pub fn regularized_friction(&self, epsilon: f64, u: f64) -> f64 {
         let w = u / epsilon;
-        match self.law {
+        let dry = match self.law {
             Law::Stribeck(_) => self.slip_friction(u) * w.tanh(),
             Law::Coulomb => {
                 let excess = self.breakaway - self.kinetic;
                 let bump = if excess > 0.0 { excess * w * (0.5 * (1.0 - w * w)).exp() } else { 0.0 };
                 self.kinetic * w.tanh() + bump
             }
+        };
+        if self.viscous != 0.0 {
+            dry + self.viscous * u
+        } else {
+            dry
         }
     }
 
     /// The longest step up to `want` that keeps the law's peak resolved at state `y = (x, ẋ)`
     /// under belt velocity `v`, with slip acceleration `acc` and the law's [`Law::peak_window`]
     /// `window` (`solver::hybrid`'s module docs): the change of u one step may make, bounded by
-    /// |u̇| h + |ü| h²/2 with ü = −(ω² ẋ + γ ẍ), stays within what is left to the window plus
+    /// |u̇| h + |ü| h²/2 with ü = −(ω² ẋ + (γ + β) ẍ), stays within what is left to the window plus
     /// v_s. `want` for a law without a peak, or when `want` already keeps it.
     #[inline]
     pub fn peak_step_limit(&self, window: f64, y: [f64; 2], v: f64, acc: f64, want: f64) -> f64 {
         let Law::Stribeck(s) = self.law else { return want };
         let u = v - y[1];
         let allowed = (u.abs() - window).max(0.0) + s.velocity;
-        let (du, ddu) = (acc.abs(), (self.omega2 * y[1] + self.gamma * acc).abs());
+        let (du, ddu) = (acc.abs(), (self.omega2 * y[1] + self.slip_damping() * acc).abs());
         if (du + 0.5 * ddu * want) * want <= allowed {
             return want;
         }

@@ -43,6 +43,7 @@ impl Scenario {
             normal_force: value(&m.normal_force),
             kinetic,
             static_: m.static_friction_coefficient.as_ref().map_or(kinetic, value),
+            viscous: m.viscous_friction.as_ref().map_or(0.0, value),
             law: match m.friction_law.unwrap_or(FrictionLaw::Coulomb) {
                 FrictionLaw::Coulomb => Law::Coulomb,
                 // (v_s is required with the law: `check` refuses its absence)
@@ -210,11 +211,16 @@ impl Scenario {
         };
         let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), bounded);
         let hi = |k: Key| self.param(k).map_or(0.0, |p| bounded(p).1);
-        let ratios = [hi(Key::Stiffness) / m_lo, hi(Key::Damping) / m_lo, hi(Key::NormalForce) * hi(Key::Static).max(hi(Key::Kinetic)) / m_lo];
+        // (the slip's damping per unit mass is (c + σ_v)/m)
+        let ratios = [
+            hi(Key::Stiffness) / m_lo,
+            (hi(Key::Damping) + hi(Key::Viscous)) / m_lo,
+            hi(Key::NormalForce) * hi(Key::Static).max(hi(Key::Kinetic)) / m_lo,
+        ];
         if ratios.iter().any(|r| !r.is_finite()) || !(m_hi > 0.0) {
             return Err(ScenarioError::Invalid {
                 key: "model".into(),
-                value: format!("k/m up to {:e} 1/s², c/m up to {:e} 1/s, mu n/m up to {:e} m/s²", ratios[0], ratios[1], ratios[2]),
+                value: format!("k/m up to {:e} 1/s², (c + sigma_v)/m up to {:e} 1/s, mu n/m up to {:e} m/s²", ratios[0], ratios[1], ratios[2]),
                 reason: "these ratios must be finite".into(),
             });
         }
@@ -233,11 +239,12 @@ impl Scenario {
         let num = &self.numerics;
         let solver = self.solver();
         let fixed = matches!(solver, SolverKind::Rk4 | SolverKind::Moreau);
-        let (rate, rate_key, symbol) = fastest_rate(solver != SolverKind::Exact, ratios[0].sqrt(), ratios[1]);
+        let damping_key = if hi(Key::Viscous) > hi(Key::Damping) { Key::Viscous } else { Key::Damping };
+        let (rate, rate_key, symbol) = fastest_rate(solver != SolverKind::Exact, ratios[0].sqrt(), ratios[1], damping_key);
         let (max_rate, rule, step_key) = self.max_rate();
         if rate > max_rate {
-            let key = step_key.unwrap_or(rate_key);
-            let value = match (key, self.param(if rate_key == "model.damping" { Key::Damping } else { Key::Stiffness })) {
+            let key = step_key.unwrap_or(rate_key.dotted());
+            let value = match (key, self.param(rate_key)) {
                 ("numerics.step", _) => short(num.step),
                 (_, Some(p)) => shown_param(p),
                 (_, None) => short(Params::PAPER.stiffness),
@@ -350,13 +357,13 @@ fn shown_share(p: f64) -> String {
 }
 
 /// The rate [1/s] that sets a realization's work, the key that sets it and its symbol: ω = √(k/m)
-/// for `exact` (closed forms absorb any damping), the fastest of ω and c/m for a `numerical`
-/// solver (the largest eigenvalue of the linear part is at most max(ω, c/m): the step must
-/// resolve it).
-pub fn fastest_rate(numerical: bool, omega: f64, c_per_m: f64) -> (f64, &'static str, &'static str) {
-    if numerical && c_per_m > omega {
-        (c_per_m, "model.damping", "c/m")
+/// for `exact` (closed forms absorb any damping), the fastest of ω and the slip's damping
+/// (c + σ_v)/m for a `numerical` solver (the largest eigenvalue of the linear part is at most
+/// max(ω, (c + σ_v)/m): the step must resolve it); `damping_key` names the larger of c and σ_v.
+pub fn fastest_rate(numerical: bool, omega: f64, damping_per_m: f64, damping_key: Key) -> (f64, Key, &'static str) {
+    if numerical && damping_per_m > omega {
+        (damping_per_m, damping_key, "(c + sigma_v)/m")
     } else {
-        (omega, "model.stiffness", "ω = √(k/m)")
+        (omega, Key::Stiffness, "ω = √(k/m)")
     }
 }

@@ -130,13 +130,15 @@ impl Scenario {
     /// Whether this is the paper's physical scene — its oscillator, friction, belt, initial
     /// conditions and window, whatever the seed, the number of realizations, the solver or the
     /// output: the scene the paper's Table 1 describes, and so the only one compared with it.
-    /// Keys spelled out at their paper values (`damping = 0`, `friction_law = "coulomb"`, μ_s equal
+    /// Keys spelled out at their paper values (`damping = 0`, `viscous_friction = 0`, `friction_law = "coulomb"`, μ_s equal
     /// to μ_k) still are the paper's scene.
     pub fn is_paper_scene(&self) -> bool {
         let paper = Scenario::paper();
         let mut m = self.model.clone();
-        if m.damping == Some(Param::Value(0.0)) {
-            m.damping = None;
+        for zero_is_absent in [&mut m.damping, &mut m.viscous_friction] {
+            if *zero_is_absent == Some(Param::Value(0.0)) {
+                *zero_is_absent = None;
+            }
         }
         if m.static_friction_coefficient.as_ref() == Some(&m.friction_coefficient) {
             m.static_friction_coefficient = None;

@@ -70,6 +70,9 @@ pub struct ModelSpec {
     /// δ, > 0 (absent: 2)
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stribeck_exponent: Option<Param>,
+    /// σ_v, N·s/m, ≥ 0 (absent: 0): the viscous term of the slip friction, any law
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub viscous_friction: Option<Param>,
 }
 
 /// `belt.initial_sign`: 1, −1 or "random".
@@ -163,6 +166,7 @@ impl Scenario {
             Key::ReverseSwitchRate => b.reverse_switch_rate.as_ref(),
             Key::StribeckVelocity => m.stribeck_velocity.as_ref(),
             Key::StribeckExponent => m.stribeck_exponent.as_ref(),
+            Key::Viscous => m.viscous_friction.as_ref(),
         }
     }
 
@@ -182,6 +186,7 @@ impl Scenario {
             Key::ReverseSwitchRate => ParamSlot::Optional(&mut b.reverse_switch_rate),
             Key::StribeckVelocity => ParamSlot::Optional(&mut m.stribeck_velocity),
             Key::StribeckExponent => ParamSlot::Optional(&mut m.stribeck_exponent),
+            Key::Viscous => ParamSlot::Optional(&mut m.viscous_friction),
         }
     }
 }

@@ -86,11 +86,11 @@ impl<K: SlipForm> Exact<K> {
     }
 
     /// Keep the state `(x, ẋ)` at the end of a slip of duration τ from `(x₀, ẋ₀)` with `a₀`, and
-    /// its acceleration there: the friction is constant along a slip, so
-    /// `ẍ = a₀ − ω² (x − x₀) − γ (ẋ − ẋ₀)` exactly.
+    /// its acceleration there: the dry friction is constant along a slip and the rest is linear,
+    /// so `ẍ = a₀ − ω² (x − x₀) − (γ + β) (ẋ − ẋ₀)` exactly.
     #[inline(always)]
     fn slip_end(&mut self, x0: f64, xdot0: f64, a0: f64, x: f64, xdot: f64) {
-        self.end = (x, xdot, a0 - self.p.omega2 * (x - x0) - self.p.gamma * (xdot - xdot0));
+        self.end = (x, xdot, a0 - self.p.omega2 * (x - x0) - self.p.slip_damping() * (xdot - xdot0));
     }
 
     fn state_in(&self, phase: Phase, t: f64, v: f64) -> (f64, f64) {

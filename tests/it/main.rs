@@ -24,3 +24,4 @@ mod sensitivity;
 mod solvers;
 mod stribeck;
 mod tails;
+mod viscous;

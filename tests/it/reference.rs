@@ -1,10 +1,11 @@
 //! An independent check: the same belt switches and initial conditions integrated numerically.
 //!
-//! The reference integrates m ẍ = σ f_k − k x − c ẋ with classical RK4 at a fixed step
-//! h = 1e-4 s (global error O((ωh)^4) ≈ 1e-15 here), locates each event by bisection on RK4
+//! The reference integrates m ẍ = σ f_k + σ_v (v − ẋ) − k x − c ẋ with classical RK4 at a fixed
+//! step h = 1e-4 s (global error O((ωh)^4) ≈ 1e-15 here), locates each event by bisection on RK4
 //! sub-steps from the step start (to ~1e-15 s), and applies the friction law directly: at ẋ = v
 //! it sticks if |k x + c v| ≤ f_s, else the friction becomes sgn(k x + c v); a stick ends when
-//! k x + c v reaches f_s in the belt direction or at a belt flip. A dip of the velocity across
+//! k x + c v reaches f_s in the belt direction (never on a belt at rest) or at a change of the
+//! belt velocity, taken per segment from the library's segments (any number of levels). A dip of the velocity across
 //! belt speed between two step ends is caught by testing the velocity's extremum inside the step
 //! (where ẍ changes sign). It shares no code with the library's solver.
 
@@ -17,14 +18,19 @@ struct Params {
     /// kinetic and static friction forces, N
     fk: f64,
     fs: f64,
-    v0: f64,
+    /// σ_v, N·s/m: the viscous term of the slip friction
+    cv: f64,
     ta: f64,
 }
 
 const H: f64 = 1e-4;
 
-fn rk4(p: &Params, sigma: f64, (x, v): (f64, f64), h: f64) -> (f64, f64) {
-    let acc = |x: f64, v: f64| (sigma * p.fk - p.k * x - p.c * v) / p.m;
+fn accel(p: &Params, sigma: f64, belt: f64, x: f64, xd: f64) -> f64 {
+    (sigma * p.fk + p.cv * (belt - xd) - p.k * x - p.c * xd) / p.m
+}
+
+fn rk4(p: &Params, sigma: f64, belt: f64, (x, v): (f64, f64), h: f64) -> (f64, f64) {
+    let acc = |x: f64, v: f64| accel(p, sigma, belt, x, v);
     let (k1x, k1v) = (v, acc(x, v));
     let (k2x, k2v) = (v + 0.5 * h * k1v, acc(x + 0.5 * h * k1x, v + 0.5 * h * k1v));
     let (k3x, k3v) = (v + 0.5 * h * k2v, acc(x + 0.5 * h * k2x, v + 0.5 * h * k2v));
@@ -33,21 +39,21 @@ fn rk4(p: &Params, sigma: f64, (x, v): (f64, f64), h: f64) -> (f64, f64) {
 }
 
 /// Stick start times and slip (after a stick) start times, in order.
-fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Vec<f64>, Vec<f64>) {
+fn integrate(p: &Params, velocities: &[f64], switches: &[f64], x0: f64, xd0: f64) -> (Vec<f64>, Vec<f64>) {
     let (mut sticks, mut slips) = (Vec::new(), Vec::new());
     let mut t = 0.0;
-    let mut s = sign0;
     let (mut x, mut xd) = (x0, xd0);
     let mut stuck = false;
-    let mut sigma = (s * p.v0 - xd).signum();
+    let mut sigma = (velocities[0] - xd).signum();
     let mut bounds: Vec<f64> = switches.to_vec();
     bounds.push(p.ta);
     for (seg, &t_end) in bounds.iter().enumerate() {
-        let v = s * p.v0;
+        let v = velocities[seg];
+        let s = v.signum();
         while t < t_end {
             if stuck {
                 let x_break = (s * p.fs - p.c * v) / p.k;
-                let t_break = t + (x_break - x) / v;
+                let t_break = if v == 0.0 { f64::INFINITY } else { t + (x_break - x) / v };
                 if t_break < t_end {
                     x = x_break;
                     t = t_break;
@@ -62,13 +68,13 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
                 break;
             }
             let h = H.min(t_end - t);
-            let (nx, nv) = rk4(p, sigma, (x, xd), h);
+            let (nx, nv) = rk4(p, sigma, v, (x, xd), h);
             // crossing of belt speed: σ (v - ẋ) goes from > 0 to <= 0 at the step end, or at the
             // velocity's extremum inside the step (ẍ changes sign: golden-section for it)
-            let g = |dt: f64| sigma * (v - rk4(p, sigma, (x, xd), dt).1);
+            let g = |dt: f64| sigma * (v - rk4(p, sigma, v, (x, xd), dt).1);
             let accel = |dt: f64| {
-                let (ax, av) = rk4(p, sigma, (x, xd), dt);
-                sigma * p.fk - p.k * ax - p.c * av
+                let (ax, av) = rk4(p, sigma, v, (x, xd), dt);
+                accel(p, sigma, v, ax, av)
             };
             let mut end = h;
             if g(h) > 0.0 && sigma * accel(0.0) > 0.0 && sigma * accel(h) < 0.0 {
@@ -89,14 +95,14 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
                 let (mut lo, mut hi) = (0.0, end);
                 for _ in 0..80 {
                     let mid = 0.5 * (lo + hi);
-                    let (_, mv) = rk4(p, sigma, (x, xd), mid);
+                    let (_, mv) = rk4(p, sigma, v, (x, xd), mid);
                     if sigma * (v - mv) > 0.0 {
                         lo = mid
                     } else {
                         hi = mid
                     }
                 }
-                let (ex, _) = rk4(p, sigma, (x, xd), hi);
+                let (ex, _) = rk4(p, sigma, v, (x, xd), hi);
                 t += hi;
                 x = ex;
                 xd = v;
@@ -106,7 +112,7 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
                 } else {
                     sigma = (p.k * x + p.c * v).signum();
                     // step off the crossing
-                    let (nx, nv) = rk4(p, sigma, (x, xd), 1e-9);
+                    let (nx, nv) = rk4(p, sigma, v, (x, xd), 1e-9);
                     x = nx;
                     xd = nv;
                     t += 1e-9;
@@ -123,8 +129,7 @@ fn integrate(p: &Params, sign0: f64, switches: &[f64], x0: f64, xd0: f64) -> (Ve
                 xd = v;
                 slips.push(t);
             }
-            s = -s;
-            sigma = (s * p.v0 - xd).signum();
+            sigma = (velocities[seg + 1] - xd).signum();
         }
     }
     (sticks, slips)
@@ -136,8 +141,7 @@ fn compare(sets: &[&str], p: &Params, n: u64) {
     let mut compared = 0;
     let mut worst: f64 = 0.0;
     for (i, o) in outcomes(&sc, n).iter().enumerate() {
-        let (s0, sw) = (o.velocities()[0].signum(), o.switches());
-        let (sticks, slips) = integrate(p, s0, sw, o.x0, o.xdot0);
+        let (sticks, slips) = integrate(p, o.velocities(), o.switches(), o.x0, o.xdot0);
         let r = &o.record;
         assert_eq!(sticks.len(), r.stick_start.len(), "realization {i}: S_T");
         assert_eq!(slips.len(), r.slip_start.len(), "realization {i}: S_L");
@@ -150,7 +154,7 @@ fn compare(sets: &[&str], p: &Params, n: u64) {
     assert!(worst <= 1e-8, "{sets:?}: largest event-time difference {worst:e} s");
 }
 
-const PAPER: Params = Params { m: 1.0, k: 4.0, c: 0.0, fk: 0.51 * 9.8, fs: 0.51 * 9.8, v0: 1.0, ta: 10.0 };
+const PAPER: Params = Params { m: 1.0, k: 4.0, c: 0.0, fk: 0.51 * 9.8, fs: 0.51 * 9.8, cv: 0.0, ta: 10.0 };
 
 #[test]
 fn exact_solver_agrees_with_an_accurate_numerical_integration() {
@@ -164,4 +168,17 @@ fn with_damping_and_static_friction_too() {
     compare(&["model.damping=0.5", "model.static_friction_coefficient=0.6"], &Params { c: 0.5, fs: 0.6 * 9.8, ..PAPER }, 24);
     compare(&["model.damping=4"], &Params { c: 4.0, ..PAPER }, 24);
     compare(&["model.damping=4.5", "model.static_friction_coefficient=0.7"], &Params { c: 4.5, fs: 0.7 * 9.8, ..PAPER }, 24);
+}
+
+#[test]
+fn with_viscous_friction() {
+    // σ_v alone (under-damped slips), with μ_s > μ_k and a dashpot, and at the over-damped
+    // extreme (σ_v/m = 10/s against ω = 2/s: the slips creep back to belt speed)
+    compare(&["model.viscous_friction=0.8"], &Params { cv: 0.8, ..PAPER }, 24);
+    compare(
+        &["model.viscous_friction=0.3", "model.damping=0.5", "model.static_friction_coefficient=0.6"],
+        &Params { cv: 0.3, c: 0.5, fs: 0.6 * 9.8, ..PAPER },
+        24,
+    );
+    compare(&["model.viscous_friction=10"], &Params { cv: 10.0, ..PAPER }, 24);
 }
