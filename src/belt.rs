@@ -1,25 +1,38 @@
 //! The belt: a random process that yields piecewise-constant velocity segments `(t, v)`.
 //!
-//! Two processes, one output ([`BeltPath`]: the initial sign and the switch instants); no solver
-//! knows which one made the segments ([`BeltPath::segments`]).
+//! Every process has one output, [`BeltPath`]: the velocity at t = 0⁺ and the instants of the
+//! velocity changes with the velocity after each; no solver knows which process made the
+//! segments ([`BeltPath::segments`]). A new process is a new variant of [`Process`] here, its
+//! draws and its answers ([`Process::scale`], [`Process::max_rate`]), and its keys in the
+//! scenario (`belt.process`).
 //!
-//! - [`Symmetric`], the paper's belt (Lima & Sampaio, section 3, "three-step procedure" on
-//!   [0, t_a]): Q ~ Poisson(λ t_a) sign changes at Q iid Uniform(0, t_a) instants, sorted; the
-//!   velocity is ±v0.
-//! - [`Telegraph`], a two-state Markov chain: +v_f in the forward state, left at rate λ_f;
-//!   −v_r in the reverse state, left at rate λ_r; exponential holding times
+//! - [`Symmetric`] (`"symmetric"`, the paper's belt; Lima & Sampaio, section 3, "three-step
+//!   procedure" on [0, t_a]): Q ~ Poisson(λ t_a) sign changes at Q iid Uniform(0, t_a) instants,
+//!   sorted; the velocity is ±v0.
+//! - [`Telegraph`] (`"telegraph"`), a two-state Markov chain: +v_f in the forward state, left at
+//!   rate λ_f; −v_r in the reverse state, left at rate λ_r; exponential holding times
 //!   `−ln(1 − U)/λ` drawn in order until t_a (a rate of 0 holds the state to the end).
+//! - [`Markov`] (`"markov"`), a continuous-time Markov chain on n velocity levels v_1 … v_n
+//!   (any signs, 0 allowed: a rotary table that stops) with transition rates r_ij [1/s]: the
+//!   initial level drawn from the chain's stationary law π (π Q = 0, Σ π = 1, unique: the
+//!   scenario refuses a chain with more than one closed class), then in level i an exponential
+//!   holding time of rate q_i = Σ_{j≠i} r_ij and the next level j with probability r_ij/q_i. A
+//!   jump between two levels of equal velocity is not a velocity change and is not recorded.
+//! - [`Recorded`] (`"recorded"`): a measured velocity log, `(time, velocity)` rows held until
+//!   the next time, the last to t_a; nothing is drawn.
 //!
-//! Both start per `belt.initial_sign` (±1, or ±1 with probability ½ each, one 64-bit word). With
-//! v_r = v_f and λ_r = λ_f the scenario builds the symmetric belt, drawn by the paper's three
-//! steps, so its realizations are the paper's.
+//! The symmetric and telegraph belts start per `belt.initial_sign` (±1, or ±1 with probability
+//! ½ each, one 64-bit word). With v_r = v_f and λ_r = λ_f the scenario builds the symmetric belt,
+//! drawn by the paper's three steps, so its realizations are the paper's.
+
+use std::sync::Arc;
 
 use rand::Rng;
 use rand_distr::{Distribution, Poisson};
 
 use crate::rng::unit_f64;
 
-/// Initial belt direction of a scenario.
+/// Initial belt direction of a symmetric or telegraph belt.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InitialSign {
     Positive,
@@ -64,20 +77,286 @@ pub struct Telegraph {
     pub reverse_rate: f64,
 }
 
-/// A belt process.
-pub trait BeltProcess {
-    /// Draw the switch instants on [0, `duration`] into `path.switch_times` (the initial sign is
-    /// already in `path`).
-    fn switches_into<R: Rng + ?Sized>(&self, rng: &mut R, duration: f64, path: &mut BeltPath);
-    /// The belt velocities in the forward and the reverse state, `(v_f, v_r)` (both > 0).
-    fn speeds(&self) -> (f64, f64);
-    /// The largest expected number of switches per unit time.
-    fn max_rate(&self) -> f64;
+/// A multi-level Markov belt (module docs), with the tables its draws use.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Markov {
+    /// v_1 … v_n, m/s
+    velocities: Vec<f64>,
+    /// r_ij, 1/s (the diagonal is 0)
+    rates: Vec<Vec<f64>>,
+    /// π, the stationary law
+    stationary: Vec<f64>,
+    /// q_i = Σ_{j≠i} r_ij
+    leave: Vec<f64>,
+    /// per level, the cumulative jump probabilities Σ_{l≤j} r_il/q_i
+    jumps: Vec<Vec<f64>>,
 }
 
-impl BeltProcess for Symmetric {
+/// Most levels of a Markov belt.
+pub const MAX_LEVELS: usize = 64;
+
+impl Markov {
+    /// The chain with `velocities` [m/s] and `rates[i][j]` [1/s] (the diagonal ignored). `Err`
+    /// says what is wrong: a non-square or non-finite table, a negative rate, no unique
+    /// stationary law (more than one closed class of levels).
+    pub fn new(velocities: Vec<f64>, rates: Vec<Vec<f64>>) -> Result<Markov, String> {
+        let n = velocities.len();
+        if n == 0 || n > MAX_LEVELS {
+            return Err(format!("needs 1 to {MAX_LEVELS} levels, has {n}"));
+        }
+        if rates.len() != n || rates.iter().any(|row| row.len() != n) {
+            return Err(format!("belt.rates must be an {n}×{n} matrix (one row per velocity in belt.velocities)"));
+        }
+        let mut rates = rates;
+        for (i, row) in rates.iter_mut().enumerate() {
+            row[i] = 0.0;
+            if let Some(r) = row.iter().find(|r| !(r.is_finite() && **r >= 0.0)) {
+                return Err(format!("belt.rates: row {} holds {r}; rates must be finite and >= 0 (1/s)", i + 1));
+            }
+        }
+        let leave: Vec<f64> = rates.iter().map(|row| row.iter().sum()).collect();
+        let stationary = stationary_law(&rates, &leave)?;
+        let jumps = rates
+            .iter()
+            .zip(&leave)
+            .map(|(row, &q)| {
+                let mut acc = 0.0;
+                row.iter().map(|r| {
+                    acc += r / q;
+                    acc
+                })
+                .collect()
+            })
+            .collect();
+        Ok(Markov { velocities, rates, stationary, leave, jumps })
+    }
+
+    /// v_1 … v_n, m/s.
+    pub fn velocities(&self) -> &[f64] {
+        &self.velocities
+    }
+
+    /// r_ij, 1/s (diagonal 0).
+    pub fn rates(&self) -> &[Vec<f64>] {
+        &self.rates
+    }
+
+    /// π, the stationary law of the levels (the law of the initial level).
+    pub fn stationary(&self) -> &[f64] {
+        &self.stationary
+    }
+
+    /// The level whose cumulative probability first exceeds `u` (the last one for rounding).
+    fn pick(cdf: impl Iterator<Item = f64>, u: f64, n: usize) -> usize {
+        cdf.enumerate().find(|&(_, c)| u < c).map_or(n - 1, |(i, _)| i)
+    }
+
+    fn draw_into<R: Rng + ?Sized>(&self, rng: &mut R, duration: f64, path: &mut BeltPath) {
+        let n = self.velocities.len();
+        let mut acc = 0.0;
+        let mut level = Self::pick(
+            self.stationary.iter().map(|p| {
+                acc += p;
+                acc
+            }),
+            unit_f64(rng),
+            n,
+        );
+        // a transient level has π = 0 and is never picked: the cumulative sum does not rise there
+        path.initial_velocity = self.velocities[level];
+        let mut t = 0.0;
+        loop {
+            let q = self.leave[level];
+            if !(q > 0.0) {
+                return;
+            }
+            t += -(-unit_f64(rng)).ln_1p() / q;
+            if !(t < duration) {
+                return;
+            }
+            let next = Self::pick(self.jumps[level].iter().copied(), unit_f64(rng), n);
+            // (a jump to the level itself has probability 0; rounding may pick the last level)
+            if self.velocities[next] != self.velocities[level] {
+                path.switch_times.push(t);
+                path.velocities.push(self.velocities[next]);
+            }
+            level = next;
+        }
+    }
+}
+
+/// The stationary law of a chain with rates `r` and exit rates `q`: π Q = 0, Σ π = 1 (Gaussian
+/// elimination with partial pivoting on Qᵀ with one equation replaced by the normalization),
+/// after checking that it is unique — exactly one closed class of levels (a class no rate
+/// leaves); the levels outside it are transient and get π = 0.
+fn stationary_law(r: &[Vec<f64>], q: &[f64]) -> Result<Vec<f64>, String> {
+    let n = q.len();
+    // reach[i][j]: level j can be reached from level i (transitive closure, Warshall)
+    let mut reach: Vec<Vec<bool>> = (0..n).map(|i| (0..n).map(|j| i == j || r[i][j] > 0.0).collect()).collect();
+    for k in 0..n {
+        for i in 0..n {
+            if reach[i][k] {
+                for j in 0..n {
+                    if reach[k][j] {
+                        reach[i][j] = true;
+                    }
+                }
+            }
+        }
+    }
+    // a level is recurrent when every level it reaches reaches it back
+    let recurrent: Vec<bool> = (0..n).map(|i| (0..n).all(|j| !reach[i][j] || reach[j][i])).collect();
+    let first = recurrent.iter().position(|&x| x).expect("a finite chain has a closed class");
+    if let Some(other) = (0..n).find(|&j| recurrent[j] && !reach[first][j]) {
+        return Err(format!(
+            "levels {} and {} lie in two closed classes (no rate leads from one to the other), so the chain has no unique stationary law to draw the initial level from",
+            first + 1,
+            other + 1
+        ));
+    }
+    // A π = b: rows 0..n−1 of Qᵀ π = 0 (Q_ji = r_ji, Q_ii = −q_i), the last row Σ π = 1
+    let mut a: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| if i == j { -q[i] } else { r[j][i] }).collect()).collect();
+    let mut b = vec![0.0; n];
+    a[n - 1] = vec![1.0; n];
+    b[n - 1] = 1.0;
+    for col in 0..n {
+        let pivot = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs())).expect("rows left");
+        a.swap(col, pivot);
+        b.swap(col, pivot);
+        let p = a[col][col];
+        if p == 0.0 {
+            return Err("the stationary law of the rate matrix could not be solved".into());
+        }
+        for row in col + 1..n {
+            let f = a[row][col] / p;
+            if f != 0.0 {
+                for k in col..n {
+                    a[row][k] -= f * a[col][k];
+                }
+                b[row] -= f * b[col];
+            }
+        }
+    }
+    let mut pi = vec![0.0; n];
+    for i in (0..n).rev() {
+        let s: f64 = (i + 1..n).map(|k| a[i][k] * pi[k]).sum();
+        pi[i] = (b[i] - s) / a[i][i];
+    }
+    // rounding leaves transient levels at ±1e-17: clamp, and renormalize
+    for (p, rec) in pi.iter_mut().zip(&recurrent) {
+        if !*rec || *p < 0.0 {
+            *p = 0.0;
+        }
+    }
+    let total: f64 = pi.iter().sum();
+    if !(total > 0.0 && total.is_finite()) {
+        return Err("the stationary law of the rate matrix could not be solved".into());
+    }
+    Ok(pi.into_iter().map(|p| p / total).collect())
+}
+
+/// A recorded belt: the velocity `velocities[i]` [m/s] from `times[i]` [s] to the next time
+/// (`times[0] = 0`, increasing), the last to the end of the window.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recorded {
+    times: Vec<f64>,
+    velocities: Vec<f64>,
+}
+
+impl Recorded {
+    /// `Err` names the first bad row (1-based, as a user counts the data rows).
+    pub fn new(times: Vec<f64>, velocities: Vec<f64>) -> Result<Recorded, String> {
+        if times.is_empty() || times.len() != velocities.len() {
+            return Err("needs at least one (time, velocity) row".into());
+        }
+        if times[0] != 0.0 {
+            return Err(format!("the first time must be 0 (s), is {}", times[0]));
+        }
+        for (i, (t, v)) in times.iter().zip(&velocities).enumerate() {
+            if !t.is_finite() || (i > 0 && !(*t > times[i - 1])) {
+                return Err(format!("row {}: time {t} must be finite and greater than the previous time", i + 1));
+            }
+            if !(v.is_finite() && v.abs() <= MAX_SPEED) {
+                return Err(format!("row {}: velocity {v} must be finite and at most {MAX_SPEED:e} m/s in size", i + 1));
+            }
+        }
+        Ok(Recorded { times, velocities })
+    }
+
+    /// The rows `(time, velocity)`.
+    pub fn rows(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.times.iter().copied().zip(self.velocities.iter().copied())
+    }
+
+    fn draw_into(&self, duration: f64, path: &mut BeltPath) {
+        path.initial_velocity = self.velocities[0];
+        for (t, v) in self.rows().skip(1).take_while(|(t, _)| *t < duration) {
+            path.switch_times.push(t);
+            path.velocities.push(v);
+        }
+    }
+}
+
+/// The largest belt speed a process may have, m/s (the range of `belt.speed`).
+pub const MAX_SPEED: f64 = 1e6;
+
+/// The belt of a scenario: its process, its initial sign (symmetric and telegraph belts) and the
+/// window t_a [s].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Belt {
+    pub process: Process,
+    pub initial_sign: InitialSign,
+    pub duration: f64,
+}
+
+/// Which process (see the module docs). The chains' tables are shared, not copied, per
+/// realization.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Process {
+    Symmetric(Symmetric),
+    Telegraph(Telegraph),
+    Markov(Arc<Markov>),
+    Recorded(Arc<Recorded>),
+}
+
+impl Process {
+    /// Its name in a scenario (`belt.process`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Process::Symmetric(_) => "symmetric",
+            Process::Telegraph(_) => "telegraph",
+            Process::Markov(_) => "markov",
+            Process::Recorded(_) => "recorded",
+        }
+    }
+
+    /// The belt's speed scale [m/s], the unit of the severity: the forward speed of the
+    /// symmetric and telegraph belts, the largest |v| of a chain's levels or of a record.
+    pub fn scale(&self) -> f64 {
+        let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        match self {
+            Process::Symmetric(p) => p.speed,
+            Process::Telegraph(p) => p.forward_speed,
+            Process::Markov(m) => largest(&m.velocities),
+            Process::Recorded(r) => largest(&r.velocities),
+        }
+    }
+
+    /// The largest expected number of velocity changes per unit time (a record: its changes
+    /// per unit time over the window, from `duration`).
+    pub fn max_rate(&self, duration: f64) -> f64 {
+        match self {
+            Process::Symmetric(p) => p.switch_rate,
+            Process::Telegraph(p) => p.forward_rate.max(p.reverse_rate),
+            Process::Markov(m) => m.leave.iter().fold(0.0, |a: f64, &b| a.max(b)),
+            Process::Recorded(r) => r.times.iter().filter(|t| **t < duration).count() as f64 / duration,
+        }
+    }
+}
+
+impl Symmetric {
     /// The paper's steps 1–3 (rand_distr's Poisson, then Q 53-bit uniforms, sorted).
-    fn switches_into<R: Rng + ?Sized>(&self, rng: &mut R, duration: f64, path: &mut BeltPath) {
+    fn draw_into<R: Rng + ?Sized>(&self, rng: &mut R, duration: f64, path: &mut BeltPath) {
         let mean = self.switch_rate * duration;
         if mean > 0.0 {
             // The scenario validation bounds λ t_a, so the cast is exact.
@@ -85,23 +364,18 @@ impl BeltProcess for Symmetric {
             path.switch_times.extend((0..q).map(|_| unit_f64(rng) * duration));
             // The instants are ≥ 0, and non-negative doubles order like their bit patterns.
             path.switch_times.sort_unstable_by_key(|t| t.to_bits());
+            let v = path.initial_velocity;
+            path.velocities.extend((1..=q).map(|k| if k % 2 == 1 { -v } else { v }));
         }
-    }
-
-    fn speeds(&self) -> (f64, f64) {
-        (self.speed, self.speed)
-    }
-
-    fn max_rate(&self) -> f64 {
-        self.switch_rate
     }
 }
 
-impl BeltProcess for Telegraph {
-    fn switches_into<R: Rng + ?Sized>(&self, rng: &mut R, duration: f64, path: &mut BeltPath) {
-        let (mut sign, mut t) = (path.initial_sign, 0.0);
+impl Telegraph {
+    fn draw_into<R: Rng + ?Sized>(&self, rng: &mut R, duration: f64, path: &mut BeltPath) {
+        let mut t = 0.0;
+        let mut forward = path.initial_velocity > 0.0;
         loop {
-            let rate = if sign > 0.0 { self.forward_rate } else { self.reverse_rate };
+            let rate = if forward { self.forward_rate } else { self.reverse_rate };
             if !(rate > 0.0) {
                 return;
             }
@@ -109,94 +383,95 @@ impl BeltProcess for Telegraph {
             if !(t < duration) {
                 return;
             }
+            forward = !forward;
             path.switch_times.push(t);
-            sign = -sign;
+            path.velocities.push(if forward { self.forward_speed } else { -self.reverse_speed });
         }
     }
-
-    fn speeds(&self) -> (f64, f64) {
-        (self.forward_speed, self.reverse_speed)
-    }
-
-    fn max_rate(&self) -> f64 {
-        self.forward_rate.max(self.reverse_rate)
-    }
-}
-
-/// The belt of a scenario: its process, its initial sign and the window t_a [s].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Belt {
-    pub process: Process,
-    pub initial_sign: InitialSign,
-    pub duration: f64,
-}
-
-/// Which process (see the module docs).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Process {
-    Symmetric(Symmetric),
-    Telegraph(Telegraph),
 }
 
 impl Belt {
-    /// Draw a belt path, reusing `path`'s buffer. Draw order (fixed, part of the reproducibility
-    /// contract): the initial sign (only when `Random`: one 64-bit word), then the process's draws.
+    /// Draw a belt path, reusing `path`'s buffers. Draw order (fixed, part of the reproducibility
+    /// contract): for the symmetric and telegraph belts the initial sign (only when `Random`:
+    /// one 64-bit word), then the process's draws.
     pub fn sample_into<R: Rng + ?Sized>(&self, rng: &mut R, path: &mut BeltPath) {
-        path.initial_sign = self.initial_sign.draw(rng);
         path.switch_times.clear();
+        path.velocities.clear();
         match &self.process {
-            Process::Symmetric(p) => p.switches_into(rng, self.duration, path),
-            Process::Telegraph(p) => p.switches_into(rng, self.duration, path),
+            Process::Symmetric(p) => {
+                path.initial_velocity = self.initial_sign.draw(rng) * p.speed;
+                p.draw_into(rng, self.duration, path)
+            }
+            Process::Telegraph(p) => {
+                let sign = self.initial_sign.draw(rng);
+                path.initial_velocity = if sign > 0.0 { p.forward_speed } else { -p.reverse_speed };
+                p.draw_into(rng, self.duration, path)
+            }
+            Process::Markov(m) => m.draw_into(rng, self.duration, path),
+            Process::Recorded(r) => r.draw_into(self.duration, path),
         }
     }
 
-    /// `(v_f, v_r)`.
-    pub fn speeds(&self) -> (f64, f64) {
-        match &self.process {
-            Process::Symmetric(p) => p.speeds(),
-            Process::Telegraph(p) => p.speeds(),
-        }
+    /// The belt's speed scale, m/s ([`Process::scale`]).
+    pub fn scale(&self) -> f64 {
+        self.process.scale()
     }
 
-    /// Expected switches per realization at the faster rate.
+    /// Expected velocity changes per realization at the fastest rate.
     pub fn expected_switches(&self) -> f64 {
-        let rate = match &self.process {
-            Process::Symmetric(p) => p.max_rate(),
-            Process::Telegraph(p) => p.max_rate(),
-        };
-        rate * self.duration
+        self.process.max_rate(self.duration) * self.duration
     }
 }
 
 /// One realization of the belt on [0, t_a], as drawn.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct BeltPath {
-    /// Sign of the belt velocity at t = 0⁺ (before any switch at t = 0 is applied), ±1.
-    pub initial_sign: f64,
-    /// Y_1 ≤ … ≤ Y_Q, the sorted switch instants as drawn (Q = `switch_times.len()`).
+    /// The belt velocity at t = 0⁺ before any change at exactly t = 0, m/s.
+    pub initial_velocity: f64,
+    /// Y_1 ≤ … ≤ Y_Q, the instants of the velocity changes as drawn (Q = `switch_times.len()`).
     pub switch_times: Vec<f64>,
+    /// The velocity after each change, m/s (Q values).
+    pub velocities: Vec<f64>,
 }
 
 impl BeltPath {
-    /// The velocity segments a solver sees: the switch instants in (0, t_a) with a switch at
-    /// exactly t = 0 folded into the initial state and coincident pairs removed (they cancel),
-    /// into `switches`; the velocity of each of the `switches.len() + 1` segments into
-    /// `velocities` (+v_f in the forward state, −v_r in the reverse one).
-    pub fn segments(&self, (forward, reverse): (f64, f64), switches: &mut Vec<f64>, velocities: &mut Vec<f64>) {
+    /// The sign of the initial velocity (the dataset's `initial_sign`: ±1, 0 for a belt at rest).
+    pub fn initial_sign(&self) -> i32 {
+        if self.initial_velocity > 0.0 {
+            1
+        } else if self.initial_velocity < 0.0 {
+            -1
+        } else {
+            0
+        }
+    }
+
+    /// The velocity segments a solver sees: the changes in (0, t_a), with changes at exactly
+    /// t = 0 folded into the initial velocity and changes at one instant composed (the last
+    /// velocity holds; none at all if it is the velocity before them, as two flips of the
+    /// symmetric belt cancel), into `switches`; the velocity of each of the `switches.len() + 1`
+    /// segments into `velocities`. Consecutive segments always differ in velocity.
+    pub fn segments(&self, switches: &mut Vec<f64>, velocities: &mut Vec<f64>) {
         switches.clear();
         velocities.clear();
-        let mut sign = self.initial_sign;
-        for &t in &self.switch_times {
+        velocities.push(self.initial_velocity);
+        for (&t, &v) in self.switch_times.iter().zip(&self.velocities) {
+            let n = velocities.len();
             if t <= 0.0 {
-                sign = -sign;
+                velocities[0] = v;
             } else if switches.last() == Some(&t) {
-                switches.pop();
-            } else {
+                // a second change at the same instant: it replaces the first
+                if velocities[n - 2] == v {
+                    switches.pop();
+                    velocities.pop();
+                } else {
+                    velocities[n - 1] = v;
+                }
+            } else if velocities[n - 1] != v {
                 switches.push(t);
+                velocities.push(v);
             }
         }
-        let (v0, v1) = if sign > 0.0 { (forward, -reverse) } else { (-reverse, forward) };
-        velocities.extend((0..=switches.len()).map(|k| if k % 2 == 0 { v0 } else { v1 }));
     }
 }
 
@@ -207,11 +482,16 @@ mod tests {
 
     #[test]
     fn coincident_and_initial_switches_are_folded() {
-        let p = BeltPath { initial_sign: 1.0, switch_times: vec![0.0, 1.0, 2.0, 2.0, 2.0, 3.0] };
+        // a telegraph belt (+1, −0.5) starting forward, flipped at 0, 1, three times at 2, and 3
+        let p = BeltPath { initial_velocity: 1.0, switch_times: vec![0.0, 1.0, 2.0, 2.0, 2.0, 3.0], velocities: vec![-0.5, 1.0, -0.5, 1.0, -0.5, 1.0] };
         let (mut sw, mut v) = (Vec::new(), Vec::new());
-        p.segments((1.0, 0.5), &mut sw, &mut v);
+        p.segments(&mut sw, &mut v);
         assert_eq!(sw, vec![1.0, 2.0, 3.0]);
         assert_eq!(v, vec![-0.5, 1.0, -0.5, 1.0]);
+        // three levels: changes at one instant compose; a change back to the same velocity is none
+        let p = BeltPath { initial_velocity: 1.0, switch_times: vec![1.0, 1.0, 2.0, 2.0], velocities: vec![0.0, -1.0, 0.0, -1.0] };
+        p.segments(&mut sw, &mut v);
+        assert_eq!((sw.as_slice(), v.as_slice()), (&[1.0][..], &[1.0, -1.0][..]));
     }
 
     #[test]
@@ -231,5 +511,60 @@ mod tests {
         let frac = forward / belt.duration;
         // ~7,500 cycles: the standard error of the fraction is below 0.005
         assert!((frac - 0.75).abs() < 0.02, "forward fraction {frac}");
+    }
+
+    /// A chain stopping between the two directions: +1 → 0 at 2/s, 0 → ±1 at 1/s each, −1 → 0
+    /// at 4/s. Balance (π Q = 0) by hand: 2 π₊ = π₀ = 4 π₋ → π = (2, 4, 1)/7.
+    fn stopping_table() -> Markov {
+        Markov::new(vec![1.0, 0.0, -1.0], vec![vec![0.0, 2.0, 0.0], vec![1.0, 0.0, 1.0], vec![0.0, 4.0, 0.0]]).unwrap()
+    }
+
+    #[test]
+    fn markov_stationary_law_and_time_fractions() {
+        let m = stopping_table();
+        for (got, want) in m.stationary().iter().zip([2.0 / 7.0, 4.0 / 7.0, 1.0 / 7.0]) {
+            assert!((got - want).abs() < 1e-15, "{:?}", m.stationary());
+        }
+        // one long path: the time at each level tends to π (about 14,000 holding times: the
+        // standard errors of the fractions are below 0.006)
+        let belt = Belt { process: Process::Markov(Arc::new(m)), initial_sign: InitialSign::Positive, duration: 20_000.0 };
+        let mut path = BeltPath::default();
+        belt.sample_into(&mut realization_rng(4, 0), &mut path);
+        let (mut sw, mut v) = (Vec::new(), Vec::new());
+        path.segments(&mut sw, &mut v);
+        let mut edges = vec![0.0];
+        edges.extend(&sw);
+        edges.push(belt.duration);
+        for (level, want) in [(1.0, 2.0 / 7.0), (0.0, 4.0 / 7.0), (-1.0, 1.0 / 7.0)] {
+            let time: f64 = edges.windows(2).zip(&v).filter(|(_, x)| **x == level).map(|(w, _)| w[1] - w[0]).sum();
+            assert!((time / belt.duration - want).abs() < 0.03, "level {level}: {} vs {want}", time / belt.duration);
+        }
+        // every change is a change of velocity, and the chain only steps through 0
+        assert!(v.windows(2).all(|w| w[0] != w[1] && (w[0] == 0.0 || w[1] == 0.0)));
+    }
+
+    #[test]
+    fn markov_chains_without_a_unique_stationary_law_are_refused() {
+        // two absorbing levels
+        let e = Markov::new(vec![1.0, 0.0, -1.0], vec![vec![0.0, 0.0, 0.0], vec![1.0, 0.0, 1.0], vec![0.0, 0.0, 0.0]]).unwrap_err();
+        assert!(e.contains("two closed classes"), "{e}");
+        assert!(Markov::new(vec![1.0, 2.0], vec![vec![0.0, -1.0], vec![1.0, 0.0]]).unwrap_err().contains(">= 0"));
+        assert!(Markov::new(vec![1.0, 2.0], vec![vec![0.0, 1.0]]).unwrap_err().contains("2×2"));
+        // a transient level gets π = 0; one absorbing level has π = 1; one level is a constant belt
+        let m = Markov::new(vec![1.0, -1.0], vec![vec![0.0, 3.0], vec![0.0, 0.0]]).unwrap();
+        assert_eq!(m.stationary(), &[0.0, 1.0]);
+        assert_eq!(Markov::new(vec![0.5], vec![vec![7.0]]).unwrap().stationary(), &[1.0]);
+    }
+
+    #[test]
+    fn a_recorded_belt_holds_each_velocity_until_the_next_time() {
+        let r = Recorded::new(vec![0.0, 1.0, 2.5, 20.0], vec![1.0, 0.0, -0.5, 2.0]).unwrap();
+        let belt = Belt { process: Process::Recorded(Arc::new(r)), initial_sign: InitialSign::Positive, duration: 10.0 };
+        let mut path = BeltPath::default();
+        belt.sample_into(&mut realization_rng(1, 0), &mut path);
+        assert_eq!(path, BeltPath { initial_velocity: 1.0, switch_times: vec![1.0, 2.5], velocities: vec![0.0, -0.5] });
+        assert!(Recorded::new(vec![0.5], vec![1.0]).unwrap_err().contains("first time must be 0"));
+        assert!(Recorded::new(vec![0.0, 1.0, 1.0], vec![1.0, 2.0, 3.0]).unwrap_err().contains("row 3"));
+        assert!(Recorded::new(vec![0.0, 1.0], vec![1.0, f64::NAN]).unwrap_err().contains("row 2"));
     }
 }

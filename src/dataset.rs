@@ -2,7 +2,9 @@
 //!
 //! Layout: `DIR/part-IIIII-of-NNNNN.parquet`, one file per shard, rows sorted by the global
 //! `realization` index. Columns (see `CONTRACT.md`): `realization` int64, `x0`, `xdot0` float64,
-//! `initial_sign` int32 (belt sign at t = 0), `n_switches` int64 (Q), `n_stick`, `n_slip` int64
+//! `initial_sign` int32 (belt sign at t = 0⁺: ±1, 0 for a belt at rest), `initial_velocity`
+//! float64 (m/s, the belt velocity at t = 0⁺; added in v3 with the belt processes),
+//! `n_switches` int64 (Q, the belt's velocity changes), `n_stick`, `n_slip` int64
 //! (S_T, S_L; schema v2 — v1 had int32 counts), `stick_start`, `stick_duration`, `slip_start`, `slip_duration` list<float64>
 //! (T, D, L, H; non-null lists, `[]` when empty), `last_truncated` bool; schema v3 adds the tails'
 //! state: `stick_end` list<utf8> (`flip`, `breakaway`, `horizon` per stick),
@@ -10,7 +12,8 @@
 //! each stick's start), `longest_stick`, `stick_fraction`, `min_velocity`, `max_velocity`,
 //! `max_slip_speed`, `severity` float64 (s, 1, m/s, 1; [`crate::events::Record`]); then
 //! `switch_times`
-//! list<float64> (Y) only when the scenario asks for it, then one float64 column per random scene
+//! list<float64> (Y) and `switch_velocities` list<float64> (m/s, the velocity after each change)
+//! only when the scenario asks for them, then one float64 column per random scene
 //! key, named after the key's last component (e.g. `friction_coefficient`), with the value drawn
 //! for the realization.
 //!
@@ -62,6 +65,8 @@ pub mod columns {
     pub const SLIP_START: &str = "slip_start";
     pub const SLIP_DURATION: &str = "slip_duration";
     pub const SWITCH_TIMES: &str = "switch_times";
+    pub const SWITCH_VELOCITIES: &str = "switch_velocities";
+    pub const INITIAL_VELOCITY: &str = "initial_velocity";
     pub const STICK_END: &str = "stick_end";
     pub const STICK_ENTRY_POSITION: &str = "stick_entry_position";
     pub const STICK_ENTRY_VELOCITY: &str = "stick_entry_velocity";
@@ -121,6 +126,7 @@ pub fn schema(layout: &Layout) -> SchemaRef {
         Field::new("x0", DataType::Float64, false),
         Field::new("xdot0", DataType::Float64, false),
         Field::new("initial_sign", DataType::Int32, false),
+        Field::new(columns::INITIAL_VELOCITY, DataType::Float64, false),
         Field::new("n_switches", DataType::Int64, false),
         Field::new("n_stick", DataType::Int64, false),
         Field::new("n_slip", DataType::Int64, false),
@@ -132,6 +138,7 @@ pub fn schema(layout: &Layout) -> SchemaRef {
     fields.extend(columns::TAIL_SCALARS.iter().map(|name| Field::new(*name, DataType::Float64, false)));
     if layout.switch_times {
         fields.push(list_field("switch_times"));
+        fields.push(list_field(columns::SWITCH_VELOCITIES));
     }
     fields.extend(layout.drawn.iter().map(|name| Field::new(*name, DataType::Float64, false)));
     Arc::new(Schema::new(fields))
@@ -172,6 +179,7 @@ pub struct Rows {
     x0: Vec<f64>,
     xdot0: Vec<f64>,
     initial_sign: Vec<i32>,
+    initial_velocity: Vec<f64>,
     n_switches: Vec<i64>,
     n_stick: Vec<i64>,
     n_slip: Vec<i64>,
@@ -181,7 +189,8 @@ pub struct Rows {
     stick_end: (Vec<i32>, Vec<u8>),
     stick_lists: [ListColumn; 2],
     tail_scalars: [Vec<f64>; 6],
-    switch_times: Option<ListColumn>,
+    /// `switch_times` and `switch_velocities`
+    switch_times: Option<[ListColumn; 2]>,
     drawn: Vec<Vec<f64>>,
 }
 
@@ -193,6 +202,7 @@ impl Rows {
             x0: Vec::new(),
             xdot0: Vec::new(),
             initial_sign: Vec::new(),
+            initial_velocity: Vec::new(),
             n_switches: Vec::new(),
             n_stick: Vec::new(),
             n_slip: Vec::new(),
@@ -201,7 +211,7 @@ impl Rows {
             stick_end: (vec![0], Vec::new()),
             stick_lists: std::array::from_fn(|_| ListColumn::new()),
             tail_scalars: std::array::from_fn(|_| Vec::new()),
-            switch_times: with_switch_times.then(ListColumn::new),
+            switch_times: with_switch_times.then(|| [ListColumn::new(), ListColumn::new()]),
             drawn: vec![Vec::new(); drawn],
         }
     }
@@ -226,7 +236,8 @@ impl Rows {
         self.realization.push(index as i64);
         self.x0.push(x0);
         self.xdot0.push(xdot0);
-        self.initial_sign.push(belt.initial_sign as i32);
+        self.initial_sign.push(belt.initial_sign());
+        self.initial_velocity.push(belt.initial_velocity);
         self.n_switches.push(count(belt.switch_times.len()));
         self.n_stick.push(count(rec.n_stick()));
         self.n_slip.push(count(rec.n_slip()));
@@ -239,12 +250,13 @@ impl Rows {
         self.stick_lists[0].push(&rec.stick_entry_position);
         self.stick_lists[1].push(&rec.stick_entry_velocity);
         let t_a = out.t_a;
-        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed, rec.severity(out.forward_speed)];
+        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed, rec.severity(out.speed_scale)];
         for (col, x) in self.tail_scalars.iter_mut().zip(tails) {
             col.push(x);
         }
-        if let Some(col) = &mut self.switch_times {
-            col.push(&belt.switch_times);
+        if let Some([times, velocities]) = &mut self.switch_times {
+            times.push(&belt.switch_times);
+            velocities.push(&belt.velocities);
         }
         for (col, &x) in self.drawn.iter_mut().zip(&out.drawn) {
             col.push(x);
@@ -259,6 +271,7 @@ impl Rows {
             Arc::new(Float64Array::from(self.x0)),
             Arc::new(Float64Array::from(self.xdot0)),
             Arc::new(Int32Array::from(self.initial_sign)),
+            Arc::new(Float64Array::from(self.initial_velocity)),
             Arc::new(Int64Array::from(self.n_switches)),
             Arc::new(Int64Array::from(self.n_stick)),
             Arc::new(Int64Array::from(self.n_slip)),
@@ -271,7 +284,7 @@ impl Rows {
         columns.push(Arc::new(ListArray::new(field, OffsetBuffer::new(ScalarBuffer::from(offsets)), Arc::new(names), None)));
         columns.extend(self.stick_lists.into_iter().map(ListColumn::into_array));
         columns.extend(self.tail_scalars.into_iter().map(|v| Arc::new(Float64Array::from(v)) as ArrayRef));
-        columns.extend(self.switch_times.map(ListColumn::into_array));
+        columns.extend(self.switch_times.into_iter().flatten().map(ListColumn::into_array));
         columns.extend(self.drawn.into_iter().map(|v| Arc::new(Float64Array::from(v)) as ArrayRef));
         RecordBatch::try_new(schema, columns).expect("columns match the schema")
     }

@@ -40,8 +40,9 @@ pub struct Outcome {
     pub steps: u64,
     /// the window t_a, s
     pub t_a: f64,
-    /// the forward belt speed v0 (drawn, when it is random), m/s: the severity's scale
-    pub forward_speed: f64,
+    /// the belt's speed scale (drawn, when it is random), m/s: the severity's unit
+    /// ([`crate::belt::Process::scale`])
+    pub speed_scale: f64,
     switches: Vec<f64>,
     velocities: Vec<f64>,
 }
@@ -123,12 +124,21 @@ impl Ensemble {
         let uniform = |r: [f64; 2], u: f64| r[0] + (r[1] - r[0]) * u;
         out.x0 = uniform(self.position, unit_f64(&mut rng));
         out.xdot0 = uniform(self.velocity, unit_f64(&mut rng));
-        let (mut physics, mut belt) = (self.physics, self.scene.belt);
+        let mut physics = self.physics;
+        // the scene's belt, or a copy with drawn keys (a chain's tables are shared, not copied)
+        let drawn_belt;
+        let mut belt = &self.scene.belt;
         out.params = self.scene.params;
         if !self.scene.random.is_empty() {
-            if let Err(key) = self.scene.draw(self.seed, |j| params_from.get(j).copied().unwrap_or(index), &mut out.params, &mut belt, &mut out.drawn) {
-                let drawn = format!("{}: 10,000 draws in a row outside its range", key.dotted());
-                return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
+            match self.scene.draw(self.seed, |j| params_from.get(j).copied().unwrap_or(index), &mut out.params, &mut out.drawn) {
+                Ok(b) => {
+                    drawn_belt = b;
+                    belt = &drawn_belt;
+                }
+                Err(key) => {
+                    let drawn = format!("{}: 10,000 draws in a row outside its range", key.dotted());
+                    return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
+                }
             }
             physics = out.params.per_unit_mass();
             if ![physics.omega2, physics.gamma, physics.viscous, physics.kinetic, physics.breakaway].iter().all(|x| x.is_finite()) {
@@ -148,7 +158,7 @@ impl Ensemble {
             }
         }
         belt.sample_into(&mut rng, &mut out.belt);
-        out.belt.segments(belt.speeds(), &mut out.switches, &mut out.velocities);
+        out.belt.segments(&mut out.switches, &mut out.velocities);
         let drive = Drive { velocities: &out.velocities, switches: &out.switches, t_end: belt.duration };
         out.record.clear();
         out.steps = self
@@ -156,7 +166,7 @@ impl Ensemble {
             .solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);
-        (out.t_a, out.forward_speed) = (belt.duration, belt.speeds().0);
+        (out.t_a, out.speed_scale) = (belt.duration, belt.scale());
         Ok(())
     }
 

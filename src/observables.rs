@@ -246,7 +246,7 @@ impl Observable {
             Observable::MeanStickDuration => mean(&r.stick_duration, true),
             Observable::MeanSlipDuration => mean(&r.slip_duration, false),
             Observable::LongestStick => Some(r.longest_stick()),
-            Observable::Severity => Some(r.severity(o.forward_speed)),
+            Observable::Severity => Some(r.severity(o.speed_scale)),
             Observable::Breakaways => Some(r.stick_end.iter().filter(|e| **e == StickEnd::Breakaway).count() as f64),
         }
     }
@@ -403,7 +403,7 @@ mod tests {
 
     fn outcome(record: Record, switch_times: &[f64], t_a: f64) -> Outcome {
         let mut o = Outcome::default();
-        (o.record, o.t_a, o.forward_speed) = (record, t_a, 1.0);
+        (o.record, o.t_a, o.speed_scale) = (record, t_a, 1.0);
         o.belt.switch_times = switch_times.to_vec();
         o
     }

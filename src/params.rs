@@ -273,13 +273,13 @@ impl Scene {
         self.random.iter().map(|(k, _)| k.name()).collect()
     }
 
-    /// Draw the random keys into `params`, `belt` (reset to the fixed scene first) and `values`
-    /// (in [`Scene::columns`] order): key j from its sub-stream of realization `index(j)` (one
-    /// index for all in a plain run; a pick-freeze design mixes them).
+    /// Draw the random keys into `params` (reset to the fixed scene first), `values` (in
+    /// [`Scene::columns`] order) and the belt it returns: key j from its sub-stream of
+    /// realization `index(j)` (one index for all in a plain run; a pick-freeze design mixes them).
     /// `Err(key)`: the key's law put 10,000 draws in a row outside its range (see [`Dist::sample`]).
-    pub fn draw(&self, seed: u64, index: impl Fn(usize) -> u64, params: &mut Params, belt: &mut Belt, values: &mut Vec<f64>) -> Result<(), Key> {
+    pub fn draw(&self, seed: u64, index: impl Fn(usize) -> u64, params: &mut Params, values: &mut Vec<f64>) -> Result<Belt, Key> {
         *params = self.params;
-        *belt = self.belt;
+        let mut belt = self.belt.clone();
         values.clear();
         for (j, &(key, dist)) in self.random.iter().enumerate() {
             let x = dist.sample(&mut substream(seed, index(j), key.purpose()), key.range()).ok_or(key)?;
@@ -313,10 +313,12 @@ impl Scene {
                 (Key::SwitchRate, Process::Telegraph(p)) => p.forward_rate = x,
                 (Key::ReverseSpeed, Process::Telegraph(p)) => p.reverse_speed = x,
                 (Key::ReverseSwitchRate, Process::Telegraph(p)) => p.reverse_rate = x,
-                (Key::ReverseSpeed | Key::ReverseSwitchRate, Process::Symmetric(_)) => {}
+                // (the scenario refuses a key the belt's process does not use)
+                (Key::ReverseSpeed | Key::ReverseSwitchRate, Process::Symmetric(_))
+                | (Key::Speed | Key::SwitchRate | Key::ReverseSpeed | Key::ReverseSwitchRate, Process::Markov(_) | Process::Recorded(_)) => {}
             }
         }
-        Ok(())
+        Ok(belt)
     }
 }
 

@@ -60,6 +60,7 @@ use std::collections::HashMap;
 use super::input::{scan, scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
 use crate::belt::Process;
+use crate::scenario::ProcessName;
 use crate::dataset::columns as name;
 use crate::physics::Physics;
 
@@ -349,25 +350,30 @@ fn longest(data: &Dataset) -> PolarsResult<f64> {
     Ok(df.column(name::LONGEST_STICK)?.f64()?.get(0).unwrap_or(0.0))
 }
 
-/// The scene of the conditional estimator, or why it does not hold for this dataset.
-fn conditional_scene(data: &Dataset) -> Result<crate::params::Scene, String> {
+/// The scene of the conditional estimator with its belt's flip rates (λ forward, λ reverse) and
+/// speeds (v_f, v_r), or why it does not hold for this dataset.
+fn conditional_scene(data: &Dataset) -> Result<(crate::params::Scene, BeltRates), String> {
     if !data.tails_state {
         return Err("the dataset has no stick entry state (schema v1 or v2): simulate it again with this version".into());
+    }
+    let name = data.scenario.process_name();
+    if !matches!(name, ProcessName::Symmetric | ProcessName::Telegraph) {
+        return Err(format!("the belt is \"{}\", not a two-state flip process (symmetric or telegraph)", name.as_str()));
     }
     let scene = data.scenario.scene().map_err(|e| format!("its scene cannot be rebuilt: {e}"))?;
     if !scene.random.is_empty() {
         return Err("parameters are drawn per realization, so the holding time d_s(x) differs between realizations".into());
     }
-    Ok(scene)
-}
-
-/// The flip rates (λ forward, λ reverse) and speeds (v_f, v_r) of the belt.
-fn belt_rates(process: &Process) -> ((f64, f64), (f64, f64)) {
-    match process {
+    let rates = match &scene.belt.process {
         Process::Symmetric(s) => ((s.switch_rate, s.switch_rate), (s.speed, s.speed)),
         Process::Telegraph(t) => ((t.forward_rate, t.reverse_rate), (t.forward_speed, t.reverse_speed)),
-    }
+        other => return Err(format!("the belt is \"{}\", not a two-state flip process", other.name())),
+    };
+    Ok((scene, rates))
 }
+
+/// The flip rates (λ forward, λ reverse) and speeds (v_f, v_r) of a two-state belt.
+type BeltRates = ((f64, f64), (f64, f64));
 
 /// The tails of one dataset (module docs): one streaming pass over the part files feeding every
 /// count, then the curves from the counts.
@@ -397,9 +403,8 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
             // the estimate on fine cells (groups pooled), the leave-one-group-out curves on coarse ones
             plans.push(count_plan(base.clone().select([lit(0i64).alias(G), col(K), cell(rho, &times), col(FLAG)]), max_index));
             plans.push(count_plan(base.clone().select([col(G), col(K), cell(rho * COARSE as f64, &times), col(FLAG)]), max_index));
-            if let (true, Ok(scene), Some(grid)) = (entries, &scene, &entry_grid) {
-                let (_, speeds) = belt_rates(&scene.belt.process);
-                plans.push(entry_plan(base, scene.params.per_unit_mass(), speeds, max_index, grid.iter().map(|g| g.0).collect()));
+            if let (true, Ok((scene, (_, speeds))), Some(grid)) = (entries, &scene, &entry_grid) {
+                plans.push(entry_plan(base, scene.params.per_unit_mass(), *speeds, max_index, grid.iter().map(|g| g.0).collect()));
             }
         }
         let counted = plans.len();
@@ -448,8 +453,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
                 out.curves.push(Curve { variable, index, method, n, censored: n_censored, points });
             }
         }
-        if let (true, Some(grid), Ok(scene)) = (stick, &entry_grid, &scene) {
-            let (rates, _) = belt_rates(&scene.belt.process);
+        if let (true, Some(grid), Ok((_, (rates, _)))) = (stick, &entry_grid, &scene) {
             let e = next()?;
             // held past grid[j].t exactly when the bin exceeds j (`holding_bin`)
             let bins: Vec<(f64, i64)> = grid.iter().enumerate().map(|(j, g)| (g.0, j as i64 + 1)).collect();
@@ -459,7 +463,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
                     continue;
                 }
                 let n = kept.iter().map(|r| r.4).sum();
-                let estimator = move |cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]| conditional(cells, counts, at, rates);
+                let estimator = move |cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]| conditional(cells, counts, at, *rates);
                 let points = curve((&kept, &bins), (&kept, &bins), estimator, LN);
                 out.curves.push(Curve { variable, index, method: "conditional", n, censored: 0, points });
             }

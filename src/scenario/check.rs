@@ -5,7 +5,7 @@ use super::{
     invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS,
     MAX_NATURAL_RADIANS_NUMERICAL, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES,
 };
-use crate::belt::{Belt, Process, Symmetric, Telegraph};
+use crate::belt::{Belt, Process};
 use crate::params::{Key, Scene};
 use crate::physics::{FrictionLaw, Law, Params, Stribeck};
 use crate::solver::SolverKind;
@@ -53,33 +53,8 @@ impl Scenario {
                 }),
             },
         };
-        let b = &self.belt;
-        let (speed, rate) = (value(&b.speed), value(&b.switch_rate));
-        let symmetric = match (&b.reverse_speed, &b.reverse_switch_rate) {
-            (None, None) => true,
-            // equal fixed values are the paper's belt, drawn by the paper's steps
-            (Some(Param::Value(rs)), Some(Param::Value(rr))) => b.speed == Param::Value(*rs) && b.switch_rate == Param::Value(*rr),
-            (Some(_), Some(_)) => false,
-            (Some(_), None) | (None, Some(_)) => {
-                let (k, other) = if b.reverse_speed.is_some() {
-                    ("belt.reverse_speed", "belt.reverse_switch_rate")
-                } else {
-                    ("belt.reverse_switch_rate", "belt.reverse_speed")
-                };
-                return Err(invalid(k, "(set)", &format!("the asymmetric belt needs {other} too (give both, or neither for the paper's symmetric belt)")));
-            }
-        };
-        let process = if symmetric {
-            Process::Symmetric(Symmetric { speed, switch_rate: rate })
-        } else {
-            Process::Telegraph(Telegraph {
-                forward_speed: speed,
-                forward_rate: rate,
-                reverse_speed: b.reverse_speed.as_ref().map_or(speed, value),
-                reverse_rate: b.reverse_switch_rate.as_ref().map_or(rate, value),
-            })
-        };
-        let belt = Belt { process, initial_sign: b.initial_sign.0, duration: self.run.duration };
+        let process = self.process(value)?;
+        let belt = Belt { process, initial_sign: self.belt.initial_sign.0, duration: self.run.duration };
         let random = Key::ALL
             .into_iter()
             .filter_map(|k| match self.param(k) {
@@ -93,9 +68,12 @@ impl Scenario {
     /// The mean λ t_a of the Poisson number of belt switches: the paper's symmetric belt at a
     /// fixed rate only (None otherwise).
     pub fn poisson_mean(&self) -> Option<f64> {
+        if self.process_name() != super::ProcessName::Symmetric {
+            return None;
+        }
         let scene = self.scene().ok()?;
         let random_rate = scene.random.iter().any(|(k, _)| *k == Key::SwitchRate);
-        match scene.belt.process {
+        match &scene.belt.process {
             Process::Symmetric(p) if !random_rate => Some(p.switch_rate * self.run.duration),
             _ => None,
         }
@@ -200,7 +178,8 @@ impl Scenario {
     /// they are finite (a draw of an unbounded law that still overflows a ratio is refused per
     /// realization, naming it).
     fn check_derived(&self) -> Result<(), ScenarioError> {
-        self.scene()?;
+        let scene = self.scene()?;
+        self.check_belt_changes(&scene.belt.process)?;
         let bounded = |p: &Param| {
             let (lo, hi) = support(p);
             let mean = match p {

@@ -23,11 +23,12 @@ use toml::{Table, Value};
 use crate::params::Key;
 pub use crate::solver::Numerics;
 
+mod belt;
 mod check;
 mod spec;
 
 pub use check::fastest_rate;
-pub use spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, Run, Sign};
+pub use spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, ProcessName, Run, Sign};
 
 /// The paper scenario, embedded: the default of every key.
 pub const PAPER_TOML: &str = include_str!("../../pipelines/paper.toml");

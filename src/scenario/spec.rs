@@ -100,10 +100,24 @@ impl<'de> Deserialize<'de> for Sign {
     }
 }
 
+/// `belt.process`: which belt process (absent: inferred, symmetric unless the `reverse_*`
+/// keys make it a telegraph belt).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ProcessName {
+    Symmetric,
+    Telegraph,
+    Markov,
+    Recorded,
+}
+
 /// `[belt]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BeltSpec {
+    /// absent: symmetric, or telegraph when both `reverse_*` keys are given
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub process: Option<ProcessName>,
     /// v0 = v_f, m/s, > 0
     pub speed: Param,
     /// λ = λ_f, 1/s, ≥ 0
@@ -115,6 +129,15 @@ pub struct BeltSpec {
     /// λ_r, 1/s, ≥ 0
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reverse_switch_rate: Option<Param>,
+    /// the levels of a Markov belt, m/s
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocities: Option<Vec<f64>>,
+    /// the transition rates of a Markov belt, 1/s (n×n, diagonal ignored)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rates: Option<Vec<Vec<f64>>>,
+    /// the velocity log of a recorded belt: CSV or Parquet with columns `time`, `velocity`
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
 }
 
 /// `[initial_conditions]`: uniform ranges [lo, hi].

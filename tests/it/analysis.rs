@@ -96,8 +96,8 @@ fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
         let t1 = -(1.0 - (i as f64 + 0.5) / n as f64).ln();
         x.push(t1);
         let mut o = Outcome::default();
-        o.belt.initial_sign = 1.0;
-        o.forward_speed = 1.0;
+        o.belt.initial_velocity = 1.0;
+        o.speed_scale = 1.0;
         let r = &mut o.record;
         (r.min_velocity, r.max_velocity) = (-1.0, 1.0);
         r.stick_start.extend([t1, t1 + 1.0]);

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use stickslip::belt::BeltPath;
+use stickslip::belt::{BeltPath, Process};
 use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::events::Record;
 use stickslip::physics::Params;
@@ -37,9 +37,16 @@ pub fn params(sc: &Scenario) -> Params {
 /// Solve a scripted belt (initial sign, switch instants) with the exact solver.
 pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot0: f64) -> Record {
     let scene = sc.scene().expect("a valid scene");
-    let path = BeltPath { initial_sign: sign0, switch_times: switches.to_vec() };
+    let (forward, reverse) = match &scene.belt.process {
+        Process::Symmetric(p) => (p.speed, p.speed),
+        Process::Telegraph(p) => (p.forward_speed, p.reverse_speed),
+        other => panic!("a scripted belt flips between two speeds, not a {} belt", other.name()),
+    };
+    let level = |sign: f64| if sign > 0.0 { forward } else { -reverse };
+    let velocities = (1..=switches.len()).map(|k| level(if k % 2 == 1 { -sign0 } else { sign0 })).collect();
+    let path = BeltPath { initial_velocity: level(sign0), switch_times: switches.to_vec(), velocities };
     let (mut sw, mut vel) = (Vec::new(), Vec::new());
-    path.segments(scene.belt.speeds(), &mut sw, &mut vel);
+    path.segments(&mut sw, &mut vel);
     solve_segments(sc, &scene.params, &vel, &sw, x0, xdot0)
 }
 
