@@ -12,6 +12,17 @@
 //!
 //! Event times are `t₀ + τ` where t₀ is the previous event or switch instant: switches come from
 //! the belt unchanged, so errors never accumulate beyond one belt segment whatever t_a is.
+//!
+//! **Grazing orbits across belt changes.** The slip that leaves a breakaway with zero
+//! acceleration (μ_s = μ_k) only touches its belt velocity v_g again (undamped) or never reaches
+//! it (damped). A belt change that keeps the friction direction σ (possible with more than two
+//! belt levels, or a telegraph belt with v_r < v_f) leaves the motion on the same orbit, but the
+//! slip restarts from the computed state, a few ulps off the orbit; back under v_g its touch
+//! would become a crossing some 1e-8 s before the breakaway point — a stick that does not exist.
+//! So a restarted slip carries `graze = v_g` while σ is unchanged and the law has no viscous
+//! term (which makes the orbit depend on the belt velocity), and under v_g it is known not to
+//! cross. On a symmetric belt σ always changes at a flip of a grazing orbit (ẋ ∈ [−v, v]), so
+//! nothing is carried there.
 
 use super::{Event, Method, Stop};
 use crate::physics::{Arrival, Physics, SlipForm};
@@ -20,8 +31,10 @@ use crate::physics::{Arrival, Physics, SlipForm};
 enum Phase {
     /// Stuck to the belt since `t0` at position `x0`.
     Stick { t0: f64, x0: f64 },
-    /// Slipping since `t0` from `(x0, xdot0)` with acceleration `a0` (friction direction folded in).
-    Slip { t0: f64, x0: f64, xdot0: f64, a0: f64 },
+    /// Slipping since `t0` from `(x0, xdot0)` with acceleration `a0`, friction direction `sigma`;
+    /// `graze`: the belt velocity whose grazing orbit this restarted slip lies on (NaN: none; the
+    /// module docs).
+    Slip { t0: f64, x0: f64, xdot0: f64, a0: f64, sigma: f64, graze: f64 },
 }
 
 /// The exact method for one realization's oscillator.
@@ -50,7 +63,7 @@ impl<K: SlipForm> Exact<K> {
     fn at_belt_speed(&mut self, t: f64, x: f64, v: f64) -> Stop {
         match self.p.arrival(x, v) {
             Arrival::Reverse { sigma } => {
-                self.phase = Phase::Slip { t0: t, x0: x, xdot0: v, a0: self.p.slip_accel(x, v, v, sigma) };
+                self.phase = Phase::Slip { t0: t, x0: x, xdot0: v, a0: self.p.slip_accel(x, v, v, sigma), sigma, graze: f64::NAN };
                 Stop::Advanced
             }
             Arrival::Touch => {
@@ -67,12 +80,13 @@ impl<K: SlipForm> Exact<K> {
     /// The slip that leaves the breakaway point at time `t` under belt velocity `v`.
     #[inline(always)]
     fn after_breakaway(&self, t: f64, v: f64) -> Phase {
-        Phase::Slip { t0: t, x0: self.p.holding_limit(v, 1.0), xdot0: v, a0: self.p.breakaway_accel(v) }
+        Phase::Slip { t0: t, x0: self.p.holding_limit(v, 1.0), xdot0: v, a0: self.p.breakaway_accel(v), sigma: v.signum(), graze: f64::NAN }
     }
 
-    /// Slipping from `(x, ẋ)` at time `t` under belt velocity `v` (classified if at belt speed).
+    /// Slipping from `(x, ẋ)` at time `t` under belt velocity `v` (classified if at belt speed);
+    /// `graze` carried over from the slip before a belt change if σ stays (module docs).
     #[inline(always)]
-    fn slip_from(&mut self, t: f64, x: f64, xdot: f64, v: f64) -> Option<Event> {
+    fn slip_from(&mut self, t: f64, x: f64, xdot: f64, v: f64, graze: (f64, f64)) -> Option<Event> {
         let u0 = xdot - v;
         if u0 == 0.0 {
             return match self.at_belt_speed(t, x, v) {
@@ -81,7 +95,9 @@ impl<K: SlipForm> Exact<K> {
             };
         }
         let sigma = -u0.signum();
-        self.phase = Phase::Slip { t0: t, x0: x, xdot0: xdot, a0: self.p.slip_accel(x, xdot, v, sigma) };
+        let (graze_sigma, graze_v) = graze;
+        let graze = if sigma == graze_sigma && self.p.viscous == 0.0 { graze_v } else { f64::NAN };
+        self.phase = Phase::Slip { t0: t, x0: x, xdot0: xdot, a0: self.p.slip_accel(x, xdot, v, sigma), sigma, graze };
         None
     }
 
@@ -96,14 +112,14 @@ impl<K: SlipForm> Exact<K> {
     fn state_in(&self, phase: Phase, t: f64, v: f64) -> (f64, f64) {
         match phase {
             Phase::Stick { t0, x0 } => (x0 + v * (t - t0), v),
-            Phase::Slip { t0, x0, xdot0, a0 } => self.form.state(x0, xdot0, a0, t - t0),
+            Phase::Slip { t0, x0, xdot0, a0, .. } => self.form.state(x0, xdot0, a0, t - t0),
         }
     }
 }
 
 impl<K: SlipForm> Method for Exact<K> {
     fn start(&mut self, x0: f64, xdot0: f64, v: f64) -> Event {
-        match self.slip_from(0.0, x0, xdot0, v) {
+        match self.slip_from(0.0, x0, xdot0, v, (f64::NAN, f64::NAN)) {
             Some(e) => e,
             None => Event::Slip { t: 0.0, x: x0, xdot: xdot0 },
         }
@@ -121,8 +137,9 @@ impl<K: SlipForm> Method for Exact<K> {
                     return Stop::Event(Event::Slip { t: t_b, x: self.p.holding_limit(v, 1.0), xdot: v });
                 }
             }
-            Phase::Slip { t0, x0, xdot0, a0 } => {
-                if !self.frictionless {
+            Phase::Slip { t0, x0, xdot0, a0, graze, .. } => {
+                // (a restarted grazing orbit under its own belt velocity only touches it)
+                if !self.frictionless && v != graze {
                     if let Some((tau, x1)) = self.form.crossing(x0, xdot0, a0, v, t1 - t0) {
                         if t0 + tau < t1 {
                             self.t = t0 + tau;
@@ -146,14 +163,16 @@ impl<K: SlipForm> Method for Exact<K> {
             Phase::Stick { t0, x0 } => {
                 let x = x0 + v_old * (t - t0);
                 let stuck_end = Event::Slip { t, x, xdot: v_old };
-                // v_new ≠ v_old (opposite signs): the slip starts off belt speed
-                self.slip_from(t, x, v_old, v_new);
+                // v_new ≠ v_old: the slip starts off belt speed
+                self.slip_from(t, x, v_old, v_new, (f64::NAN, f64::NAN));
                 Some(stuck_end)
             }
-            Phase::Slip { .. } => {
-                // the last advance ended this slip at the switch instant t
+            Phase::Slip { xdot0, a0, sigma, graze, .. } => {
+                // the last advance ended this slip at the switch instant t; a slip that left a
+                // breakaway with zero acceleration under v_old is on v_old's grazing orbit
                 let (x, xdot, _) = self.end;
-                self.slip_from(t, x, xdot, v_new)
+                let graze = if graze == graze { graze } else if xdot0 == v_old && a0 == 0.0 { v_old } else { f64::NAN };
+                self.slip_from(t, x, xdot, v_new, (sigma, graze))
             }
         }
     }

@@ -3,6 +3,7 @@
 mod common;
 
 mod analysis;
+mod belts;
 mod cli;
 mod closed_forms;
 mod coverage;

@@ -304,7 +304,7 @@ fn trajectories_are_sampled_for_every_method() {
 fn the_example_scene_files_run() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut n = 0;
-    let scenes = std::fs::read_dir(root.join("pipelines/scenes")).unwrap().map(|e| e.unwrap().path());
+    let scenes = std::fs::read_dir(root.join("pipelines/scenes")).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml"));
     for path in scenes.chain([root.join("pipelines/stribeck.toml")]) {
         let sc = stickslip::scenario::Scenario::resolve(Some(&path), &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         for (i, o) in outcomes(&sc, 50).iter().enumerate() {
