@@ -121,11 +121,12 @@ impl Markov {
             .zip(&leave)
             .map(|(row, &q)| {
                 let mut acc = 0.0;
-                row.iter().map(|r| {
-                    acc += r / q;
-                    acc
-                })
-                .collect()
+                row.iter()
+                    .map(|r| {
+                        acc += r / q;
+                        acc
+                    })
+                    .collect()
             })
             .collect();
         Ok(Markov { velocities, rates, stationary, leave, jumps })

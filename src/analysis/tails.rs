@@ -60,9 +60,9 @@ use std::collections::HashMap;
 use super::input::{scan, scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
 use crate::belt::Process;
-use crate::scenario::ProcessName;
 use crate::dataset::columns as name;
 use crate::physics::Physics;
+use crate::scenario::ProcessName;
 
 /// Time cells per t_a (module docs).
 const CELLS_PER_WINDOW: f64 = 65_536.0;

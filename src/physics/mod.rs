@@ -70,6 +70,18 @@ pub enum FrictionLaw {
     Stribeck,
 }
 
+impl FrictionLaw {
+    /// Whether a slip under this law has closed forms, given whether μ_s equals μ_k for every
+    /// realization: Coulomb's constant friction (with any viscous term: a dashpot towards the
+    /// belt) always; Stribeck only when μ_s = μ_k, where it is Coulomb.
+    pub fn has_closed_forms(self, static_is_kinetic: bool) -> bool {
+        match self {
+            FrictionLaw::Coulomb => true,
+            FrictionLaw::Stribeck => static_is_kinetic,
+        }
+    }
+}
+
 /// The friction law with its parameters, as data: every solver asks the law (through
 /// [`Physics`]) for the slip friction, the acceleration after a breakaway, its regularized form
 /// and the step limit near its peak; none branches on which law it is. A new law is a new variant
@@ -183,7 +195,8 @@ pub struct Params {
 
 impl Params {
     /// The paper's parameters: m = 1 kg, k = 4 N/m, c = 0, n = 9.8 N, μ_s = μ_k = 0.51.
-    pub const PAPER: Params = Params { mass: 1.0, stiffness: 4.0, damping: 0.0, normal_force: 9.8, kinetic: 0.51, static_: 0.51, viscous: 0.0, law: Law::Coulomb };
+    pub const PAPER: Params =
+        Params { mass: 1.0, stiffness: 4.0, damping: 0.0, normal_force: 9.8, kinetic: 0.51, static_: 0.51, viscous: 0.0, law: Law::Coulomb };
 
     /// The per-unit-mass constants the solvers work with.
     #[inline]

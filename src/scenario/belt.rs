@@ -46,11 +46,8 @@ impl Scenario {
             }
         };
         if b.process.is_none() && b.reverse_speed.is_some() != b.reverse_switch_rate.is_some() {
-            let (k, other) = if b.reverse_speed.is_some() {
-                ("belt.reverse_speed", "belt.reverse_switch_rate")
-            } else {
-                ("belt.reverse_switch_rate", "belt.reverse_speed")
-            };
+            let (k, other) =
+                if b.reverse_speed.is_some() { ("belt.reverse_speed", "belt.reverse_switch_rate") } else { ("belt.reverse_switch_rate", "belt.reverse_speed") };
             return Err(invalid(k, "(set)", &format!("the asymmetric belt needs {other} too (give both, or neither for the paper's symmetric belt)")));
         }
         let (two_state, chain, record) = ([ProcessName::Symmetric, ProcessName::Telegraph], [ProcessName::Markov], [ProcessName::Recorded]);
@@ -70,7 +67,9 @@ impl Scenario {
                 used(key, &[ProcessName::Telegraph])?;
             }
         }
-        for (key, set, by) in [("belt.velocities", b.velocities.is_some(), &chain), ("belt.rates", b.rates.is_some(), &chain), ("belt.file", b.file.is_some(), &record)] {
+        for (key, set, by) in
+            [("belt.velocities", b.velocities.is_some(), &chain), ("belt.rates", b.rates.is_some(), &chain), ("belt.file", b.file.is_some(), &record)]
+        {
             if set {
                 used(key, by)?;
             }
@@ -111,7 +110,11 @@ impl Scenario {
             }
             ProcessName::Recorded => {
                 let Some(file) = &b.file else {
-                    return Err(invalid("belt.file", "(absent)", "the recorded belt needs belt.file, a CSV or Parquet file with columns time (s) and velocity (m/s)"));
+                    return Err(invalid(
+                        "belt.file",
+                        "(absent)",
+                        "the recorded belt needs belt.file, a CSV or Parquet file with columns time (s) and velocity (m/s)",
+                    ));
                 };
                 let (times, velocities) = read_log(Path::new(file)).map_err(|e| invalid("belt.file", &format!("{file:?}"), &e))?;
                 let r = Recorded::new(times, velocities).map_err(|e| invalid("belt.file", &format!("{file:?}"), &e))?;

@@ -11,10 +11,10 @@ use crate::physics::{FrictionLaw, Law, Params, Stribeck};
 use crate::solver::SolverKind;
 
 impl Scenario {
-    /// Whether the scene's slips have closed forms: Coulomb friction, or a Stribeck law whose
-    /// μ_s is μ_k (no `static_friction_coefficient`), which is Coulomb.
+    /// Whether the scene's slips have closed forms, as the law answers ([`FrictionLaw::has_closed_forms`];
+    /// μ_s is μ_k for every realization when `static_friction_coefficient` is absent).
     pub fn has_closed_forms(&self) -> bool {
-        self.model.friction_law != Some(FrictionLaw::Stribeck) || self.model.static_friction_coefficient.is_none()
+        self.model.friction_law.unwrap_or(FrictionLaw::Coulomb).has_closed_forms(self.model.static_friction_coefficient.is_none())
     }
 
     /// The solver that actually runs: `auto` is `exact` where the scene has closed forms, else
@@ -191,11 +191,8 @@ impl Scenario {
         let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), bounded);
         let hi = |k: Key| self.param(k).map_or(0.0, |p| bounded(p).1);
         // (the slip's damping per unit mass is (c + σ_v)/m)
-        let ratios = [
-            hi(Key::Stiffness) / m_lo,
-            (hi(Key::Damping) + hi(Key::Viscous)) / m_lo,
-            hi(Key::NormalForce) * hi(Key::Static).max(hi(Key::Kinetic)) / m_lo,
-        ];
+        let ratios =
+            [hi(Key::Stiffness) / m_lo, (hi(Key::Damping) + hi(Key::Viscous)) / m_lo, hi(Key::NormalForce) * hi(Key::Static).max(hi(Key::Kinetic)) / m_lo];
         if ratios.iter().any(|r| !r.is_finite()) || !(m_hi > 0.0) {
             return Err(ScenarioError::Invalid {
                 key: "model".into(),

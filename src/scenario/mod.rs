@@ -363,7 +363,9 @@ fn positive_zeros(table: &mut Table) {
 fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, ScenarioError> {
     let mut table: Table = PAPER_TOML.parse().expect("embedded scenario parses");
     if let Some(text) = text {
-        let user: Table = text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax { path: origin.to_owned(), message: syntax_message(text, &e) })?;
+        let mut user: Table =
+            text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax { path: origin.to_owned(), message: syntax_message(text, &e) })?;
+        fold_friction_table(&mut user)?;
         merge(&mut table, user, "")?;
     }
     for arg in sets {
@@ -374,9 +376,51 @@ fn merged(text: Option<&str>, origin: &Path, sets: &[String]) -> Result<Table, S
             });
         }
         let (key, value) = arg.split_once('=').ok_or_else(|| ScenarioError::BadSet { arg: arg.clone() })?;
-        set(&mut table, key.trim(), parse_value(value.trim()))?;
+        let key = key.trim();
+        let flat = match key.strip_prefix("model.friction.") {
+            Some(leaf) => format!("model.{}", friction_key(leaf)?),
+            None => key.to_owned(),
+        };
+        set(&mut table, &flat, parse_value(value.trim()))?;
     }
     Ok(table)
+}
+
+/// The `[model.friction]` table: the law and its parameters under the law, each the same value
+/// as a flat `[model]` key (the canonical form, and the one provenance records).
+const FRICTION_TABLE: [(&str, &str); 6] = [
+    ("law", "friction_law"),
+    ("kinetic", "friction_coefficient"),
+    ("static", "static_friction_coefficient"),
+    ("velocity", "stribeck_velocity"),
+    ("exponent", "stribeck_exponent"),
+    ("viscous", "viscous_friction"),
+];
+
+/// The flat `[model]` key of a `[model.friction]` key.
+fn friction_key(leaf: &str) -> Result<&'static str, ScenarioError> {
+    FRICTION_TABLE.iter().find(|(k, _)| *k == leaf).map(|(_, flat)| *flat).ok_or_else(|| ScenarioError::UnknownKey {
+        key: format!("model.friction.{leaf}"),
+        hint: Hint(FRICTION_TABLE.iter().map(|(k, _)| k.to_string()).collect()),
+    })
+}
+
+/// Fold a user's `[model.friction]` table (`law = "stribeck"`, `kinetic`, `static`, `velocity`,
+/// `exponent`, `viscous`) into the flat `[model]` keys; a key given both ways is refused.
+fn fold_friction_table(user: &mut Table) -> Result<(), ScenarioError> {
+    let Some(Value::Table(model)) = user.get_mut("model") else { return Ok(()) };
+    let Some(friction) = model.remove("friction") else { return Ok(()) };
+    let Value::Table(friction) = friction else {
+        return Err(invalid("model.friction", &shown(&friction), "must be a table, e.g. [model.friction] with law = \"stribeck\""));
+    };
+    for (leaf, value) in friction {
+        let flat = friction_key(&leaf)?;
+        if model.contains_key(flat) {
+            return Err(invalid(&format!("model.friction.{leaf}"), &shown(&value), &format!("model.{flat} is given too: give one of the two")));
+        }
+        model.insert(flat.to_owned(), value);
+    }
+    Ok(())
 }
 
 /// A `--set` value: TOML if it parses as TOML (`1.0`, `[-1, 1]`, `{ dist = … }`, `"x"`), else a
@@ -483,5 +527,21 @@ mod tests {
             Scenario::resolve(None, &["model.damping=0.5".into(), "model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}".into()]).unwrap();
         let again = Scenario::from_text(Some(&s.to_toml()), Path::new("x"), &[]).unwrap();
         assert_eq!(s, again);
+    }
+
+    #[test]
+    fn the_friction_table_is_the_flat_keys() {
+        let table = "[model.friction]\nlaw = \"stribeck\"\nkinetic = 0.4\nstatic = 0.7\nvelocity = 0.05\nexponent = 1.0\nviscous = 0.3\n";
+        let flat = "[model]\nfriction_law = \"stribeck\"\nfriction_coefficient = 0.4\nstatic_friction_coefficient = 0.7\nstribeck_velocity = 0.05\nstribeck_exponent = 1.0\nviscous_friction = 0.3\n";
+        let (a, b) = (Scenario::from_text(Some(table), Path::new("t"), &[]).unwrap(), Scenario::from_text(Some(flat), Path::new("f"), &[]).unwrap());
+        assert_eq!(a, b);
+        // --set reaches the table's keys too, a sweep included
+        let c = Scenario::resolve(None, &["model.friction.static=[0.6, 0.7]".into()]).unwrap();
+        assert_eq!(c.model.static_friction_coefficient, Some(Param::Sweep(vec![0.6, 0.7])));
+        let e =
+            Scenario::from_text(Some("[model]\nfriction_coefficient = 0.4\n[model.friction]\nkinetic = 0.5\n"), Path::new("x"), &[]).unwrap_err().to_string();
+        assert!(e.contains("model.friction.kinetic") && e.contains("model.friction_coefficient is given too"), "{e}");
+        let e = Scenario::resolve(None, &["model.friction.stribek=1".into()]).unwrap_err().to_string();
+        assert!(e.contains("model.friction.stribek") && e.contains("velocity"), "{e}");
     }
 }

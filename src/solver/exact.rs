@@ -171,7 +171,13 @@ impl<K: SlipForm> Method for Exact<K> {
                 // the last advance ended this slip at the switch instant t; a slip that left a
                 // breakaway with zero acceleration under v_old is on v_old's grazing orbit
                 let (x, xdot, _) = self.end;
-                let graze = if graze == graze { graze } else if xdot0 == v_old && a0 == 0.0 { v_old } else { f64::NAN };
+                let graze = if graze == graze {
+                    graze
+                } else if xdot0 == v_old && a0 == 0.0 {
+                    v_old
+                } else {
+                    f64::NAN
+                };
                 self.slip_from(t, x, xdot, v_new, (sigma, graze))
             }
         }

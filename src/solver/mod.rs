@@ -266,7 +266,9 @@ impl Solver {
     pub fn solve<O: Observer>(&self, p: &Physics, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<u64, SolveError> {
         let (p, num, budget) = (*p, &self.numerics, self.numerics.step_budget);
         match self.kind {
-            SolverKind::Exact | SolverKind::Auto if self.damped || p.slip_damping() != 0.0 => drive(&mut exact::Exact::<Damped>::new(&p), d, x0, xdot0, budget, obs),
+            SolverKind::Exact | SolverKind::Auto if self.damped || p.slip_damping() != 0.0 => {
+                drive(&mut exact::Exact::<Damped>::new(&p), d, x0, xdot0, budget, obs)
+            }
             SolverKind::Exact | SolverKind::Auto => drive(&mut exact::Exact::<Undamped>::new(&p), d, x0, xdot0, budget, obs),
             SolverKind::Rk45 => drive(&mut hybrid::Hybrid::new(&p, hybrid::Scheme::Rk45, num), d, x0, xdot0, budget, obs),
             SolverKind::Rk4 => drive(&mut hybrid::Hybrid::new(&p, hybrid::Scheme::Rk4, num), d, x0, xdot0, budget, obs),

@@ -188,6 +188,16 @@ fn markov_and_recorded_belts_run_through_every_stage() {
         run(&["report", &format!("{d}/dataset"), &format!("{d}/analysis"), &format!("{d}/figures"), "--out", &format!("{d}/report.html")]);
         assert!(printed.contains("not a two-state flip process"), "{scene}: the conditional estimator's refusal is said: {printed}");
     }
-    let out = stickslip(&["tradeoff", root.join("pipelines/scenes/markov_belt.toml").to_str().unwrap(), "--out", tmp.path().join("tradeoff").to_str().unwrap(), "--realizations", "20"], root);
+    let out = stickslip(
+        &[
+            "tradeoff",
+            root.join("pipelines/scenes/markov_belt.toml").to_str().unwrap(),
+            "--out",
+            tmp.path().join("tradeoff").to_str().unwrap(),
+            "--realizations",
+            "20",
+        ],
+        root,
+    );
     assert!(out.status.success(), "tradeoff: {}", String::from_utf8_lossy(&out.stderr));
 }
