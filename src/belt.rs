@@ -365,8 +365,6 @@ impl Symmetric {
             path.switch_times.extend((0..q).map(|_| unit_f64(rng) * duration));
             // The instants are ≥ 0, and non-negative doubles order like their bit patterns.
             path.switch_times.sort_unstable_by_key(|t| t.to_bits());
-            let v = path.initial_velocity;
-            path.velocities.extend((1..=q).map(|k| if k % 2 == 1 { -v } else { v }));
         }
     }
 }
@@ -386,7 +384,6 @@ impl Telegraph {
             }
             forward = !forward;
             path.switch_times.push(t);
-            path.velocities.push(if forward { self.forward_speed } else { -self.reverse_speed });
         }
     }
 }
@@ -398,14 +395,16 @@ impl Belt {
     pub fn sample_into<R: Rng + ?Sized>(&self, rng: &mut R, path: &mut BeltPath) {
         path.switch_times.clear();
         path.velocities.clear();
+        path.alternate = f64::NAN;
         match &self.process {
             Process::Symmetric(p) => {
                 path.initial_velocity = self.initial_sign.draw(rng) * p.speed;
+                path.alternate = -path.initial_velocity;
                 p.draw_into(rng, self.duration, path)
             }
             Process::Telegraph(p) => {
                 let sign = self.initial_sign.draw(rng);
-                path.initial_velocity = if sign > 0.0 { p.forward_speed } else { -p.reverse_speed };
+                (path.initial_velocity, path.alternate) = if sign > 0.0 { (p.forward_speed, -p.reverse_speed) } else { (-p.reverse_speed, p.forward_speed) };
                 p.draw_into(rng, self.duration, path)
             }
             Process::Markov(m) => m.draw_into(rng, self.duration, path),
@@ -425,17 +424,50 @@ impl Belt {
 }
 
 /// One realization of the belt on [0, t_a], as drawn.
-#[derive(Debug, Clone, PartialEq, Default)]
+///
+/// A two-state belt alternates between `initial_velocity` and `alternate` and lists nothing
+/// (the symmetric belt's paper rows cost what they cost before belts with more levels existed);
+/// any other lists the velocity after each change in `velocities`.
+#[derive(Debug, Clone, PartialEq)]
 pub struct BeltPath {
     /// The belt velocity at t = 0⁺ before any change at exactly t = 0, m/s.
     pub initial_velocity: f64,
     /// Y_1 ≤ … ≤ Y_Q, the instants of the velocity changes as drawn (Q = `switch_times.len()`).
     pub switch_times: Vec<f64>,
-    /// The velocity after each change, m/s (Q values).
+    /// The velocity after each change, m/s (Q values; empty for a two-state belt).
     pub velocities: Vec<f64>,
+    /// The other velocity of a two-state belt, m/s (NaN otherwise).
+    pub alternate: f64,
+}
+
+impl Default for BeltPath {
+    fn default() -> BeltPath {
+        BeltPath { initial_velocity: 0.0, switch_times: Vec::new(), velocities: Vec::new(), alternate: f64::NAN }
+    }
 }
 
 impl BeltPath {
+    /// A two-state belt starting at `initial`, flipping to `alternate` and back at `switch_times`.
+    pub fn alternating(initial: f64, alternate: f64, switch_times: Vec<f64>) -> BeltPath {
+        BeltPath { initial_velocity: initial, switch_times, velocities: Vec::new(), alternate }
+    }
+
+    /// A belt listing the velocity after each change.
+    pub fn listed(initial: f64, switch_times: Vec<f64>, velocities: Vec<f64>) -> BeltPath {
+        BeltPath { initial_velocity: initial, switch_times, velocities, alternate: f64::NAN }
+    }
+
+    /// The velocity after change k (0-based), m/s.
+    pub fn velocity_after(&self, k: usize) -> f64 {
+        if self.alternate.is_nan() {
+            self.velocities[k]
+        } else if k % 2 == 0 {
+            self.alternate
+        } else {
+            self.initial_velocity
+        }
+    }
+
     /// The sign of the initial velocity (the dataset's `initial_sign`: ±1, 0 for a belt at rest).
     pub fn initial_sign(&self) -> i32 {
         if self.initial_velocity > 0.0 {
@@ -455,6 +487,21 @@ impl BeltPath {
     pub fn segments(&self, switches: &mut Vec<f64>, velocities: &mut Vec<f64>) {
         switches.clear();
         velocities.clear();
+        if !self.alternate.is_nan() {
+            // two states: every change flips, so coincident pairs cancel
+            let (mut current, mut other) = (self.initial_velocity, self.alternate);
+            for &t in &self.switch_times {
+                if t <= 0.0 {
+                    (current, other) = (other, current);
+                } else if switches.last() == Some(&t) {
+                    switches.pop();
+                } else {
+                    switches.push(t);
+                }
+            }
+            velocities.extend((0..=switches.len()).map(|k| if k % 2 == 0 { current } else { other }));
+            return;
+        }
         velocities.push(self.initial_velocity);
         for (&t, &v) in self.switch_times.iter().zip(&self.velocities) {
             let n = velocities.len();
@@ -484,13 +531,16 @@ mod tests {
     #[test]
     fn coincident_and_initial_switches_are_folded() {
         // a telegraph belt (+1, −0.5) starting forward, flipped at 0, 1, three times at 2, and 3
-        let p = BeltPath { initial_velocity: 1.0, switch_times: vec![0.0, 1.0, 2.0, 2.0, 2.0, 3.0], velocities: vec![-0.5, 1.0, -0.5, 1.0, -0.5, 1.0] };
+        let times = vec![0.0, 1.0, 2.0, 2.0, 2.0, 3.0];
         let (mut sw, mut v) = (Vec::new(), Vec::new());
-        p.segments(&mut sw, &mut v);
-        assert_eq!(sw, vec![1.0, 2.0, 3.0]);
-        assert_eq!(v, vec![-0.5, 1.0, -0.5, 1.0]);
+        // the two-state fold and the general one (the same changes listed) agree
+        for p in [BeltPath::alternating(1.0, -0.5, times.clone()), BeltPath::listed(1.0, times.clone(), vec![-0.5, 1.0, -0.5, 1.0, -0.5, 1.0])] {
+            p.segments(&mut sw, &mut v);
+            assert_eq!(sw, vec![1.0, 2.0, 3.0]);
+            assert_eq!(v, vec![-0.5, 1.0, -0.5, 1.0]);
+        }
         // three levels: changes at one instant compose; a change back to the same velocity is none
-        let p = BeltPath { initial_velocity: 1.0, switch_times: vec![1.0, 1.0, 2.0, 2.0], velocities: vec![0.0, -1.0, 0.0, -1.0] };
+        let p = BeltPath::listed(1.0, vec![1.0, 1.0, 2.0, 2.0], vec![0.0, -1.0, 0.0, -1.0]);
         p.segments(&mut sw, &mut v);
         assert_eq!((sw.as_slice(), v.as_slice()), (&[1.0][..], &[1.0, -1.0][..]));
     }
@@ -563,7 +613,7 @@ mod tests {
         let belt = Belt { process: Process::Recorded(Arc::new(r)), initial_sign: InitialSign::Positive, duration: 10.0 };
         let mut path = BeltPath::default();
         belt.sample_into(&mut realization_rng(1, 0), &mut path);
-        assert_eq!(path, BeltPath { initial_velocity: 1.0, switch_times: vec![1.0, 2.5], velocities: vec![0.0, -0.5] });
+        assert_eq!((path.initial_velocity, path.switch_times.as_slice(), path.velocities.as_slice()), (1.0, &[1.0, 2.5][..], &[0.0, -0.5][..]));
         assert!(Recorded::new(vec![0.5], vec![1.0]).unwrap_err().contains("first time must be 0"));
         assert!(Recorded::new(vec![0.0, 1.0, 1.0], vec![1.0, 2.0, 3.0]).unwrap_err().contains("row 3"));
         assert!(Recorded::new(vec![0.0, 1.0], vec![1.0, f64::NAN]).unwrap_err().contains("row 2"));

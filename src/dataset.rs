@@ -161,7 +161,11 @@ impl ListColumn {
     }
 
     fn push(&mut self, row: &[f64]) {
-        self.values.extend_from_slice(row);
+        self.extend(row.iter().copied());
+    }
+
+    fn extend(&mut self, row: impl Iterator<Item = f64>) {
+        self.values.extend(row);
         self.offsets.push(i32::try_from(self.values.len()).expect("a chunk holds < 2^31 list values"));
     }
 
@@ -256,7 +260,7 @@ impl Rows {
         }
         if let Some([times, velocities]) = &mut self.switch_times {
             times.push(&belt.switch_times);
-            velocities.push(&belt.velocities);
+            velocities.extend((0..belt.switch_times.len()).map(|k| belt.velocity_after(k)));
         }
         for (col, &x) in self.drawn.iter_mut().zip(&out.drawn) {
             col.push(x);

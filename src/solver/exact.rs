@@ -31,10 +31,10 @@ use crate::physics::{Arrival, Physics, SlipForm};
 enum Phase {
     /// Stuck to the belt since `t0` at position `x0`.
     Stick { t0: f64, x0: f64 },
-    /// Slipping since `t0` from `(x0, xdot0)` with acceleration `a0`, friction direction `sigma`;
-    /// `graze`: the belt velocity whose grazing orbit this restarted slip lies on (NaN: none; the
-    /// module docs).
-    Slip { t0: f64, x0: f64, xdot0: f64, a0: f64, sigma: f64, graze: f64 },
+    /// Slipping since `t0` from `(x0, xdot0)` with acceleration `a0` (friction direction folded
+    /// in); `graze`: the belt velocity v_g whose grazing orbit this restarted slip lies on (NaN:
+    /// none; the module docs) — its friction direction is then sgn(v_g).
+    Slip { t0: f64, x0: f64, xdot0: f64, a0: f64, graze: f64 },
 }
 
 /// The exact method for one realization's oscillator.
@@ -63,7 +63,7 @@ impl<K: SlipForm> Exact<K> {
     fn at_belt_speed(&mut self, t: f64, x: f64, v: f64) -> Stop {
         match self.p.arrival(x, v) {
             Arrival::Reverse { sigma } => {
-                self.phase = Phase::Slip { t0: t, x0: x, xdot0: v, a0: self.p.slip_accel(x, v, v, sigma), sigma, graze: f64::NAN };
+                self.phase = Phase::Slip { t0: t, x0: x, xdot0: v, a0: self.p.slip_accel(x, v, v, sigma), graze: f64::NAN };
                 Stop::Advanced
             }
             Arrival::Touch => {
@@ -80,13 +80,14 @@ impl<K: SlipForm> Exact<K> {
     /// The slip that leaves the breakaway point at time `t` under belt velocity `v`.
     #[inline(always)]
     fn after_breakaway(&self, t: f64, v: f64) -> Phase {
-        Phase::Slip { t0: t, x0: self.p.holding_limit(v, 1.0), xdot0: v, a0: self.p.breakaway_accel(v), sigma: v.signum(), graze: f64::NAN }
+        Phase::Slip { t0: t, x0: self.p.holding_limit(v, 1.0), xdot0: v, a0: self.p.breakaway_accel(v), graze: f64::NAN }
     }
 
     /// Slipping from `(x, ẋ)` at time `t` under belt velocity `v` (classified if at belt speed);
-    /// `graze` carried over from the slip before a belt change if σ stays (module docs).
+    /// the grazing velocity of the slip before a belt change is carried if σ stays sgn(v_g)
+    /// (module docs).
     #[inline(always)]
-    fn slip_from(&mut self, t: f64, x: f64, xdot: f64, v: f64, graze: (f64, f64)) -> Option<Event> {
+    fn slip_from(&mut self, t: f64, x: f64, xdot: f64, v: f64, graze: f64) -> Option<Event> {
         let u0 = xdot - v;
         if u0 == 0.0 {
             return match self.at_belt_speed(t, x, v) {
@@ -95,9 +96,8 @@ impl<K: SlipForm> Exact<K> {
             };
         }
         let sigma = -u0.signum();
-        let (graze_sigma, graze_v) = graze;
-        let graze = if sigma == graze_sigma && self.p.viscous == 0.0 { graze_v } else { f64::NAN };
-        self.phase = Phase::Slip { t0: t, x0: x, xdot0: xdot, a0: self.p.slip_accel(x, xdot, v, sigma), sigma, graze };
+        let graze = if sigma == graze.signum() && self.p.viscous == 0.0 { graze } else { f64::NAN };
+        self.phase = Phase::Slip { t0: t, x0: x, xdot0: xdot, a0: self.p.slip_accel(x, xdot, v, sigma), graze };
         None
     }
 
@@ -119,7 +119,7 @@ impl<K: SlipForm> Exact<K> {
 
 impl<K: SlipForm> Method for Exact<K> {
     fn start(&mut self, x0: f64, xdot0: f64, v: f64) -> Event {
-        match self.slip_from(0.0, x0, xdot0, v, (f64::NAN, f64::NAN)) {
+        match self.slip_from(0.0, x0, xdot0, v, f64::NAN) {
             Some(e) => e,
             None => Event::Slip { t: 0.0, x: x0, xdot: xdot0 },
         }
@@ -164,10 +164,10 @@ impl<K: SlipForm> Method for Exact<K> {
                 let x = x0 + v_old * (t - t0);
                 let stuck_end = Event::Slip { t, x, xdot: v_old };
                 // v_new ≠ v_old: the slip starts off belt speed
-                self.slip_from(t, x, v_old, v_new, (f64::NAN, f64::NAN));
+                self.slip_from(t, x, v_old, v_new, f64::NAN);
                 Some(stuck_end)
             }
-            Phase::Slip { xdot0, a0, sigma, graze, .. } => {
+            Phase::Slip { xdot0, a0, graze, .. } => {
                 // the last advance ended this slip at the switch instant t; a slip that left a
                 // breakaway with zero acceleration under v_old is on v_old's grazing orbit
                 let (x, xdot, _) = self.end;
@@ -178,7 +178,7 @@ impl<K: SlipForm> Method for Exact<K> {
                 } else {
                     f64::NAN
                 };
-                self.slip_from(t, x, xdot, v_new, (sigma, graze))
+                self.slip_from(t, x, xdot, v_new, graze)
             }
         }
     }

@@ -43,8 +43,7 @@ pub fn solve_scripted(sc: &Scenario, sign0: f64, switches: &[f64], x0: f64, xdot
         other => panic!("a scripted belt flips between two speeds, not a {} belt", other.name()),
     };
     let level = |sign: f64| if sign > 0.0 { forward } else { -reverse };
-    let velocities = (1..=switches.len()).map(|k| level(if k % 2 == 1 { -sign0 } else { sign0 })).collect();
-    let path = BeltPath { initial_velocity: level(sign0), switch_times: switches.to_vec(), velocities };
+    let path = BeltPath::alternating(level(sign0), level(-sign0), switches.to_vec());
     let (mut sw, mut vel) = (Vec::new(), Vec::new());
     path.segments(&mut sw, &mut vel);
     solve_segments(sc, &scene.params, &vel, &sw, x0, xdot0)
