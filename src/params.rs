@@ -45,6 +45,52 @@ pub enum Key {
     Viscous,
 }
 
+/// Everything the program knows about one numeric scene key, in one row of [`KEYS`]: its name
+/// as written, its unit, the range the solvers are proven on, which law or belt process uses it,
+/// and how a value drawn for a realization is applied. A new key is a new row (and its field in
+/// the scenario's typed `[model]` or `[belt]`).
+pub struct KeyInfo {
+    /// as written, e.g. `model.friction_coefficient`
+    pub dotted: &'static str,
+    /// for messages, e.g. " (kg)"
+    pub unit: &'static str,
+    /// `[lo, hi]`: `tests/it/extremes.rs` runs every solver at both ends of every key; a value,
+    /// sweep or distribution support outside it is refused at the door. Combinations are bounded
+    /// too (ω·t_a, see [`crate::scenario::Scenario::max_rate`]).
+    pub range: (f64, f64),
+    /// the law or the belt processes that use it (empty: every scene)
+    pub used_by: &'static str,
+    /// set a value drawn for a realization (on a process that does not use it: nothing; the
+    /// scenario refuses that combination)
+    apply: fn(&mut Params, &mut Process, f64),
+}
+
+/// The table of numeric scene keys, in [`Key`] order.
+#[rustfmt::skip]
+pub const KEYS: [KeyInfo; 13] = [
+    KeyInfo { dotted: "model.mass", unit: " (kg)", range: (1e-9, 1e6), used_by: "", apply: |p, _, x| p.mass = x },
+    KeyInfo { dotted: "model.stiffness", unit: " (N/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.stiffness = x },
+    KeyInfo { dotted: "model.damping", unit: " (N·s/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.damping = x },
+    KeyInfo { dotted: "model.normal_force", unit: " (N)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.normal_force = x },
+    KeyInfo { dotted: "model.friction_coefficient", unit: "", range: (0.0, 1e6), used_by: "", apply: |p, _, x| p.kinetic = x },
+    KeyInfo { dotted: "model.static_friction_coefficient", unit: "", range: (0.0, 1e6), used_by: "", apply: |p, _, x| p.static_ = x },
+    KeyInfo { dotted: "belt.speed", unit: " (m/s)", range: (1e-9, 1e6), used_by: "symmetric, telegraph", apply: |_, b, x| match b {
+        Process::Symmetric(s) => s.speed = x,
+        Process::Telegraph(t) => t.forward_speed = x,
+        _ => {}
+    } },
+    KeyInfo { dotted: "belt.switch_rate", unit: " (1/s)", range: (0.0, 1e6), used_by: "symmetric, telegraph", apply: |_, b, x| match b {
+        Process::Symmetric(s) => s.switch_rate = x,
+        Process::Telegraph(t) => t.forward_rate = x,
+        _ => {}
+    } },
+    KeyInfo { dotted: "belt.reverse_speed", unit: " (m/s)", range: (1e-9, 1e6), used_by: "telegraph", apply: |_, b, x| if let Process::Telegraph(t) = b { t.reverse_speed = x } },
+    KeyInfo { dotted: "belt.reverse_switch_rate", unit: " (1/s)", range: (0.0, 1e6), used_by: "telegraph", apply: |_, b, x| if let Process::Telegraph(t) = b { t.reverse_rate = x } },
+    KeyInfo { dotted: "model.stribeck_velocity", unit: " (m/s)", range: (1e-9, 1e6), used_by: "stribeck", apply: |p, _, x| if let Law::Stribeck(s) = &mut p.law { s.velocity = x } },
+    KeyInfo { dotted: "model.stribeck_exponent", unit: "", range: (0.3, 20.0), used_by: "stribeck", apply: |p, _, x| if let Law::Stribeck(s) = &mut p.law { s.exponent = x } },
+    KeyInfo { dotted: "model.viscous_friction", unit: " (N·s/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.viscous = x },
+];
+
 impl Key {
     pub const ALL: [Key; 13] = [
         Key::Mass,
@@ -62,23 +108,14 @@ impl Key {
         Key::Viscous,
     ];
 
+    /// Its row of [`KEYS`].
+    pub fn info(self) -> &'static KeyInfo {
+        &KEYS[self as usize]
+    }
+
     /// The key as written, e.g. `model.friction_coefficient`.
     pub fn dotted(self) -> &'static str {
-        match self {
-            Key::Mass => "model.mass",
-            Key::Stiffness => "model.stiffness",
-            Key::Damping => "model.damping",
-            Key::NormalForce => "model.normal_force",
-            Key::Kinetic => "model.friction_coefficient",
-            Key::Static => "model.static_friction_coefficient",
-            Key::Speed => "belt.speed",
-            Key::SwitchRate => "belt.switch_rate",
-            Key::ReverseSpeed => "belt.reverse_speed",
-            Key::ReverseSwitchRate => "belt.reverse_switch_rate",
-            Key::StribeckVelocity => "model.stribeck_velocity",
-            Key::StribeckExponent => "model.stribeck_exponent",
-            Key::Viscous => "model.viscous_friction",
-        }
+        self.info().dotted
     }
 
     /// Its last component: the hive name of a swept key, the column of a random one.
@@ -87,34 +124,14 @@ impl Key {
         &d[d.find('.').map_or(0, |i| i + 1)..]
     }
 
-    /// The range in which the solvers are proven to work, `[lo, hi]` (`tests/it/extremes.rs`
-    /// runs every solver at both ends of every key): a value, sweep or distribution support
-    /// outside it is refused at the door. Combinations are bounded too (ω·t_a, see
-    /// [`crate::scenario::Scenario::max_rate`]).
+    /// The range in which the solvers are proven to work ([`KeyInfo::range`]).
     pub fn range(self) -> (f64, f64) {
-        match self {
-            Key::Mass => (1e-9, 1e6),
-            Key::Stiffness | Key::Damping | Key::NormalForce | Key::Viscous => (0.0, 1e9),
-            Key::Kinetic | Key::Static => (0.0, 1e6),
-            Key::Speed | Key::ReverseSpeed => (1e-9, 1e6),
-            Key::SwitchRate | Key::ReverseSwitchRate => (0.0, 1e6),
-            Key::StribeckVelocity => (1e-9, 1e6),
-            Key::StribeckExponent => (0.3, 20.0),
-        }
+        self.info().range
     }
 
     /// The unit, for messages.
     pub fn unit(self) -> &'static str {
-        match self {
-            Key::Mass => " (kg)",
-            Key::Stiffness => " (N/m)",
-            Key::Damping | Key::Viscous => " (N·s/m)",
-            Key::NormalForce => " (N)",
-            Key::Kinetic | Key::Static | Key::StribeckExponent => "",
-            Key::StribeckVelocity => " (m/s)",
-            Key::Speed | Key::ReverseSpeed => " (m/s)",
-            Key::SwitchRate | Key::ReverseSwitchRate => " (1/s)",
-        }
+        self.info().unit
     }
 
     /// The sub-stream purpose of this key's draws (0 is the initial conditions and the belt).
@@ -284,38 +301,9 @@ impl Scene {
         for (j, &(key, dist)) in self.random.iter().enumerate() {
             let x = dist.sample(&mut substream(seed, index(j), key.purpose()), key.range()).ok_or(key)?;
             values.push(x);
-            match (key, &mut belt.process) {
-                (Key::Mass, _) => params.mass = x,
-                (Key::Stiffness, _) => params.stiffness = x,
-                (Key::Damping, _) => params.damping = x,
-                (Key::NormalForce, _) => params.normal_force = x,
-                (Key::Kinetic, _) => {
-                    params.kinetic = x;
-                    if self.static_follows_kinetic {
-                        params.static_ = x;
-                    }
-                }
-                (Key::Static, _) => params.static_ = x,
-                (Key::Viscous, _) => params.viscous = x,
-                (Key::StribeckVelocity, _) => {
-                    if let Law::Stribeck(s) = &mut params.law {
-                        s.velocity = x;
-                    }
-                }
-                (Key::StribeckExponent, _) => {
-                    if let Law::Stribeck(s) = &mut params.law {
-                        s.exponent = x;
-                    }
-                }
-                (Key::Speed, Process::Symmetric(p)) => p.speed = x,
-                (Key::Speed, Process::Telegraph(p)) => p.forward_speed = x,
-                (Key::SwitchRate, Process::Symmetric(p)) => p.switch_rate = x,
-                (Key::SwitchRate, Process::Telegraph(p)) => p.forward_rate = x,
-                (Key::ReverseSpeed, Process::Telegraph(p)) => p.reverse_speed = x,
-                (Key::ReverseSwitchRate, Process::Telegraph(p)) => p.reverse_rate = x,
-                // (the scenario refuses a key the belt's process does not use)
-                (Key::ReverseSpeed | Key::ReverseSwitchRate, Process::Symmetric(_))
-                | (Key::Speed | Key::SwitchRate | Key::ReverseSpeed | Key::ReverseSwitchRate, Process::Markov(_) | Process::Recorded(_)) => {}
+            (key.info().apply)(params, &mut belt.process, x);
+            if key == Key::Kinetic && self.static_follows_kinetic {
+                params.static_ = x;
             }
         }
         Ok(belt)

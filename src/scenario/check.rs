@@ -122,7 +122,7 @@ impl Scenario {
             return Err(invalid("model.stribeck_velocity", "(absent)", "the Stribeck law needs v_s > 0 (m/s)"));
         }
         if law != FrictionLaw::Stribeck {
-            if let Some(key) = [(Key::StribeckVelocity), (Key::StribeckExponent)].into_iter().find(|&k| self.param(k).is_some()) {
+            if let Some(key) = Key::ALL.into_iter().find(|&k| k.info().used_by == "stribeck" && self.param(k).is_some()) {
                 return Err(invalid(key.dotted(), "(set)", "only the Stribeck law uses it: set model.friction_law = \"stribeck\" too"));
             }
         }
