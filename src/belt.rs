@@ -461,7 +461,7 @@ impl BeltPath {
     pub fn velocity_after(&self, k: usize) -> f64 {
         if self.alternate.is_nan() {
             self.velocities[k]
-        } else if k % 2 == 0 {
+        } else if k.is_multiple_of(2) {
             self.alternate
         } else {
             self.initial_velocity

@@ -146,7 +146,7 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
         let per = |c: &[Option<f64>]| c.get(r).copied().flatten().map(|x| x / t_a);
         out.push([
             "sticks per second, E[S_T]/t_a [1/s]".into(),
-            shown(per(&mean), per(&mlo), per(&mhi)),
+            shown(per(mean), per(mlo), per(mhi)),
             format!("{} realizations", mn.get(r).copied().flatten().unwrap_or(0)),
         ]);
     }

@@ -385,7 +385,7 @@ pub fn figure(rows: &[Row]) -> Figure {
     // room above the highest point for the legend (upper right)
     let ys: Vec<f64> = lines.iter().chain(&points).flat_map(|s| s.points.iter().map(|p| p.1)).collect();
     let (lo, hi) = ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &y| (lo.min(y), hi.max(y)));
-    let y_range = (lo < hi).then(|| (lo - 0.05 * (hi - lo), hi + 0.3 * (hi - lo)));
+    let y_range = (lo < hi).then_some((lo - 0.05 * (hi - lo), hi + 0.3 * (hi - lo)));
     Figure {
         name: "work_precision".into(),
         title: "Work-precision: event-time error against cost, same realizations".into(),

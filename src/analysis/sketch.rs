@@ -119,7 +119,7 @@ impl Sketch {
         loop {
             let (a, b) = (span(self, exp), span(other, exp));
             (lo, hi) = (a.0.min(b.0), a.1.max(b.1));
-            if (hi - lo) as usize + 1 <= CAP_1D {
+            if ((hi - lo) as usize) < CAP_1D {
                 break;
             }
             exp += 1;

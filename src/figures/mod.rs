@@ -394,7 +394,7 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
     // −v0 when no sample shows the other state).
     let v0 = belt.first()?.1;
     let v1 = belt.iter().map(|b| b.1).find(|v| v.signum() != v0.signum()).unwrap_or(-v0);
-    let state = |i: usize| if i % 2 == 0 { v0 } else { v1 };
+    let state = |i: usize| if i.is_multiple_of(2) { v0 } else { v1 };
     let mut step = vec![(0.0, v0)];
     for (i, &t) in flips.iter().enumerate() {
         step.extend([(t, state(i)), (t, state(i + 1))]);
@@ -403,7 +403,9 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
     // belt velocity just after t (stick starts) or just before t (stick ends, which a flip may cause)
     let after = |t: f64| step.iter().rev().find(|p| p.0 <= t).map_or(v0, |p| p.1);
     let before = |t: f64| step.iter().rev().find(|p| p.0 < t).map_or(v0, |p| p.1);
-    let mark = |ts: &[f64], at: &dyn Fn(f64) -> f64| ts.iter().map(|&t| (t, at(t))).collect::<Vec<_>>();
+    fn mark(ts: &[f64], at: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+        ts.iter().map(|&t| (t, at(t))).collect()
+    }
     let panel = |title: &str, until: f64| {
         let keep = |v: &[(f64, f64)]| v.iter().copied().filter(|p| p.0 <= until).collect::<Vec<_>>();
         // the belt up to the window's end: its corners inside, then its level on to `until`
@@ -424,8 +426,8 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
                 Series { label: "belt".into(), color: 1, points: belt_shown, ..Default::default() },
             ],
             points: vec![
-                Series { label: "stick starts".into(), color: 6, points: keep(&mark(&starts, &after)), ..Default::default() },
-                Series { label: "stick ends".into(), color: 2, points: keep(&mark(&ends, &before)), ..Default::default() },
+                Series { label: "stick starts".into(), color: 6, points: keep(&mark(starts, after)), ..Default::default() },
+                Series { label: "stick ends".into(), color: 2, points: keep(&mark(ends, before)), ..Default::default() },
             ],
             vlines: flips.iter().copied().filter(|&t| t <= until).collect(),
             x_range: Some((0.0, until)),

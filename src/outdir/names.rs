@@ -66,10 +66,8 @@ pub(super) fn remove_stale(dir: &Path, name: &str) {
         }
         let p = entry.path();
         match entry.file_type() {
-            Ok(t) if t.is_dir() => {
-                if p.join(STAGING).is_file() || p.join(MARKER).is_file() {
-                    let _ = std::fs::remove_dir_all(&p);
-                }
+            Ok(t) if t.is_dir() && (p.join(STAGING).is_file() || p.join(MARKER).is_file()) => {
+                let _ = std::fs::remove_dir_all(&p);
             }
             Ok(t) if t.is_file() => {
                 let _ = std::fs::remove_file(&p);

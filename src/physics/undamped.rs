@@ -157,7 +157,7 @@ impl Undamped {
         let h = 0.5 * self.omega * r; // tan(ωτ/2)
         if self.omega == 0.0 || h == 0.0 && r != 0.0 {
             // No spring (or ω r below resolution): uniformly accelerated motion, τ = r.
-            return (r > 0.0 && r.is_finite() && r < horizon).then(|| (r, x0 + xdot0 * r + 0.5 * a0 * r * r));
+            return (r > 0.0 && r.is_finite() && r < horizon).then_some((r, x0 + xdot0 * r + 0.5 * a0 * r * r));
         }
         let phi = self.omega * horizon;
         if phi <= PI && (h <= 0.0 || h.is_infinite() || 2.0 * h >= phi * (1.0 + h * h).sqrt()) {

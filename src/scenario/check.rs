@@ -106,10 +106,10 @@ impl Scenario {
         }
         let (lo_s, _) = self.model.static_friction_coefficient.as_ref().map_or((f64::INFINITY, 0.0), support);
         let (_, hi_k) = support(&self.model.friction_coefficient);
-        if self.model.static_friction_coefficient.is_some() && lo_s < hi_k {
+        if let Some(static_) = self.model.static_friction_coefficient.as_ref().filter(|_| lo_s < hi_k) {
             return Err(invalid(
                 "model.static_friction_coefficient",
-                &shown_param(self.model.static_friction_coefficient.as_ref().unwrap()),
+                &shown_param(static_),
                 &format!(
                     "must be >= model.friction_coefficient for every draw (the smallest possible is {}, the largest friction_coefficient {})",
                     short(lo_s),

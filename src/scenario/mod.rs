@@ -279,11 +279,10 @@ fn schema_error(e: &toml::de::Error, table: &Table) -> ScenarioError {
         return ScenarioError::UnknownKey { key, hint: Hint(known) };
     }
     let mut v = Some(&Value::Table(table.clone()));
-    let owned;
     for part in path.split('.').filter(|p| !p.is_empty()) {
         v = v.and_then(|v| v.get(part));
     }
-    owned = v.map_or_else(|| "(missing)".to_string(), shown);
+    let owned = v.map_or_else(|| "(missing)".to_string(), shown);
     ScenarioError::Invalid { key: path, value: owned, reason: msg.trim_end().to_string() }
 }
 

@@ -171,7 +171,7 @@ impl<K: SlipForm> Method for Exact<K> {
                 // the last advance ended this slip at the switch instant t; a slip that left a
                 // breakaway with zero acceleration under v_old is on v_old's grazing orbit
                 let (x, xdot, _) = self.end;
-                let graze = if graze == graze {
+                let graze = if !graze.is_nan() {
                     graze
                 } else if xdot0 == v_old && a0 == 0.0 {
                     v_old

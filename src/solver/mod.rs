@@ -19,8 +19,8 @@ use serde::{Deserialize, Serialize};
 use crate::events::{Observer, Release};
 use crate::physics::{Damped, Physics, Undamped};
 
-/// The deterministic input of one realization: the belt velocity of each segment (`switches.len()
-/// + 1` of them, [`crate::belt::BeltPath::segments`]), the switch instants in (0, t_end) (sorted,
+/// The deterministic input of one realization: the belt velocity of each segment
+/// (`switches.len() + 1` of them, [`crate::belt::BeltPath::segments`]), the switch instants in (0, t_end) (sorted,
 /// no duplicates) and the end of the window t_end = t_a [s].
 #[derive(Debug, Clone, Copy)]
 pub struct Drive<'a> {

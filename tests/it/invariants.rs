@@ -4,6 +4,7 @@ use proptest::prelude::*;
 
 use crate::common::{check_invariants, outcomes, scenario};
 
+#[allow(clippy::too_many_arguments)] // one argument per drawn scene key
 fn sets(m: f64, k: f64, mu: f64, v0: f64, lambda: f64, ta: f64, sign: &str, seed: u64) -> Vec<String> {
     vec![
         format!("model.mass={m:e}"),
