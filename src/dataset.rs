@@ -305,6 +305,16 @@ pub enum DatasetError {
     Write { path: PathBuf, source: Box<dyn std::error::Error + Send + Sync> },
 }
 
+impl crate::blame::Blame for DatasetError {
+    fn blames_input(&self) -> bool {
+        match self {
+            DatasetError::Layout { .. } => true,
+            DatasetError::Out(o) => o.blames_input(),
+            DatasetError::Write { .. } => false,
+        }
+    }
+}
+
 /// File name of shard `index` of `count`.
 pub fn part_name(index: u64, count: u64) -> String {
     format!("part-{index:05}-of-{count:05}.parquet")

@@ -12,6 +12,7 @@
 
 pub mod analysis;
 pub mod belt;
+pub mod blame;
 pub mod cli;
 pub mod dataset;
 pub mod ensemble;

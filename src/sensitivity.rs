@@ -61,6 +61,16 @@ pub enum SensitivityError {
     TooLarge { n: u64, d: usize, gib: f64, most: u64 },
 }
 
+impl crate::blame::Blame for SensitivityError {
+    fn blames_input(&self) -> bool {
+        match self {
+            SensitivityError::Scenario(_) | SensitivityError::NoRandomKey | SensitivityError::TooLarge { .. } => true,
+            SensitivityError::Out(o) => o.blames_input(),
+            SensitivityError::Run(_) | SensitivityError::Write { .. } => false,
+        }
+    }
+}
+
 /// Most memory the samples' outputs may take [GiB] (they are held for the bootstrap).
 pub const MAX_MEMORY_GIB: f64 = 4.0;
 

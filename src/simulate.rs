@@ -86,6 +86,20 @@ pub enum SimulateError {
     Threads(usize),
     #[error("cannot start worker threads: {0}")]
     Pool(String),
+    #[error("sweep cell {cell}: {source}")]
+    Cell { cell: String, source: Box<SimulateError> },
+}
+
+impl crate::blame::Blame for SimulateError {
+    fn blames_input(&self) -> bool {
+        match self {
+            SimulateError::Threads(_) | SimulateError::Scenario(_) => true,
+            SimulateError::Dataset(d) => d.blames_input(),
+            SimulateError::Out(o) => o.blames_input(),
+            SimulateError::Run(_) | SimulateError::Pool(_) => false,
+            SimulateError::Cell { source, .. } => source.blames_input(),
+        }
+    }
 }
 
 /// Most worker threads accepted (`--threads`).
@@ -142,6 +156,24 @@ impl Pending {
         }
         Ok(Summary { path, ..self.summary })
     }
+}
+
+/// Simulate every cell of a sweep (the one cell of a plain run: empty path) into `out`, and
+/// commit them together: each cell is simulated into a temporary part first, and the parts are
+/// renamed into place only when all cells succeeded, so a failure leaves the previous sweep, if
+/// any, untouched (each pending part's temporary and the cell directories it created go).
+/// `opts.out` is replaced by each cell's directory.
+pub fn sweep(cells: &[crate::scenario::Cell], out: &std::path::Path, opts: &Options, targets: &[Target]) -> Result<Vec<Summary>, SimulateError> {
+    let mut pending = Vec::with_capacity(cells.len());
+    for cell in cells {
+        let opts = Options { out: if cell.path.is_empty() { out.to_path_buf() } else { out.join(&cell.path) }, ..opts.clone() };
+        match compute_until(&cell.scenario, &opts, targets) {
+            Ok(p) => pending.push(p),
+            Err(e) if cell.path.is_empty() => return Err(e),
+            Err(e) => return Err(SimulateError::Cell { cell: cell.path.clone(), source: Box::new(e) }),
+        }
+    }
+    pending.into_iter().map(Pending::commit).collect()
 }
 
 /// Run the stage: simulate and commit the part file into `opts.out`.

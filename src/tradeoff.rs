@@ -128,6 +128,16 @@ pub enum TradeoffError {
     Reference { realization: u64, detail: String },
 }
 
+impl crate::blame::Blame for TradeoffError {
+    fn blames_input(&self) -> bool {
+        match self {
+            TradeoffError::Scenario(_) => true,
+            TradeoffError::Out(o) => o.blames_input(),
+            TradeoffError::Run { .. } | TradeoffError::Write { .. } | TradeoffError::Reference { .. } => false,
+        }
+    }
+}
+
 /// Fewest realizations whose spread estimates a standard error (below it: no score, no
 /// recommendation).
 pub const MIN_REALIZATIONS: u64 = 10;

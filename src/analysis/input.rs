@@ -57,6 +57,13 @@ pub enum InputError {
     Incomplete { path: PathBuf, detail: String },
 }
 
+impl crate::blame::Blame for InputError {
+    /// Every one: the dataset given is not one that can be analysed.
+    fn blames_input(&self) -> bool {
+        true
+    }
+}
+
 fn bad(path: &Path, reason: impl Into<String>) -> InputError {
     InputError::File { path: path.to_owned(), reason: reason.into() }
 }

@@ -145,6 +145,16 @@ pub enum AnalysisError {
     Out(#[from] crate::outdir::OutDirError),
 }
 
+impl crate::blame::Blame for AnalysisError {
+    fn blames_input(&self) -> bool {
+        match self {
+            AnalysisError::Input(_) | AnalysisError::Options(_) | AnalysisError::Read { .. } => true,
+            AnalysisError::Out(o) => o.blames_input(),
+            AnalysisError::Write { .. } => false,
+        }
+    }
+}
+
 /// Statistics of one observable.
 #[derive(Debug, Clone)]
 pub struct SeriesStats {

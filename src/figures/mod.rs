@@ -31,6 +31,16 @@ pub enum FigureError {
     Out(#[from] crate::outdir::OutDirError),
 }
 
+impl crate::blame::Blame for FigureError {
+    fn blames_input(&self) -> bool {
+        match self {
+            FigureError::Read { .. } => true,
+            FigureError::Out(o) => o.blames_input(),
+            FigureError::Draw { .. } => false,
+        }
+    }
+}
+
 /// One sampled realization (Fig. 4): its grid samples and its events, in time order.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Trajectory {

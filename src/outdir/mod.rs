@@ -80,6 +80,12 @@ pub struct OutDirError {
     pub refused: bool,
 }
 
+impl crate::blame::Blame for OutDirError {
+    fn blames_input(&self) -> bool {
+        self.refused
+    }
+}
+
 fn fail(path: &Path, e: impl std::fmt::Display) -> OutDirError {
     OutDirError { path: path.to_owned(), message: e.to_string(), refused: false }
 }

@@ -108,6 +108,13 @@ pub enum ScenarioError {
     Unreadable { path: PathBuf, reason: String },
 }
 
+impl crate::blame::Blame for ScenarioError {
+    /// Every one: a scenario error names the key, value or file at fault.
+    fn blames_input(&self) -> bool {
+        true
+    }
+}
+
 /// The known keys next to an unknown one, for the error message.
 #[derive(Debug)]
 pub struct Hint(Vec<String>);

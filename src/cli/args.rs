@@ -1,0 +1,222 @@
+//! The command line's arguments: the clap types, with their help texts and defaults.
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+use crate::analysis;
+use crate::simulate::Shard;
+
+/// Stick-slip statistics of a dry-friction oscillator on a randomly reversing belt.
+#[derive(Debug, Parser)]
+#[command(
+    name = "stickslip",
+    version,
+    about,
+    long_about = None,
+    after_help = "Exit status: 0 success, 2 bad input or usage (the message names the key, value, file or column), 1 a failure while running, 130/143 interrupted (SIGINT/SIGTERM; temporaries removed)."
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+    /// No progress display, tables or summary lines (errors are still printed).
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate realizations and write the event dataset (Parquet) into --out DIR.
+    ///
+    /// Without SCENARIO the paper scenario runs (Lima & Sampaio: m = 1 kg, k = 4 N/m,
+    /// n = 9.8 N, mu = 0.51, v0 = 1 m/s, lambda = 5 /s, t_a = 10 s, 18,000 realizations).
+    Simulate(SimulateArgs),
+    /// Analyse a dataset: moments (Table 1), histograms, joint histograms, independence tests,
+    /// growth of the start instants with their index; tidy Parquet tables + summary.json in ADIR.
+    Analyze(AnalyzeArgs),
+    /// Draw the paper's figures (PNG and SVG) from an analysis directory into --out FIGDIR.
+    Figures(FiguresArgs),
+    /// Write a self-contained HTML report (figures inlined) and its Markdown twin.
+    Report(ReportArgs),
+    /// The whole reproduction in one go: simulate into DIR/dataset, then DIR/analysis,
+    /// DIR/figures and DIR/report.html (+ .md; a sweep: DIR/reports/CELL/report.html). Takes the same scenario options as `simulate`; stores the switch
+    /// times and samples 3 trajectories (Figs 6 and 4 need them) unless --set says otherwise.
+    Reproduce(ReproduceArgs),
+    /// Measure the speed/accuracy trade: the same realizations through every solver over a ladder
+    /// of tolerances and steps, against `exact`; writes DIR/tradeoff.parquet and a work-precision plot.
+    Tradeoff(TradeoffArgs),
+    /// Global sensitivity: first-order and total Sobol indices of S_T, the stick fraction and the
+    /// mean stick and slip durations with respect to each random scene key and to the intrinsic
+    /// randomness (pick-freeze, N·(d+3) realizations); writes DIR/sobol.parquet, sobol.png, sobol.md.
+    Sensitivity(SensitivityArgs),
+    /// List the scenario files shipped in the binary (the paper scenario and the example
+    /// scenes), print one, or write it to a file to edit: `stickslip scenes damped --out my.toml`.
+    Scenes(ScenesArgs),
+    /// Print a shell completion script, e.g. `stickslip completions bash > /etc/bash_completion.d/stickslip`.
+    Completions {
+        /// The shell: bash, zsh, fish, elvish or powershell.
+        shell: clap_complete::Shell,
+    },
+}
+
+/// Where a scenario comes from: a file and `--set` overrides.
+#[derive(Debug, clap::Args)]
+pub struct ScenarioArgs {
+    /// Scenario file (TOML); keys it omits keep the paper values. `stickslip scenes` lists the
+    /// shipped ones (the paper scenario; damping, static friction, an asymmetric belt, random
+    /// parameters, Stribeck friction) and writes one out to edit.
+    pub scenario: Option<PathBuf>,
+    /// Override a scenario key by its dotted name, e.g. --set belt.switch_rate=1.0 (repeatable). The
+    /// value is TOML: a list is a sweep (--set 'model.damping=[0, 0.5, 1]'), an inline table a
+    /// distribution drawn per realization
+    /// (--set 'model.friction_coefficient={dist = "uniform", low = 0.3, high = 0.7}').
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub sets: Vec<String>,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct SensitivityArgs {
+    #[command(flatten)]
+    pub input: ScenarioArgs,
+    /// Output directory (replaced atomically when complete).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Pick-freeze samples N (the run simulates N·(d+3) realizations for d random keys).
+    #[arg(long, value_name = "N", default_value_t = 2000)]
+    pub realizations: u64,
+    /// Random seed (overrides run.seed).
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct TradeoffArgs {
+    #[command(flatten)]
+    pub input: ScenarioArgs,
+    /// Output directory (replaced atomically when complete).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Realizations per setting (all settings run the same ones, on one thread).
+    #[arg(long, value_name = "N", default_value_t = 100)]
+    pub realizations: u64,
+    /// Recommend the cheapest setting whose bias on every Table 1 statistic is below this
+    /// fraction of its Monte Carlo standard error at the scenario's run.realizations.
+    #[arg(long, value_name = "F", default_value_t = crate::tradeoff::BIAS_FRACTION)]
+    pub bias_fraction: f64,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ScenesArgs {
+    /// The scene to print or write (without it: the list).
+    pub name: Option<String>,
+    /// Write the scene to this file (a new file: an existing one is never replaced).
+    #[arg(long, value_name = "FILE", requires = "name")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct FiguresArgs {
+    /// Analysis directory written by `analyze`.
+    pub analysis: PathBuf,
+    /// Output directory for the figures (replaced atomically when complete).
+    #[arg(long, value_name = "FIGDIR")]
+    pub out: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ReportArgs {
+    /// Dataset directory (for provenance).
+    pub dataset: PathBuf,
+    /// Analysis directory.
+    pub analysis: PathBuf,
+    /// Figures directory.
+    pub figures: PathBuf,
+    /// The HTML file to write; the Markdown twin goes next to it with the extension .md.
+    #[arg(long, value_name = "FILE", default_value = "report.html")]
+    pub out: PathBuf,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct AnalyzeArgs {
+    /// Dataset directory written by `simulate` (all part-*.parquet files below it).
+    pub dataset: PathBuf,
+    /// Output directory (replaced atomically when the analysis is complete).
+    #[arg(long, value_name = "ADIR")]
+    pub out: PathBuf,
+    /// Largest event index k analysed for T_k, L_k, D_k, H_k.
+    #[arg(long, value_name = "K", default_value_t = analysis::DEFAULT_MAX_INDEX)]
+    pub max_index: u32,
+    /// Fixed number of histogram bins (default: Scott's rule, 10..200 bins).
+    #[arg(long, value_name = "N")]
+    pub bins: Option<usize>,
+    /// Joint histogram + independence test of two observables: T_k, L_k, D_k, H_k, Y_k or a
+    /// scalar such as S_T or stick_fraction (a name it does not know lists them all), e.g.
+    /// --pair D1,D2 (repeatable; default: T1,T2 and D1,D2).
+    #[arg(long = "pair", value_name = "A,B")]
+    pub pairs: Vec<crate::analysis::Pair>,
+    /// Permutations of the mutual-information null distribution.
+    #[arg(long, value_name = "P", default_value_t = analysis::DEFAULT_PERMUTATIONS)]
+    pub permutations: u32,
+    /// Analyse the parts present although realization ranges of the run are missing (the
+    /// summary and the report say which); without it an incomplete dataset is refused.
+    #[arg(long)]
+    pub allow_partial: bool,
+    /// Times t [s] at which the survival curves P(D > t), P(H > t) are also evaluated, and the
+    /// thresholds T of P(longest stick > T), e.g. --tail-times 0.5,1,2 (survival.parquet,
+    /// tails.parquet; printed).
+    #[arg(long, value_name = "T,...", value_delimiter = ',')]
+    pub tail_times: Vec<f64>,
+    /// Thresholds s of P(severity > s), severity = (max ẋ − min ẋ)/(2 v0).
+    #[arg(long, value_name = "S,...", value_delimiter = ',', default_values_t = analysis::DEFAULT_SEVERITY)]
+    pub severity: Vec<f64>,
+    /// Skip the tails (survival curves, conditional estimator, extremes).
+    #[arg(long)]
+    pub no_tails: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct SimulateArgs {
+    /// Output dataset directory (created if needed); the part file is replaced atomically.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Run only shard I of N (0-based): a contiguous block of realization indices. The parts of
+    /// all N shards written into one DIR form the same dataset as an unsharded run.
+    #[arg(long, value_name = "I/N", default_value = "0/1")]
+    pub shard: Shard,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ReproduceArgs {
+    /// Output directory of the whole study: DIR/dataset, DIR/analysis, DIR/figures and
+    /// DIR/report.html (created if needed; a previous reproduce output is updated in place).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// The options `simulate` and `reproduce` share.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub input: ScenarioArgs,
+    /// Number of realizations (overrides run.realizations).
+    #[arg(long, value_name = "N")]
+    pub realizations: Option<u64>,
+    /// Random seed (overrides run.seed).
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
+    /// Stop when the standard error of the mean of VAR is at most SE (repeatable; all must be
+    /// met). VAR: S_T, S_L, T_k, D_k, L_k, H_k (k >= 1), stick_fraction, mean_stick_duration or
+    /// mean_slip_duration (a duration cut at t_a is censored, left out, as everywhere). Checked after every
+    /// chunk of realizations in index order, so the dataset is the first N rows of a fixed-N run;
+    /// --realizations (run.realizations) is the cap. With --shard, each shard applies the targets
+    /// to its own block (its standard errors, not the union's).
+    #[arg(long = "target-se", value_name = "VAR=SE")]
+    pub target_se: Vec<crate::precision::Target>,
+    /// Worker threads (default: all cores). The output does not depend on it.
+    #[arg(long, value_name = "T")]
+    pub threads: Option<usize>,
+}
