@@ -13,9 +13,9 @@ use std::process::Command;
 use std::time::Instant;
 
 use stickslip::analysis;
-use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::scenario::Scenario;
-use stickslip::simulate::{self, Options, Shard};
+use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::simulate::{self, Options, Shard};
 use stickslip::solver::SolverKind;
 
 fn peak_rss_mib() -> f64 {

@@ -5,35 +5,26 @@
 //!
 //! Dependencies point one way:
 //! [`physics`] (parameters, friction law, equation of motion, stick/arrival/breakaway rules,
-//! closed forms) and [`belt`] (velocity segments) → [`solver`] (one driver, the methods) →
-//! [`events`] → [`params`] (random keys) → [`ensemble`] → [`dataset`] → [`simulate`] →
-//! [`analysis`] → [`figures`] → [`report`], with [`scenario`] loading and validating input and
-//! [`cli`] on top.
+//! closed forms) → [`solver`] (one driver, the methods) → [`simulation`] (belt processes, scene
+//! keys, events, ensemble, dataset, the simulate stage) → [`analysis`] → [`figures`] →
+//! [`report`], with [`scenario`] loading and validating input and [`cli`] on top.
 
 pub mod analysis;
-pub mod belt;
 pub mod blame;
 pub mod cli;
-pub mod dataset;
-pub mod ensemble;
-pub mod events;
 pub mod figures;
 pub mod interrupt;
 pub mod metadata;
 pub mod observables;
 pub mod outdir;
-pub mod params;
 pub mod physics;
-pub mod precision;
 pub mod report;
-pub mod rng;
 pub mod scenario;
 pub mod scenes;
 pub mod sensitivity;
-pub mod simulate;
+pub mod simulation;
 pub mod solver;
 pub mod special;
 pub mod stats;
 pub mod table;
 pub mod tradeoff;
-pub mod trajectory;

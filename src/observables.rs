@@ -18,9 +18,9 @@ use std::str::FromStr;
 
 use polars::prelude::{col, lit, when, DataType, Expr, NULL};
 
-use crate::dataset::columns as name;
-use crate::ensemble::Outcome;
-use crate::events::{Record, StickEnd};
+use crate::simulation::dataset::columns as name;
+use crate::simulation::ensemble::Outcome;
+use crate::simulation::events::{Record, StickEnd};
 
 /// The largest severity a dataset may hold (a rule of `analyze`: the histograms of an
 /// observable need a bound of its values; a mass swinging at a thousand times the belt speed is
@@ -388,7 +388,7 @@ impl FromStr for Observable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::events::{Observer, Release};
+    use crate::simulation::events::{Observer, Release};
 
     /// A record built by hand: first stick at 1 s for 0.5 s, a slip of 2 s, a stick at 3.5 s
     /// still running at t_a = 4 s (cut: censored).

@@ -220,7 +220,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         ),
         ("seed".into(), sc.run.seed.to_string()),
         ("solver".into(), solver_settings(sc)),
-        ("generator".into(), crate::rng::GENERATOR.into()),
+        ("generator".into(), crate::simulation::rng::GENERATOR.into()),
         ("stickslip".into(), summary.stickslip_version.clone()),
         ("analysis".into(), adir.display().to_string()),
         ("truncated intervals".into(), summary.policies.truncated_intervals.clone()),

@@ -5,7 +5,7 @@
 //! Pick-freeze design with two independent samples A and B of every input (A_j: realization j,
 //! B_j: realization N + j) and, for each input i, AB⁽ⁱ⁾_j: A_j with input i taken from B_j. Every
 //! random key and the intrinsic draws have their own sub-streams of a realization's generator
-//! ([`crate::params`], [`crate::rng`]), so AB⁽ⁱ⁾_j shares every draw with A_j except input i —
+//! ([`crate::simulation::keys`], [`crate::simulation::rng`]), so AB⁽ⁱ⁾_j shares every draw with A_j except input i —
 //! exactly. Estimators, with V the variance of f over A and B together:
 //!
 //! ```text
@@ -29,11 +29,11 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::figures::{render, Figure, Panel, Series};
 use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
+use crate::simulation::ensemble::{Ensemble, Outcome, RunError};
 use crate::table::{Col, Table};
 
 /// The per-realization outputs whose variance is apportioned.
@@ -272,7 +272,7 @@ mod tests {
         let f = |x: [f64; 3]| x[0].sin() + 7.0 * x[1].sin().powi(2) + 0.1 * x[2].powi(4) * x[0].sin();
         let n = 40_000;
         let mut rng = ChaCha8Rng::seed_from_u64(11);
-        let mut draw = || -> [f64; 3] { std::array::from_fn(|_| (crate::rng::unit_f64(&mut rng) * 2.0 - 1.0) * std::f64::consts::PI) };
+        let mut draw = || -> [f64; 3] { std::array::from_fn(|_| (crate::simulation::rng::unit_f64(&mut rng) * 2.0 - 1.0) * std::f64::consts::PI) };
         let (a, b): (Vec<[f64; 3]>, Vec<[f64; 3]>) = (0..n).map(|_| (draw(), draw())).unzip();
         let (fa, fb): (Vec<f64>, Vec<f64>) = (a.iter().map(|&x| f(x)).collect(), b.iter().map(|&x| f(x)).collect());
         let (s_true, t_true) = ([0.3139, 0.4424, 0.0], [0.5576, 0.4424, 0.2437]);

@@ -39,11 +39,11 @@
 use std::path::Path;
 use std::time::Instant;
 
-use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::figures::{render, Figure, Panel, Series};
 use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Numerics, Scenario, ScenarioError};
+use crate::simulation::ensemble::{Ensemble, Outcome, RunError};
 use crate::solver::SolverKind;
 use crate::table::{Col, Table};
 

@@ -13,7 +13,7 @@
 
 use rand::Rng;
 
-use crate::rng::realization_rng;
+use crate::simulation::rng::realization_rng;
 use crate::special::chi2_sf;
 
 /// Results of the three tests.
@@ -159,7 +159,7 @@ mod tests {
 
     fn uniforms(seed: u64) -> impl Iterator<Item = f64> {
         let mut rng = realization_rng(seed, 0);
-        std::iter::repeat_with(move || crate::rng::unit_f64(&mut rng))
+        std::iter::repeat_with(move || crate::simulation::rng::unit_f64(&mut rng))
     }
 
     #[test]

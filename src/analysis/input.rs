@@ -13,9 +13,9 @@ use arrow_schema::DataType;
 use parquet::arrow::parquet_to_arrow_schema;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 
-use crate::dataset::{READABLE_VERSIONS, REQUIRED};
 use crate::metadata as meta;
 use crate::scenario::Scenario;
+use crate::simulation::dataset::{READABLE_VERSIONS, REQUIRED};
 
 /// A checked dataset.
 #[derive(Debug, Clone)]
@@ -38,7 +38,7 @@ pub struct Dataset {
     pub switch_times: bool,
     /// whether the parts have the tails' state of schema v3 (`columns::TAILS_STATE`)
     pub tails_state: bool,
-    /// The directory of the trajectory tables beside the dataset ([`crate::trajectory::dir_for`]),
+    /// The directory of the trajectory tables beside the dataset ([`crate::simulation::trajectory::dir_for`]),
     /// when the simulation sampled trajectories.
     pub trajectories: Option<PathBuf>,
 }
@@ -158,8 +158,8 @@ fn check(path: &Path) -> Result<Part, InputError> {
         }
     }
     let scenario = get(meta::SCENARIO).ok_or_else(|| bad(path, format!("no {} in its metadata", meta::SCENARIO)))?;
-    let switch_times = schema.field_with_name(crate::dataset::columns::SWITCH_TIMES).is_ok();
-    let tails_state = crate::dataset::columns::TAILS_STATE.iter().all(|c| schema.field_with_name(c).is_ok());
+    let switch_times = schema.field_with_name(crate::simulation::dataset::columns::SWITCH_TIMES).is_ok();
+    let tails_state = crate::simulation::dataset::columns::TAILS_STATE.iter().all(|c| schema.field_with_name(c).is_ok());
     let number = |key: &str| -> Result<u64, InputError> {
         get(key).and_then(|v| v.trim().parse().ok()).ok_or_else(|| bad(path, format!("no valid {key} in its metadata")))
     };
@@ -291,8 +291,8 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
     }
     // the trajectory tables beside the dataset, only if this run sampled them (tables another run
     // left there record another scenario, and are not taken for these realizations)
-    let trajectories = crate::trajectory::dir_for(dir).filter(|d| {
-        use crate::trajectory::{recorded_scenario, EVENTS, SAMPLES};
+    let trajectories = crate::simulation::trajectory::dir_for(dir).filter(|d| {
+        use crate::simulation::trajectory::{recorded_scenario, EVENTS, SAMPLES};
         [SAMPLES, EVENTS].iter().all(|f| recorded_scenario(&d.join(f)).as_deref() == Some(toml.as_str()))
     });
     let rows: u64 = parts.iter().map(|(_, p)| p.rows).sum();
@@ -342,7 +342,7 @@ mod tests {
 
     #[test]
     fn the_writers_schema_has_every_column_the_reader_requires() {
-        let schema = crate::dataset::schema(&crate::dataset::Layout::default());
+        let schema = crate::simulation::dataset::schema(&crate::simulation::dataset::Layout::default());
         for (name, ty) in REQUIRED {
             let field = schema.field_with_name(name).unwrap_or_else(|_| panic!("the writer has no {name}"));
             assert_eq!(type_name(field.data_type()), *ty, "{name}");

@@ -347,9 +347,9 @@ pub fn summary(a: &Analysis) -> Summary {
     }
 }
 
-/// The trajectory tables beside a dataset ([`crate::trajectory`]) and their names in an analysis.
+/// The trajectory tables beside a dataset ([`crate::simulation::trajectory`]) and their names in an analysis.
 pub const TRAJECTORY_TABLES: [(&str, &str); 2] =
-    [(crate::trajectory::SAMPLES, "trajectory_samples.parquet"), (crate::trajectory::EVENTS, "trajectory_events.parquet")];
+    [(crate::simulation::trajectory::SAMPLES, "trajectory_samples.parquet"), (crate::simulation::trajectory::EVENTS, "trajectory_events.parquet")];
 
 /// Our Table 1 beside the paper's (for the paper's scene; other scenes: ours alone), as Markdown.
 pub fn table1_markdown(a: &Analysis) -> String {

@@ -167,7 +167,7 @@ fn file_frame(
     }
     // 1. per realization: its slot (cell and group), convergence bucket, observables, censoring
     // and rules
-    let group = (col(crate::dataset::columns::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64);
+    let group = (col(crate::simulation::dataset::columns::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64);
     let mut cols = vec![(group + lit((cell * GROUPS) as i64)).alias(SLOT)];
     // the convergence bucket: how many checkpoints lie below this realization's read count k
     let k = col(ROW).cast(DataType::Int64) + lit(position as i64 + 1);
@@ -208,7 +208,7 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
     let mut out = Vec::with_capacity(cells.len());
     for data in cells {
         let t_a = data.scenario.run.duration;
-        let mut cols = vec![(col(crate::dataset::columns::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64).alias(GROUP)];
+        let mut cols = vec![(col(crate::simulation::dataset::columns::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64).alias(GROUP)];
         cols.extend(plan.series.iter().enumerate().map(|(i, o)| o.expr(t_a).alias(value(i))));
         // the first realizations of the cell, whatever files they are in (the pilot, and so the
         // results, must not depend on how the dataset is split)

@@ -4,8 +4,8 @@
 use polars::prelude::*;
 
 use super::input::{scan, Dataset, ROW};
-use crate::dataset::columns::{self as name, LISTS};
 use crate::observables::SEVERITY_BOUND;
+use crate::simulation::dataset::columns::{self as name, LISTS};
 
 /// The list columns of a part, with their count columns and whether they are ordered.
 fn lists(switch_times: bool) -> impl Iterator<Item = (&'static str, &'static str, bool)> {

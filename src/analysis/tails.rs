@@ -28,7 +28,7 @@
 //! **Conditional (exact in t).** While stuck, the mass moves with the belt, so a stick entered at x
 //! on belt velocity v_s ends at the earlier of the belt's next change — exponential with the rate
 //! λ_s of leaving state s, whatever happened before (a Poisson flip process is memoryless) — and
-//! the breakaway after the holding time d_s(x) = `Physics::stick_duration(x, v_s)` (closed form;
+//! the breakaway after the holding time d_s(x) = `PerUnitMass::stick_duration(x, v_s)` (closed form;
 //! ∞ without a spring; damping and μ_s ≥ μ_k only move the holding limit). Hence
 //!
 //! ```text
@@ -59,10 +59,10 @@ use std::collections::HashMap;
 
 use super::input::{scan, scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
-use crate::belt::Process;
-use crate::dataset::columns as name;
-use crate::physics::Physics;
+use crate::physics::PerUnitMass;
 use crate::scenario::ProcessName;
+use crate::simulation::belt::Process;
+use crate::simulation::dataset::columns as name;
 
 /// Time cells per t_a (module docs).
 const CELLS_PER_WINDOW: f64 = 65_536.0;
@@ -291,7 +291,7 @@ fn on_cells(grid: &[(f64, i64)], times: &[f64], coarse: bool) -> Vec<(f64, i64)>
 /// The bin of each entry's holding time d_s(x) (position X, belt velocity V: `v_f` forward,
 /// −`v_r` reverse) on the evaluation times `ts` (increasing): how many of them lie below d, so
 /// that the entry is held past `ts[j]` exactly when its bin exceeds j.
-fn holding_bin(p: Physics, (v_f, v_r): (f64, f64), ts: Vec<f64>) -> Expr {
+fn holding_bin(p: PerUnitMass, (v_f, v_r): (f64, f64), ts: Vec<f64>) -> Expr {
     col(X).map_many(
         move |c: &mut [Column]| {
             let (x, v) = (c[0].f64()?, c[1].f64()?);
@@ -306,7 +306,7 @@ fn holding_bin(p: Physics, (v_f, v_r): (f64, f64), ts: Vec<f64>) -> Expr {
 
 /// The stick entries of `sticks` per (G, K, holding-time bin on the times `ts`, FLAG = belt
 /// state forward).
-fn entry_plan(sticks: LazyFrame, p: Physics, speeds: (f64, f64), max_index: u32, ts: Vec<f64>) -> DslPlan {
+fn entry_plan(sticks: LazyFrame, p: PerUnitMass, speeds: (f64, f64), max_index: u32, ts: Vec<f64>) -> DslPlan {
     count_plan(sticks.select([col(G), col(K), holding_bin(p, speeds, ts).alias(CELL), col(V).gt(lit(0.0)).alias(FLAG)]), max_index)
 }
 
@@ -352,7 +352,7 @@ fn longest(data: &Dataset) -> PolarsResult<f64> {
 
 /// The scene of the conditional estimator with its belt's flip rates (λ forward, λ reverse) and
 /// speeds (v_f, v_r), or why it does not hold for this dataset.
-fn conditional_scene(data: &Dataset) -> Result<(crate::params::Scene, BeltRates), String> {
+fn conditional_scene(data: &Dataset) -> Result<(crate::simulation::keys::Scene, BeltRates), String> {
     if !data.tails_state {
         return Err("the dataset has no stick entry state (schema v1 or v2): simulate it again with this version".into());
     }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{Parser, Subcommand};
 
 use crate::analysis;
-use crate::simulate::Shard;
+use crate::simulation::simulate::Shard;
 
 /// Stick-slip statistics of a dry-friction oscillator on a randomly reversing belt.
 #[derive(Debug, Parser)]
@@ -215,7 +215,7 @@ pub struct RunArgs {
     /// --realizations (run.realizations) is the cap. With --shard, each shard applies the targets
     /// to its own block (its standard errors, not the union's).
     #[arg(long = "target-se", value_name = "VAR=SE")]
-    pub target_se: Vec<crate::precision::Target>,
+    pub target_se: Vec<crate::simulation::precision::Target>,
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,

@@ -13,7 +13,7 @@ use clap::Parser;
 use crate::analysis;
 use crate::outdir::{check_separate, DatasetDir};
 use crate::scenario::{Overrides, Scenario};
-use crate::simulate::{self, Shard};
+use crate::simulation::simulate::{self, Shard};
 
 mod args;
 mod exit;

@@ -525,7 +525,7 @@ pub fn key_axis_label(column: &str) -> String {
     if column == "duration" {
         return "run.duration [s]".into();
     }
-    match crate::params::Key::ALL.iter().find(|k| k.name() == column) {
+    match crate::simulation::keys::Key::ALL.iter().find(|k| k.name() == column) {
         Some(k) => {
             // Key::unit reads " (kg)" for messages; friction coefficients and the Stribeck
             // exponent have none

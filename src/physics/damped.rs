@@ -42,7 +42,7 @@
 //! velocity shrink by `e^{−aπ/√q}` per half period, so once one lies inside ±|v| no later crossing
 //! exists and the search stops.
 
-use super::{Physics, SlipForm};
+use super::{PerUnitMass, SlipForm};
 
 /// The damped closed forms.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,7 +71,7 @@ struct Basis {
 }
 
 impl SlipForm for Damped {
-    fn new(p: &Physics) -> Damped {
+    fn new(p: &PerUnitMass) -> Damped {
         let a = 0.5 * p.slip_damping();
         let q = (p.omega - a) * (p.omega + a);
         let h = q.abs().sqrt();
@@ -267,7 +267,7 @@ mod tests {
     use super::*;
     use crate::physics::Params;
 
-    fn form(k: f64, c: f64) -> (Damped, Physics) {
+    fn form(k: f64, c: f64) -> (Damped, PerUnitMass) {
         let p = Params { stiffness: k, damping: c, ..Params::PAPER }.per_unit_mass();
         (Damped::new(&p), p)
     }

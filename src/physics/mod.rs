@@ -17,7 +17,7 @@
 //! below) acts only while the mass slides: in a stick u = 0, so the holding force, the breakaway
 //! and the arrival rule do not see it. In a slip it is a dashpot towards the *belt*: the
 //! equation is `ẍ = σ a_k + β v − ω² x − (γ + β) ẋ` with β = σ_v/m, a linear oscillator with
-//! damping γ + β ([`Physics::slip_damping`]) under constant forcing while v is constant — so
+//! damping γ + β ([`PerUnitMass::slip_damping`]) under constant forcing while v is constant — so
 //! Coulomb with a viscous term keeps its closed forms (the damped ones).
 //!
 //! The Stribeck law (R. Stribeck 1902; the exponential form of B. Armstrong-Hélouvry, P. Dupont,
@@ -83,7 +83,7 @@ impl FrictionLaw {
 }
 
 /// The friction law with its parameters, as data: every solver asks the law (through
-/// [`Physics`]) for the slip friction, the acceleration after a breakaway, its regularized form
+/// [`PerUnitMass`]) for the slip friction, the acceleration after a breakaway, its regularized form
 /// and the step limit near its peak; none branches on which law it is. A new law is a new variant
 /// here and its answers.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -200,9 +200,9 @@ impl Params {
 
     /// The per-unit-mass constants the solvers work with.
     #[inline]
-    pub fn per_unit_mass(&self) -> Physics {
+    pub fn per_unit_mass(&self) -> PerUnitMass {
         let omega2 = self.stiffness / self.mass;
-        Physics {
+        PerUnitMass {
             omega2,
             omega: omega2.sqrt(),
             gamma: self.damping / self.mass,
@@ -222,7 +222,7 @@ impl Default for Params {
 
 /// The model per unit mass: `ω²`, `ω`, `γ = c/m`, `a_k`, `a_s`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Physics {
+pub struct PerUnitMass {
     pub omega2: f64,
     pub omega: f64,
     pub gamma: f64,
@@ -248,7 +248,7 @@ pub enum Arrival {
     Reverse { sigma: f64 },
 }
 
-impl Physics {
+impl PerUnitMass {
     /// The slip friction per unit mass at relative speed |u| [m/s²]: `a_k` (Coulomb), or
     /// `a_k + (a_s − a_k) exp(−(|u|/v_s)^δ)` (Stribeck).
     #[inline]
@@ -390,7 +390,7 @@ impl Physics {
 /// Closed-form slip under constant forcing, from `(x₀, ẋ₀)` with initial acceleration `a₀`.
 pub trait SlipForm: Copy + Send + Sync + std::fmt::Debug {
     /// The closed forms of `p`.
-    fn new(p: &Physics) -> Self;
+    fn new(p: &PerUnitMass) -> Self;
     /// State `(x, ẋ)` after a slip of duration τ.
     fn state(&self, x0: f64, xdot0: f64, a0: f64, tau: f64) -> (f64, f64);
     /// The first τ ∈ (0, horizon) at which the velocity reaches `v`, and the position there;

@@ -31,7 +31,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use super::{Physics, SlipForm};
+use super::{PerUnitMass, SlipForm};
 
 /// The undamped closed forms: `ω² = k/m`, `ω`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,7 +45,7 @@ pub struct Undamped {
 const SERIES_BELOW: f64 = 1e-4;
 
 impl SlipForm for Undamped {
-    fn new(p: &Physics) -> Undamped {
+    fn new(p: &PerUnitMass) -> Undamped {
         Undamped { omega2: p.omega2, omega: p.omega }
     }
 

@@ -1,4 +1,4 @@
-//! The `[belt]` keys → the belt process ([`crate::belt::Process`]): which process
+//! The `[belt]` keys → the belt process ([`crate::simulation::belt::Process`]): which process
 //! (`belt.process`, or inferred from the `reverse_*` keys when absent), the keys each uses, and
 //! the recorded velocity log read from its file.
 //!
@@ -17,8 +17,8 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::{invalid, short, Param, ProcessName, Scenario, ScenarioError, MAX_EXPECTED_SWITCHES};
-use crate::belt::{Markov, Process, Recorded, Symmetric, Telegraph, MAX_SPEED};
-use crate::params::Key;
+use crate::simulation::belt::{Markov, Process, Recorded, Symmetric, Telegraph, MAX_SPEED};
+use crate::simulation::keys::Key;
 
 impl Scenario {
     /// The belt's process, inferred when `belt.process` is absent: symmetric, or telegraph when

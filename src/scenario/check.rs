@@ -5,9 +5,9 @@ use super::{
     invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS,
     MAX_NATURAL_RADIANS_NUMERICAL, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES,
 };
-use crate::belt::{Belt, Process};
-use crate::params::{Key, Scene};
 use crate::physics::{FrictionLaw, Law, Params, Stribeck};
+use crate::simulation::belt::{Belt, Process};
+use crate::simulation::keys::{Key, Scene};
 use crate::solver::SolverKind;
 
 impl Scenario {
@@ -83,7 +83,7 @@ impl Scenario {
     /// rate·t_a ≤ [`MAX_NATURAL_RADIANS`] (exact; [`MAX_NATURAL_RADIANS_NUMERICAL`] for a
     /// numerical solver), and for rk4 rate·step ≤ 1 (RK4 loses accuracy past 1 and is unstable
     /// past 2.8; the rule then names `numerics.step`). Checked at the door on the fixed values
-    /// and the finite ends of every distribution, and per draw ([`crate::ensemble`]).
+    /// and the finite ends of every distribution, and per draw ([`crate::simulation::ensemble`]).
     pub fn max_rate(&self) -> (f64, String, Option<&'static str>) {
         let radians = if self.solver() == SolverKind::Exact { MAX_NATURAL_RADIANS } else { MAX_NATURAL_RADIANS_NUMERICAL };
         let horizon = radians / self.run.duration;
@@ -280,7 +280,7 @@ fn check_param(key: Key, p: &Param) -> Result<(), ScenarioError> {
         }
         Param::Random(d) => {
             d.check().map_err(|reason| invalid(key.dotted(), &shown_param(p), &reason))?;
-            if let crate::params::Dist::Uniform { low, high } = *d {
+            if let crate::simulation::keys::Dist::Uniform { low, high } = *d {
                 if !(ok(low) && ok(high)) {
                     return Err(invalid(
                         key.dotted(),

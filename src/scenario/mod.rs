@@ -9,7 +9,7 @@
 //!
 //! Any numeric `[model]` or `[belt]` key is a [`Param`]: a number, a list of numbers (a sweep:
 //! one cell per value, resolved by [`Scenario::resolve_sweep`]) or a distribution drawn per
-//! realization ([`crate::params`]).
+//! realization ([`crate::simulation::keys`]).
 //!
 //! Files: this one resolves (merging, `--set`, sweeps, errors); `spec.rs` is the typed file;
 //! `check.rs` validates it and builds the scene it describes.
@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use toml::{Table, Value};
 
-use crate::params::Key;
+use crate::simulation::keys::Key;
 pub use crate::solver::Numerics;
 
 mod belt;
@@ -497,8 +497,8 @@ fn shown(v: &Value) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::belt::InitialSign;
     use crate::physics::Params;
+    use crate::simulation::belt::InitialSign;
     use crate::solver::SolverKind;
 
     #[test]

@@ -5,9 +5,9 @@ use serde::{Deserialize, Serialize};
 use toml::Value;
 
 use super::Scenario;
-use crate::belt::InitialSign;
-use crate::params::{Dist, Key};
 use crate::physics::FrictionLaw;
+use crate::simulation::belt::InitialSign;
+use crate::simulation::keys::{Dist, Key};
 use crate::solver::SolverKind;
 
 /// A numeric scene key as written: a number, a sweep or a distribution.

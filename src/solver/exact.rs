@@ -1,10 +1,10 @@
 //! The exact event-driven method: closed-form motion in every mode, closed-form event times.
 //!
 //! Within a belt segment the belt velocity v is constant and each mode has a closed form: the
-//! stick is `x = x₀ + v τ` and ends at the breakaway time of [`Physics::stick_duration`]; the slip
+//! stick is `x = x₀ + v τ` and ends at the breakaway time of [`PerUnitMass::stick_duration`]; the slip
 //! is the slip form `K` ([`crate::physics::Undamped`] or [`crate::physics::Damped`]), whose
 //! first return to belt speed is found in closed form or bracketed exactly
-//! ([`SlipForm::crossing`]). At belt speed the arrival rule of [`Physics::arrival`] decides:
+//! ([`SlipForm::crossing`]). At belt speed the arrival rule of [`PerUnitMass::arrival`] decides:
 //! stick (an event), a touch at the breakaway point (the slip goes on as after a breakaway, on the
 //! grazing orbit when μ_s = μ_k), or a pass-through with the friction reversed (not an event).
 //! After a belt switch the slip goes on from the state at the switch with the friction against
@@ -25,7 +25,7 @@
 //! nothing is carried there.
 
 use super::{Event, Method, Stop};
-use crate::physics::{Arrival, Physics, SlipForm};
+use crate::physics::{Arrival, PerUnitMass, SlipForm};
 
 #[derive(Debug, Clone, Copy)]
 enum Phase {
@@ -40,7 +40,7 @@ enum Phase {
 /// The exact method for one realization's oscillator.
 #[derive(Debug, Clone, Copy)]
 pub struct Exact<K> {
-    p: Physics,
+    p: PerUnitMass,
     form: K,
     /// no friction at all: crossings of belt speed change nothing and are not looked for
     frictionless: bool,
@@ -53,7 +53,7 @@ pub struct Exact<K> {
 }
 
 impl<K: SlipForm> Exact<K> {
-    pub fn new(p: &Physics) -> Exact<K> {
+    pub fn new(p: &PerUnitMass) -> Exact<K> {
         let phase = Phase::Stick { t0: 0.0, x0: 0.0 };
         Exact { p: *p, form: K::new(p), frictionless: p.kinetic == 0.0 && p.breakaway == 0.0, phase, piece: (phase, 0.0), end: (0.0, 0.0, 0.0), t: 0.0 }
     }

@@ -1,11 +1,11 @@
 //! `rk45` and `rk4`: the slip integrated numerically, transitions located as events.
 //!
-//! The mode logic is the physics home's ([`Physics::arrival`]): a slip ends where the relative
+//! The mode logic is the physics home's ([`PerUnitMass::arrival`]): a slip ends where the relative
 //! velocity `g = σ(v − ẋ)` falls from positive to zero, and there the mass sticks, touches or
 //! passes through. The stick itself (`x = x₀ + v τ`) and its breakaway are linear, which any
 //! Runge–Kutta method integrates exactly, so they are evaluated directly; belt switches are
 //! segment ends, as in a piecewise ode45 run. The slip's right-hand side is the equation of
-//! motion of [`Physics::slip_accel`] (damping included).
+//! motion of [`PerUnitMass::slip_accel`] (damping included).
 //!
 //! Where the numerical velocity reaches belt speed is located on each step's dense output
 //! ([`Step::first_zero`]) from three signs, so that a whole excursion inside one long step is not
@@ -31,14 +31,14 @@
 //! exceeds e^−12: far from the peak steps are free, approaching it they shrink, and inside it u
 //! moves by at most v_s per step — each step's six stages then sample the peak every ~v_s/5
 //! (`h = 2Δ / (|u̇| + √(u̇² + 2|ü|Δ))`, the cancellation-free root). The law computes that limit
-//! ([`crate::physics::Physics::peak_step_limit`]; a law without a peak leaves the step alone), so
+//! ([`crate::physics::PerUnitMass::peak_step_limit`]; a law without a peak leaves the step alone), so
 //! this method never asks which law it runs. `numerics.peak_guard = false` turns it off, only to
 //! see what an unguarded controller does.
 
 use super::rk::{rk4, Dopri, State, Step};
 use super::Numerics;
 use super::{step_end, Event, Method, Stop};
-use crate::physics::{Arrival, Physics};
+use crate::physics::{Arrival, PerUnitMass};
 
 /// Which Runge–Kutta scheme.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,7 +67,7 @@ enum Mode {
 /// One realization's integration by rk45 or rk4.
 #[derive(Debug, Clone)]
 pub struct Hybrid {
-    p: Physics,
+    p: PerUnitMass,
     scheme: Scheme,
     step: f64,
     peak_guard: bool,
@@ -92,7 +92,7 @@ enum Piece {
 }
 
 impl Hybrid {
-    pub fn new(p: &Physics, scheme: Scheme, num: &Numerics) -> Hybrid {
+    pub fn new(p: &PerUnitMass, scheme: Scheme, num: &Numerics) -> Hybrid {
         Hybrid {
             p: *p,
             scheme,

@@ -11,17 +11,19 @@
 pub mod exact;
 pub mod hybrid;
 pub mod moreau;
+mod observer;
 pub mod rk;
 pub mod smooth;
 
+pub use observer::{Observer, Release};
+
 use serde::{Deserialize, Serialize};
 
-use crate::events::{Observer, Release};
-use crate::physics::{Damped, Physics, Undamped};
+use crate::physics::{Damped, PerUnitMass, Undamped};
 
 /// The deterministic input of one realization: the belt velocity of each segment
-/// (`switches.len() + 1` of them, [`crate::belt::BeltPath::segments`]), the switch instants in (0, t_end) (sorted,
-/// no duplicates) and the end of the window t_end = t_a [s].
+/// (`switches.len() + 1` of them, [`crate::simulation::belt::BeltPath::segments`]), the switch
+/// instants in (0, t_end) (sorted, no duplicates) and the end of the window t_end = t_a [s].
 #[derive(Debug, Clone, Copy)]
 pub struct Drive<'a> {
     pub velocities: &'a [f64],
@@ -263,7 +265,7 @@ impl Solver {
 
     /// Solve one realization of the oscillator `p` (per unit mass, [`crate::physics::Params::per_unit_mass`]);
     /// returns the integration steps attempted (see [`drive`]).
-    pub fn solve<O: Observer>(&self, p: &Physics, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<u64, SolveError> {
+    pub fn solve<O: Observer>(&self, p: &PerUnitMass, d: &Drive<'_>, x0: f64, xdot0: f64, obs: &mut O) -> Result<u64, SolveError> {
         let (p, num, budget) = (*p, &self.numerics, self.numerics.step_budget);
         match self.kind {
             SolverKind::Exact | SolverKind::Auto if self.damped || p.slip_damping() != 0.0 => {

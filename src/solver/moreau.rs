@@ -17,21 +17,21 @@
 //!
 //! The inclusion is solved exactly: if the force needed to keep ẋ' = v, `f* = (A v − b)/h`,
 //! satisfies |f*| ≤ a_s the step sticks; otherwise it slips with f = f(|v − ẋ|) sgn(f*), the slip
-//! friction of [`Physics::slip_friction`] at the step's starting relative velocity (a_k for
+//! friction of [`PerUnitMass::slip_friction`] at the step's starting relative velocity (a_k for
 //! Coulomb; semi-implicit for the Stribeck law). A stick is a
 //! maximal run of sticking steps and is reported at the start of its first step; nothing is
 //! located between grid points, so event times carry an O(h) error — the price of never locating
 //! an event.
 
 use super::{Event, Method, Numerics, Stop};
-use crate::physics::Physics;
+use crate::physics::PerUnitMass;
 
 const THETA: f64 = 0.5;
 
 /// One realization's Moreau–Jean integration.
 #[derive(Debug, Clone, Copy)]
 pub struct Moreau {
-    p: Physics,
+    p: PerUnitMass,
     h0: f64,
     steps: u64,
     stuck: bool,
@@ -43,7 +43,7 @@ pub struct Moreau {
 }
 
 impl Moreau {
-    pub fn new(p: &Physics, num: &Numerics) -> Moreau {
+    pub fn new(p: &PerUnitMass, num: &Numerics) -> Moreau {
         Moreau { p: *p, h0: num.step, steps: 0, stuck: false, t: 0.0, x: 0.0, xd: 0.0, prev: (0.0, 0.0, 0.0) }
     }
 }

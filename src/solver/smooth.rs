@@ -11,7 +11,7 @@
 //!
 //! (for Coulomb the second term, present only when μ_s > μ_k, is a bump of height a_s − a_k at
 //! |u| = ε, so that the largest friction the law can exert is about the static limit; the Stribeck
-//! law reaches it by itself; the law answers for its form: [`crate::physics::Physics::regularized_friction`]).
+//! law reaches it by itself; the law answers for its form: [`crate::physics::PerUnitMass::regularized_friction`]).
 //! Classification rule:
 //! the mass is *stuck* while `|v − ẋ| < δ` (`stick_velocity`), slipping otherwise; the crossings
 //! of `|v − ẋ| = δ` are located on the dense output. With a smooth law the mass never moves
@@ -21,12 +21,12 @@
 use super::rk::{Dopri, State, Step};
 use super::Numerics;
 use super::{step_end, Event, Method, Stop};
-use crate::physics::Physics;
+use crate::physics::PerUnitMass;
 
 /// One realization's regularized integration.
 #[derive(Debug, Clone)]
 pub struct Smooth {
-    p: Physics,
+    p: PerUnitMass,
     epsilon: f64,
     delta: f64,
     dopri: Dopri,
@@ -38,7 +38,7 @@ pub struct Smooth {
 }
 
 impl Smooth {
-    pub fn new(p: &Physics, num: &Numerics) -> Smooth {
+    pub fn new(p: &PerUnitMass, num: &Numerics) -> Smooth {
         Smooth {
             p: *p,
             epsilon: num.epsilon,

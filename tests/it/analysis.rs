@@ -5,10 +5,10 @@ use std::path::Path;
 
 use polars::prelude::*;
 use stickslip::analysis::{self, output, Options};
-use stickslip::dataset::{Layout, PartWriter, Rows};
-use stickslip::ensemble::Outcome;
 use stickslip::observables::Observable;
-use stickslip::simulate::{self, provenance, Shard};
+use stickslip::simulation::dataset::{Layout, PartWriter, Rows};
+use stickslip::simulation::ensemble::Outcome;
+use stickslip::simulation::simulate::{self, provenance, Shard};
 
 use crate::common::{outcomes, scenario, stickslip};
 
@@ -102,7 +102,7 @@ fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
         (r.min_velocity, r.max_velocity) = (-1.0, 1.0);
         r.stick_start.extend([t1, t1 + 1.0]);
         r.stick_duration.extend([0.5, 0.25]);
-        r.stick_end.extend([stickslip::events::StickEnd::Flip, stickslip::events::StickEnd::Horizon]);
+        r.stick_end.extend([stickslip::simulation::events::StickEnd::Flip, stickslip::simulation::events::StickEnd::Horizon]);
         r.stick_entry_position.extend([0.0, 0.1]);
         r.stick_entry_velocity.extend([1.0, -1.0]);
         r.slip_start.push(t1 + 0.5);

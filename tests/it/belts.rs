@@ -36,8 +36,8 @@ fn a_markov_belt_starts_in_its_stationary_law_and_changes_at_its_rates() {
     // the initial level of 20,000 realizations against π = (2, 4, 1)/7, and the mean number of
     // changes in 10 s against the stationary flux Σ_i π_i q_i t_a = (2·2 + 4·2 + 1·4)/7 · 10
     let sc = scenario(&with(&STOPPING, &["run.realizations=20000"]));
-    let ens = stickslip::ensemble::Ensemble::new(&sc).unwrap();
-    let mut o = stickslip::ensemble::Outcome::default();
+    let ens = stickslip::simulation::ensemble::Ensemble::new(&sc).unwrap();
+    let mut o = stickslip::simulation::ensemble::Outcome::default();
     let (mut counts, mut changes) = ([0u64; 3], 0.0);
     let n = 20_000;
     for i in 0..n {
@@ -68,7 +68,11 @@ fn a_stick_on_a_belt_at_rest_lasts_until_the_belt_moves() {
                 at_rest += 1;
                 let end = r.stick_start[k] + r.stick_duration[k];
                 let at_change = o.switches().iter().any(|t| (t - end).abs() < 1e-12) || (end - 10.0).abs() < 1e-12;
-                assert!(at_change && r.stick_end[k] != stickslip::events::StickEnd::Breakaway, "a stick at rest ended at {end} by {:?}", r.stick_end[k]);
+                assert!(
+                    at_change && r.stick_end[k] != stickslip::simulation::events::StickEnd::Breakaway,
+                    "a stick at rest ended at {end} by {:?}",
+                    r.stick_end[k]
+                );
             }
         }
     }

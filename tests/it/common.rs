@@ -3,11 +3,11 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use stickslip::belt::{BeltPath, Process};
-use stickslip::ensemble::{Ensemble, Outcome};
-use stickslip::events::Record;
 use stickslip::physics::Params;
 use stickslip::scenario::Scenario;
+use stickslip::simulation::belt::{BeltPath, Process};
+use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::events::Record;
 use stickslip::solver::{Drive, Solver};
 use stickslip::tradeoff::match_events;
 

@@ -4,7 +4,7 @@
 
 use stickslip::analysis::accum::Moments;
 use stickslip::analysis::{self, SeriesStats};
-use stickslip::simulate::{self, Options, Shard};
+use stickslip::simulation::simulate::{self, Options, Shard};
 
 use crate::common::scenario;
 

@@ -1,7 +1,7 @@
 //! The dataset as users read it: through polars, with the contract's columns and metadata.
 
 use polars::prelude::*;
-use stickslip::simulate::{self, Options, Shard};
+use stickslip::simulation::simulate::{self, Options, Shard};
 
 use crate::common::{outcomes, scenario};
 

@@ -1,7 +1,7 @@
 //! Determinism: the same bytes for any thread count; shards add up to the whole run.
 
 use polars::prelude::*;
-use stickslip::simulate::{self, Options, Shard};
+use stickslip::simulation::simulate::{self, Options, Shard};
 
 use crate::common::scenario;
 use crate::dataset::read_dir;

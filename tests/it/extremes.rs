@@ -2,9 +2,9 @@
 
 use std::f64::consts::PI;
 
-use stickslip::ensemble::{Ensemble, Outcome};
-use stickslip::params::Key;
 use stickslip::scenario::Scenario;
+use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::keys::Key;
 
 use crate::common::{check_invariants, outcomes, scenario, solve_scripted};
 

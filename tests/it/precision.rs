@@ -1,7 +1,7 @@
 //! `simulate --target-se`: the dataset is the first N rows of a fixed-N run, for any thread count.
 
 use polars::prelude::*;
-use stickslip::simulate::{self, Options, Shard};
+use stickslip::simulation::simulate::{self, Options, Shard};
 
 use crate::common::{scenario, stickslip};
 use crate::dataset::read_dir;

@@ -1,8 +1,8 @@
 //! Scenes beyond the paper: damping, static friction above kinetic, the asymmetric belt and
 //! random parameters — closed forms, an independent reference, extremes, determinism, the door.
 
-use stickslip::ensemble::{Ensemble, Outcome};
-use stickslip::simulate::{self, Options, Shard};
+use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::simulate::{self, Options, Shard};
 
 use crate::common::{check_invariants, outcomes, params, scenario, stickslip};
 use crate::dataset::read_dir;

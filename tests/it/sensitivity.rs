@@ -1,7 +1,7 @@
 //! `sensitivity`: Sobol indices by pick-freeze, checked against an independent estimate.
 
-use stickslip::ensemble::{Ensemble, Outcome};
 use stickslip::sensitivity;
+use stickslip::simulation::ensemble::{Ensemble, Outcome};
 
 use crate::common::{scenario, stickslip};
 

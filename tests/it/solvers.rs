@@ -1,7 +1,7 @@
 //! The numerical solvers against the exact one: convergence, extremes, the trade-off table.
 
-use stickslip::ensemble::{Ensemble, Outcome};
-use stickslip::events::Record;
+use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::events::Record;
 use stickslip::tradeoff;
 
 use crate::common::{event_errors, rms, scenario, stickslip};

@@ -2,8 +2,8 @@
 //! reference; the Coulomb reduction, convergence orders, the shallow arrival, the peak guard,
 //! `auto`, and the extremes.
 
-use stickslip::ensemble::{Ensemble, Outcome};
-use stickslip::events::Record;
+use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::events::Record;
 use stickslip::solver::SolverKind;
 
 use crate::common::{check_invariants, event_errors as errors, outcomes, rms, scenario, stickslip};

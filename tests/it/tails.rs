@@ -1,9 +1,9 @@
 //! The tails' state in each record (schema v3): how each stick ended, where it was entered, and
 //! the extremes of the motion — checked against the physics and an independent trajectory.
 
-use stickslip::ensemble::Ensemble;
-use stickslip::events::StickEnd;
 use stickslip::physics::Params;
+use stickslip::simulation::ensemble::Ensemble;
+use stickslip::simulation::events::StickEnd;
 
 use crate::common::{belt_velocity, outcomes, scenario};
 
@@ -115,7 +115,7 @@ fn a_motion_stuck_throughout_has_the_belt_speed_as_its_only_velocity() {
 
 use stickslip::analysis::tails::{Curve, TailOptions};
 use stickslip::analysis::{self, Options};
-use stickslip::simulate::{self, Shard};
+use stickslip::simulation::simulate::{self, Shard};
 
 /// Simulate `sets` into a temporary directory and analyse it with the tails at `times`.
 fn tails_of(sets: &[&str], times: &[f64]) -> analysis::tails::Tails {
@@ -203,8 +203,8 @@ fn censoring_at_a_short_horizon_biases_the_naive_tail_and_not_the_product_limit(
 /// lower edge, as before the cells were split at τ, S(τ) would be 1).
 #[test]
 fn a_curve_at_a_user_time_counts_the_durations_just_below_it() {
-    use stickslip::dataset::{Layout, PartWriter, Rows};
-    use stickslip::ensemble::Outcome;
+    use stickslip::simulation::dataset::{Layout, PartWriter, Rows};
+    use stickslip::simulation::ensemble::Outcome;
     let tmp = tempfile::tempdir().unwrap();
     let (n, tau, d): (u64, f64, f64) = (400, 0.5, 0.5 - 2e-5);
     let rho = 10.0 / 65_536.0;

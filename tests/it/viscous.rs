@@ -7,7 +7,7 @@ use stickslip::physics::{Law, Params, Stribeck};
 
 use crate::common::{check_invariants, event_errors as errors, outcomes, scenario};
 
-fn records(sets: &[&str], n: u64) -> Vec<stickslip::events::Record> {
+fn records(sets: &[&str], n: u64) -> Vec<stickslip::simulation::events::Record> {
     outcomes(&scenario(sets), n).into_iter().map(|o| o.record).collect()
 }
 

@@ -30,7 +30,7 @@ use std::sync::Arc;
 use rand::Rng;
 use rand_distr::{Distribution, Poisson};
 
-use crate::rng::unit_f64;
+use crate::simulation::rng::unit_f64;
 
 /// Initial belt direction of a symmetric or telegraph belt.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -526,7 +526,7 @@ impl BeltPath {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::realization_rng;
+    use crate::simulation::rng::realization_rng;
 
     #[test]
     fn coincident_and_initial_switches_are_folded() {

@@ -3,19 +3,19 @@
 //! Realization `i` draws, from its own stream `realization_rng(seed, i)` and in this order:
 //! X0 ~ U[lo, hi], Ẋ0 ~ U[lo, hi] (one 53-bit uniform each), then the belt path
 //! ([`Belt::sample_into`]); each random scene key draws from its own sub-stream
-//! ([`crate::params`]), so the belt and initial conditions do not depend on which keys are random.
+//! ([`crate::simulation::keys`]), so the belt and initial conditions do not depend on which keys are random.
 //! Chunks of consecutive indices are the unit of parallel work; the chunk length depends only on
 //! the scenario, so the rows — and the bytes written — are the same for any number of threads or
 //! shards.
 
-use crate::belt::BeltPath;
-use crate::events::{Observer, Record};
-use crate::params::Scene;
-use crate::physics::{Params, Physics};
-use crate::rng::{realization_rng, unit_f64};
+use crate::physics::{Params, PerUnitMass};
 use crate::scenario::{Scenario, ScenarioError};
+use crate::simulation::belt::BeltPath;
+use crate::simulation::events::{Observer, Record};
+use crate::simulation::keys::Scene;
+use crate::simulation::rng::{realization_rng, unit_f64};
+use crate::simulation::trajectory::{Sampler, Tee};
 use crate::solver::{Drive, SolveError, Solver};
-use crate::trajectory::{Sampler, Tee};
 
 /// A realization that could not be solved.
 #[derive(Debug, thiserror::Error)]
@@ -41,7 +41,7 @@ pub struct Outcome {
     /// the window t_a, s
     pub t_a: f64,
     /// the belt's speed scale (drawn, when it is random), m/s: the severity's unit
-    /// ([`crate::belt::Process::scale`])
+    /// ([`crate::simulation::belt::Process::scale`])
     pub speed_scale: f64,
     switches: Vec<f64>,
     velocities: Vec<f64>,
@@ -69,7 +69,7 @@ pub struct Ensemble {
     store_switch_times: bool,
     solver: Solver,
     /// the scene per unit mass when no key is random (computed once)
-    physics: Physics,
+    physics: PerUnitMass,
     /// the rate rule a drawn realization must meet ([`Scenario::max_rate`]): the largest rate,
     /// the rule, and whether the solver is numerical (its rate counts c/m too)
     max_rate: (f64, String, bool),
@@ -147,7 +147,8 @@ impl Ensemble {
                 return Err(RunError { realization: index, source: SolveError::Drawn { drawn } });
             }
             let (max_rate, rule, numerical) = &self.max_rate;
-            let (rate, _, symbol) = crate::scenario::fastest_rate(*numerical, physics.omega2.sqrt(), physics.slip_damping(), crate::params::Key::Damping);
+            let (rate, _, symbol) =
+                crate::scenario::fastest_rate(*numerical, physics.omega2.sqrt(), physics.slip_damping(), crate::simulation::keys::Key::Damping);
             if rate > *max_rate {
                 let p = &out.params;
                 let drawn = format!(

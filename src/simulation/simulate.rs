@@ -12,14 +12,14 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use crate::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
-use crate::ensemble::{Ensemble, Outcome, RunError};
 use crate::metadata as meta;
 use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
-use crate::precision::{Target, Tracker};
-use crate::rng::GENERATOR;
 use crate::scenario::{Scenario, ScenarioError};
-use crate::trajectory;
+use crate::simulation::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
+use crate::simulation::ensemble::{Ensemble, Outcome, RunError};
+use crate::simulation::precision::{Target, Tracker};
+use crate::simulation::rng::GENERATOR;
+use crate::simulation::trajectory;
 
 /// Shard `index` of `count` (`--shard I/N`): the contiguous realization range
 /// `[⌊index·total/count⌋, ⌊(index+1)·total/count⌋)` of the whole run.
@@ -190,7 +190,7 @@ pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateE
 }
 
 /// [`compute`], stopping at the first chunk boundary where every `targets` standard error is met
-/// ([`crate::precision`]; `run.realizations` is the cap). A shard applies the targets to its own
+/// ([`crate::simulation::precision`]; `run.realizations` is the cap). A shard applies the targets to its own
 /// block of realizations and records the block (`stickslip.shard_block`).
 pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) -> Result<Pending, SimulateError> {
     let start = Instant::now();

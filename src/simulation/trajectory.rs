@@ -21,8 +21,8 @@ use parquet::arrow::ArrowWriter;
 use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 
-use crate::events::{Observer, Record, Release};
 use crate::outdir::{is_marked, resolved, Kind, Lock, OutDirError, TempFile};
+use crate::simulation::events::{Observer, Record, Release};
 
 /// Records the grid samples the driver hands it.
 #[derive(Debug, Clone)]

@@ -2,7 +2,7 @@
 //! realization.
 //!
 //! Each random key draws from its own sub-stream of the realization's generator
-//! ([`crate::rng::substream`], purpose = the key), never from the stream of the initial
+//! ([`crate::simulation::rng::substream`], purpose = the key), never from the stream of the initial
 //! conditions and the belt: making a key random does not shift the belt's draws (the same seed
 //! keeps the same belt), and making a second key random does not shift the first one's.
 //!
@@ -22,9 +22,9 @@ use rand::Rng;
 use rand_distr::{Distribution, Gamma, StandardNormal};
 use serde::{Deserialize, Serialize};
 
-use crate::belt::{Belt, Process};
 use crate::physics::{Law, Params};
-use crate::rng::{substream, unit_f64};
+use crate::simulation::belt::{Belt, Process};
+use crate::simulation::rng::{substream, unit_f64};
 
 /// The numeric scene keys (the ones that may be swept or random).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -313,7 +313,7 @@ impl Scene {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rng::realization_rng;
+    use crate::simulation::rng::realization_rng;
 
     #[test]
     fn moments_of_the_distributions() {

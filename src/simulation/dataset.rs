@@ -10,7 +10,7 @@
 //! state: `stick_end` list<utf8> (`flip`, `breakaway`, `horizon` per stick),
 //! `stick_entry_position`, `stick_entry_velocity` list<float64> (x [m] and belt velocity [m/s] at
 //! each stick's start), `longest_stick`, `stick_fraction`, `min_velocity`, `max_velocity`,
-//! `max_slip_speed`, `severity` float64 (s, 1, m/s, 1; [`crate::events::Record`]); then
+//! `max_slip_speed`, `severity` float64 (s, 1, m/s, 1; [`crate::simulation::events::Record`]); then
 //! `switch_times`
 //! list<float64> (Y) and `switch_velocities` list<float64> (m/s, the velocity after each change)
 //! only when the scenario asks for them, then one float64 column per random scene
@@ -39,9 +39,9 @@ use parquet::file::metadata::{KeyValue, SortingColumn};
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 use parquet::schema::types::ColumnPath;
 
-use crate::ensemble::Outcome;
-use crate::events::StickEnd;
 use crate::outdir::{Created, Lock, OutDirError, TempFile};
+use crate::simulation::ensemble::Outcome;
+use crate::simulation::events::StickEnd;
 
 /// Version of the column layout, recorded in every file.
 pub const SCHEMA_VERSION: &str = "3";

@@ -4,7 +4,7 @@
 //! version-stable algorithm) keyed by `s` (little-endian in the first 8 key bytes) and a purpose
 //! `p` (little-endian in the next 8; the rest zero) on stream `i`. Purpose 0 is the initial
 //! conditions and the belt (the paper's draws); each random scene key has its own purpose
-//! ([`crate::params`]). The numbers therefore depend only on `(s, p, i)`: any thread count,
+//! ([`crate::simulation::keys`]). The numbers therefore depend only on `(s, p, i)`: any thread count,
 //! chunking or shard split reproduces them bit for bit, and the sub-streams never overlap.
 
 use rand::{Rng, SeedableRng};

@@ -5,7 +5,7 @@
 //! `mean_slip_duration` — and SE the standard error of that mean the run should reach,
 //! `se = √(s²/n)` over the realizations that have the quantity (its censoring rule is the
 //! observables' one, as everywhere). Realizations are simulated in index order; after every
-//! chunk of [`crate::ensemble::Ensemble::chunk_len`] realizations (a boundary that depends on the
+//! chunk of [`crate::simulation::ensemble::Ensemble::chunk_len`] realizations (a boundary that depends on the
 //! scenario only) the standard errors are updated and the run stops at the first boundary where
 //! every target is met. The dataset is therefore exactly the first N rows of a fixed-N run with
 //! the same seed, for any thread count; `run.realizations` is the cap, and reaching it before the
@@ -13,8 +13,8 @@
 
 use std::str::FromStr;
 
-use crate::ensemble::Outcome;
 use crate::observables::Observable;
+use crate::simulation::ensemble::Outcome;
 use crate::stats::Moments;
 
 /// One `--target-se VAR=SE`.
