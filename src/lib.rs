@@ -10,21 +10,21 @@
 //! [`report`], with [`scenario`] loading and validating input and [`cli`] on top.
 
 pub mod analysis;
-pub mod blame;
+pub(crate) mod blame;
 pub mod cli;
 pub mod figures;
 pub mod interrupt;
-pub mod metadata;
+pub(crate) mod metadata;
 pub mod observables;
-pub mod outdir;
+pub(crate) mod outdir;
 pub mod physics;
 pub mod report;
 pub mod scenario;
-pub mod scenes;
+pub(crate) mod scenes;
 pub mod sensitivity;
 pub mod simulation;
 pub mod solver;
-pub mod special;
-pub mod stats;
+pub(crate) mod special;
+pub(crate) mod stats;
 pub mod table;
 pub mod tradeoff;

@@ -4,12 +4,20 @@
 
 use crate::scenario::PAPER_TOML;
 
-/// A shipped scenario file: its name, where it lives in the repository, its text.
+/// A shipped scenario file: its name and its text.
 #[derive(Debug, Clone, Copy)]
 pub struct Shipped {
+    /// what `stickslip scenes NAME` calls it
     pub name: &'static str,
-    pub path: &'static str,
+    /// the file's text, as in `pipelines/`
     pub text: &'static str,
+}
+
+/// A scenario file of `pipelines/`, embedded.
+macro_rules! shipped {
+    ($name:literal, $file:literal) => {
+        Shipped { name: $name, text: include_str!(concat!("../pipelines/", $file)) }
+    };
 }
 
 impl Shipped {
@@ -24,16 +32,16 @@ impl Shipped {
 
 /// Every shipped scenario, the paper's first.
 pub const SHIPPED: [Shipped; 9] = [
-    Shipped { name: "paper", path: "pipelines/paper.toml", text: PAPER_TOML },
-    Shipped { name: "stribeck", path: "pipelines/stribeck.toml", text: include_str!("../pipelines/stribeck.toml") },
-    Shipped { name: "damped", path: "pipelines/scenes/damped.toml", text: include_str!("../pipelines/scenes/damped.toml") },
-    Shipped { name: "static_friction", path: "pipelines/scenes/static_friction.toml", text: include_str!("../pipelines/scenes/static_friction.toml") },
-    Shipped { name: "asymmetric_belt", path: "pipelines/scenes/asymmetric_belt.toml", text: include_str!("../pipelines/scenes/asymmetric_belt.toml") },
-    Shipped { name: "uncertain_friction", path: "pipelines/scenes/uncertain_friction.toml", text: include_str!("../pipelines/scenes/uncertain_friction.toml") },
-    Shipped { name: "stribeck_damped", path: "pipelines/scenes/stribeck_damped.toml", text: include_str!("../pipelines/scenes/stribeck_damped.toml") },
-    Shipped { name: "viscous", path: "pipelines/scenes/viscous.toml", text: include_str!("../pipelines/scenes/viscous.toml") },
+    Shipped { name: "paper", text: PAPER_TOML },
+    shipped!("stribeck", "stribeck.toml"),
+    shipped!("damped", "scenes/damped.toml"),
+    shipped!("static_friction", "scenes/static_friction.toml"),
+    shipped!("asymmetric_belt", "scenes/asymmetric_belt.toml"),
+    shipped!("uncertain_friction", "scenes/uncertain_friction.toml"),
+    shipped!("stribeck_damped", "scenes/stribeck_damped.toml"),
+    shipped!("viscous", "scenes/viscous.toml"),
     // (the recorded-belt example is not shipped: it needs its log file, pipelines/scenes/rotary_log.csv)
-    Shipped { name: "markov_belt", path: "pipelines/scenes/markov_belt.toml", text: include_str!("../pipelines/scenes/markov_belt.toml") },
+    shipped!("markov_belt", "scenes/markov_belt.toml"),
 ];
 
 /// The shipped scenario called `name`.

@@ -66,12 +66,6 @@ pub fn leave_one_out<T: Clone>(parts: &[T], empty: &T, merge: impl Fn(&T, &T) ->
     (0..n).map(|g| merge(&prefix[g], &suffix[g + 1])).collect()
 }
 
-/// The group of realization `index`.
-#[inline]
-pub fn group(index: u64) -> usize {
-    (index % GROUPS as u64) as usize
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

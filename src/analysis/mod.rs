@@ -15,19 +15,19 @@
 //! `n_truncated_excluded` counts them); see [`crate::observables`] for the one rule.
 
 pub mod accum;
-pub mod density;
+pub(crate) mod density;
 mod exact;
-pub mod growth;
-pub mod independence;
+pub(crate) mod growth;
+pub(crate) mod independence;
 pub mod input;
-pub mod jackknife;
+pub(crate) mod jackknife;
 pub mod output;
 pub mod paper;
 mod query;
 mod rules;
-pub mod sketch;
-pub mod summary;
-pub mod sweep;
+pub(crate) mod sketch;
+pub(crate) mod summary;
+pub(crate) mod sweep;
 pub mod tails;
 
 use std::collections::BTreeMap;

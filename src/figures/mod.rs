@@ -6,11 +6,11 @@
 //! `fig06_y` (when it stored switch times), `fig07_variance_growth`, `fig08_counts`, `fig09_t`,
 //! `fig10_l`, `fig11_t1_t2`, `fig12_d`, `fig13_d1_d2`, `fig14_h`.
 
-pub mod chart;
-pub mod contour;
-pub mod format;
+pub(crate) mod chart;
+pub(crate) mod contour;
+pub(crate) mod format;
 pub mod render;
-pub mod tails;
+pub(crate) mod tails;
 
 use std::path::{Path, PathBuf};
 

@@ -98,10 +98,6 @@ impl DatasetDir {
         Ok(d)
     }
 
-    pub fn path(&self) -> &Path {
-        &self.dir
-    }
-
     /// Keep what was created.
     pub fn commit(mut self) {
         self.committed = true;
@@ -162,11 +158,6 @@ impl StagedDir {
     /// Where to write.
     pub fn path(&self) -> &Path {
         &self.staging
-    }
-
-    /// The final path.
-    pub fn target(&self) -> &Path {
-        &self.target
     }
 
     /// Mark the staged directory and swap it in for `target` (checked again: a file put into

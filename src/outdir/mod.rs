@@ -33,7 +33,7 @@ mod dirs;
 mod files;
 mod names;
 
-pub use dirs::{prepare_reproduce, Created, DatasetDir, ReproduceDir, StagedDir};
+pub use dirs::{prepare_reproduce, Created, DatasetDir, StagedDir};
 pub use files::{write_file, write_new_file, Lock, TempFile};
 use names::{hidden, remove_stale, unique, STAGING};
 

@@ -48,8 +48,8 @@
 //! critically and over-damped in one form continuous through ζ = 1). A scene without damping
 //! runs the undamped forms and pays nothing for damping support.
 
-pub mod damped;
-pub mod undamped;
+pub(crate) mod damped;
+pub(crate) mod undamped;
 
 use serde::{Deserialize, Serialize};
 

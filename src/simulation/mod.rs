@@ -11,6 +11,6 @@ pub mod ensemble;
 pub mod events;
 pub mod keys;
 pub mod precision;
-pub mod rng;
+pub(crate) mod rng;
 pub mod simulate;
-pub mod trajectory;
+pub(crate) mod trajectory;

@@ -8,12 +8,12 @@
 //! rk4 with located events), [`moreau`] (time stepping of the set-valued law) and [`smooth`] (a
 //! regularized law).
 
-pub mod exact;
-pub mod hybrid;
-pub mod moreau;
+pub(crate) mod exact;
+pub(crate) mod hybrid;
+pub(crate) mod moreau;
 mod observer;
-pub mod rk;
-pub mod smooth;
+pub(crate) mod rk;
+pub(crate) mod smooth;
 
 pub use observer::{Observer, Release};
 
