@@ -9,6 +9,8 @@
 //! keys, events, ensemble, dataset, the simulate stage) → [`analysis`] → [`figures`] →
 //! [`report`], with [`scenario`] loading and validating input and [`cli`] on top.
 
+#![warn(missing_docs)]
+
 pub mod analysis;
 pub(crate) mod blame;
 pub mod cli;

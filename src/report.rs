@@ -16,18 +16,39 @@ use crate::analysis::paper::{table1, Row};
 use crate::analysis::summary::Summary;
 use crate::table::Table;
 
+/// Why `report` failed.
 #[derive(Debug, thiserror::Error)]
 pub enum ReportError {
+    /// An input (analysis table, `summary.json`, figure) could not be read.
     #[error("reading {}: {message}", path.display())]
-    Read { path: PathBuf, message: String },
+    Read {
+        /// the file
+        path: PathBuf,
+        /// what went wrong
+        message: String,
+    },
+    /// A report file could not be written.
     #[error("writing {}: {source}", path.display())]
-    Write { path: PathBuf, source: std::io::Error },
+    Write {
+        /// the file
+        path: PathBuf,
+        /// the I/O error
+        source: std::io::Error,
+    },
+    /// The dataset could not be found or failed its checks.
     #[error(transparent)]
     Dataset(#[from] input::InputError),
+    /// The output could not be staged or replaced.
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
+    /// The analysis is not of this dataset (another scenario or size).
     #[error("{}: {message}", path.display())]
-    Mismatch { path: PathBuf, message: String },
+    Mismatch {
+        /// the analysis directory
+        path: PathBuf,
+        /// what differs
+        message: String,
+    },
 }
 
 impl crate::blame::Blame for ReportError {

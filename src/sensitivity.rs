@@ -45,20 +45,41 @@ pub const REPLICATES: usize = 200;
 /// The name of the intrinsic-randomness input.
 pub const INTRINSIC: &str = "intrinsic (belt, initial conditions)";
 
+/// Why `sensitivity` failed.
 #[derive(Debug, thiserror::Error)]
 pub enum SensitivityError {
+    /// The scenario is invalid.
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
+    /// The scenario has no random key to apportion the variance to.
     #[error("the scenario has no random key: make at least one [model] or [belt] key a distribution, e.g. --set 'model.friction_coefficient={{dist = \"uniform\", low = 0.3, high = 0.7}}'")]
     NoRandomKey,
+    /// A realization failed.
     #[error(transparent)]
     Run(#[from] RunError),
+    /// Writing an output file failed.
     #[error("writing {}: {message}", path.display())]
-    Write { path: std::path::PathBuf, message: String },
+    Write {
+        /// the file
+        path: std::path::PathBuf,
+        /// what went wrong
+        message: String,
+    },
+    /// The output directory could not be staged or replaced.
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
+    /// The samples' outputs would take more than [`MAX_MEMORY_GIB`].
     #[error("--realizations {n}: the {d} random keys' N·(d+3) outputs are held in memory, about {gib:.1} GiB; at most {MAX_MEMORY_GIB} GiB: use N <= {most}")]
-    TooLarge { n: u64, d: usize, gib: f64, most: u64 },
+    TooLarge {
+        /// N, the pick-freeze samples asked for
+        n: u64,
+        /// d, the random keys
+        d: usize,
+        /// the memory they would take [GiB]
+        gib: f64,
+        /// the largest N that fits
+        most: u64,
+    },
 }
 
 impl crate::blame::Blame for SensitivityError {
@@ -82,13 +103,19 @@ fn sample_bytes(d: usize) -> f64 {
 /// One row of `sobol.parquet`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Index {
+    /// the input: a random key's column name (e.g. `friction_coefficient`) or [`INTRINSIC`]
     pub parameter: String,
+    /// the output whose variance is apportioned (one of [`OUTPUTS`])
     pub output: Observable,
     /// pick-freeze samples whose realizations all have the output
     pub samples: usize,
+    /// S_i, the first-order Sobol index (NaN with fewer than two samples)
     pub first_order: f64,
+    /// S_i's 95 % percentile-bootstrap interval
     pub first_order_ci: (f64, f64),
+    /// ST_i, the total Sobol index (NaN with fewer than two samples)
     pub total: f64,
+    /// ST_i's 95 % percentile-bootstrap interval
     pub total_ci: (f64, f64),
 }
 

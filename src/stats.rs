@@ -23,12 +23,19 @@
 /// Count, mean, central power sums M2..M4, and the range of a sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Moments {
+    /// number of values
     pub n: u64,
+    /// their mean
     pub mean: f64,
+    /// M2 = Σ (x − mean)²
     pub m2: f64,
+    /// M3 = Σ (x − mean)³
     pub m3: f64,
+    /// M4 = Σ (x − mean)⁴
     pub m4: f64,
+    /// the least value (+∞ when empty)
     pub min: f64,
+    /// the greatest value (−∞ when empty)
     pub max: f64,
 }
 
@@ -39,6 +46,7 @@ impl Default for Moments {
 }
 
 impl Moments {
+    /// Add one value.
     pub fn add(&mut self, x: f64) {
         let n1 = self.n as f64;
         self.n += 1;
@@ -55,6 +63,7 @@ impl Moments {
         self.max = self.max.max(x);
     }
 
+    /// The moments of both samples together (pairwise merge).
     pub fn merge(&self, o: &Moments) -> Moments {
         if self.n == 0 {
             return *o;

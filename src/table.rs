@@ -10,13 +10,18 @@ use polars::prelude::*;
 /// A small tidy table, column by column.
 #[derive(Debug, Clone, Default)]
 pub struct Table {
+    /// (name, values) of each column, in order
     pub columns: Vec<(String, Col)>,
 }
 
+/// The values of one column.
 #[derive(Debug, Clone)]
 pub enum Col {
+    /// strings (a null read back as the empty string)
     Str(Vec<String>),
+    /// integers, None for null
     Int(Vec<Option<i64>>),
+    /// floats, None for null
     Float(Vec<Option<f64>>),
 }
 
@@ -75,6 +80,7 @@ impl Table {
         self.columns.iter().find(|(n, _)| n == name).map(|(_, c)| c)
     }
 
+    /// The string column `name` (None if absent or of another kind).
     pub fn strings(&self, name: &str) -> Option<&[String]> {
         match self.col(name)? {
             Col::Str(v) => Some(v),
@@ -82,6 +88,7 @@ impl Table {
         }
     }
 
+    /// The integer column `name` (None if absent or of another kind).
     pub fn ints(&self, name: &str) -> Option<&[Option<i64>]> {
         match self.col(name)? {
             Col::Int(v) => Some(v),
@@ -89,6 +96,7 @@ impl Table {
         }
     }
 
+    /// The float column `name` (None if absent or of another kind).
     pub fn floats(&self, name: &str) -> Option<&[Option<f64>]> {
         match self.col(name)? {
             Col::Float(v) => Some(v),
@@ -96,6 +104,7 @@ impl Table {
         }
     }
 
+    /// Append the column `name`.
     pub fn push(&mut self, name: &str, col: Col) -> &mut Self {
         self.columns.push((name.to_string(), col));
         self

@@ -58,9 +58,14 @@ pub const BIAS_FRACTION: f64 = 0.1;
 
 /// One rung of the ladder: a solver, its setting's label and parameter, and the numerics it sets.
 pub struct Setting {
+    /// the solver the setting runs
     pub solver: SolverKind,
+    /// the setting, as shown (e.g. `rtol=atol=1e-6`)
     pub label: String,
+    /// the setting's number: the tolerance (rk45), the step [s] (rk4, moreau), ε = stick_velocity
+    /// [m/s] (smooth); 0 for exact
     pub parameter: f64,
+    /// set the setting on a scenario's `[numerics]`
     pub apply: Box<dyn Fn(&mut Numerics)>,
 }
 
@@ -114,18 +119,41 @@ pub fn match_events(exact: &[f64], other: &[f64]) -> (Vec<f64>, u64, u64) {
     (errors, missed + (exact.len() - i) as u64, spurious + (other.len() - j) as u64)
 }
 
+/// Why `tradeoff` failed.
 #[derive(Debug, thiserror::Error)]
 pub enum TradeoffError {
+    /// The scenario, or a setting applied to it, is invalid.
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
+    /// A realization could not be solved under a setting.
     #[error("{solver} ({setting}): {source}")]
-    Run { solver: String, setting: String, source: RunError },
+    Run {
+        /// the solver's name
+        solver: String,
+        /// the setting's label
+        setting: String,
+        /// the realization and why it failed
+        source: RunError,
+    },
+    /// Writing an output file failed.
     #[error("writing {}: {message}", path.display())]
-    Write { path: std::path::PathBuf, message: String },
+    Write {
+        /// the file
+        path: std::path::PathBuf,
+        /// what went wrong
+        message: String,
+    },
+    /// The output directory could not be staged or replaced.
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
+    /// The rk45 reference at 1e-13 and 1e-14 disagree (a scene without closed forms).
     #[error("the reference is not converged: rk45 at rtol = atol = 1e-13 and 1e-14 differ on realization {realization} ({detail}); the scene may be too stiff for an explicit method (a very small model.stribeck_velocity?)")]
-    Reference { realization: u64, detail: String },
+    Reference {
+        /// the first realization on which they differ
+        realization: u64,
+        /// what differs
+        detail: String,
+    },
 }
 
 impl crate::blame::Blame for TradeoffError {
@@ -145,24 +173,39 @@ pub const MIN_REALIZATIONS: u64 = 10;
 /// One measured setting.
 #[derive(Debug, Clone)]
 pub struct Row {
+    /// the solver's name (`run.solver`)
     pub solver: &'static str,
+    /// the setting's label
     pub setting: String,
+    /// the setting's number (see [`Setting::parameter`])
     pub parameter: f64,
+    /// time per realization [s], solving only, on one thread
     pub seconds_per_realization: f64,
     /// right-hand-side evaluations per realization, counted (the ranking's cost)
     pub evaluations_per_realization: f64,
+    /// largest |event-time error| over the matched stick and slip starts [s]
+    /// (`event_time_error_max`)
     pub error_max: f64,
+    /// RMS event-time error over the matched stick and slip starts [s] (`event_time_error_rms`)
     pub error_rms: f64,
+    /// stick and slip starts matched to the reference's (`matched_events`)
     pub matched: u64,
+    /// reference sticks without a match
     pub missed_sticks: u64,
+    /// sticks without a match in the reference
     pub spurious_sticks: u64,
+    /// largest |bias| of E T_k over k = 1..6 [s] (`bias_mean_T_k_max`)
     pub bias_t: f64,
+    /// bias of the mean of D_1..D_6 pooled, censored ones left out [s] (`bias_mean_D`)
     pub bias_d: f64,
+    /// bias of the mean of H_1..H_6 pooled, censored ones left out [s] (`bias_mean_H`)
     pub bias_h: f64,
+    /// bias of E S_T (`bias_mean_S_T`)
     pub bias_st: f64,
     /// max over the Table 1 statistics of |bias| / (Monte Carlo SE at run.realizations); None
     /// with fewer than [`MIN_REALIZATIONS`]
     pub max_bias_over_se: Option<f64>,
+    /// the cheapest setting with `max_bias_over_se` below `--bias-fraction`
     pub recommended: bool,
 }
 

@@ -5,8 +5,11 @@ pub use crate::stats::Moments;
 /// Counts on `bins` equal-width bins spanning `[lo, hi]` (the last bin includes `hi`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Histogram {
+    /// lower edge of the first bin
     pub lo: f64,
+    /// upper edge of the last bin
     pub hi: f64,
+    /// count in each bin
     pub counts: Vec<u64>,
 }
 
@@ -17,10 +20,12 @@ impl Histogram {
         Histogram { lo, hi, counts: vec![0; bins.max(1)] }
     }
 
+    /// Number of bins.
     pub fn bins(&self) -> usize {
         self.counts.len()
     }
 
+    /// Width of each bin.
     pub fn width(&self) -> f64 {
         (self.hi - self.lo) / self.bins() as f64
     }
@@ -32,11 +37,13 @@ impl Histogram {
         (i as usize).min(self.bins() - 1)
     }
 
+    /// Count `x` in its bin (out-of-range values in the end bins).
     pub fn add(&mut self, x: f64) {
         let i = self.bin(x);
         self.counts[i] += 1;
     }
 
+    /// Sum of the counts.
     pub fn total(&self) -> u64 {
         self.counts.iter().sum()
     }

@@ -28,13 +28,16 @@ pub struct Dataset {
     pub file_stamps: Vec<Stamp>,
     /// First realization index of each file.
     pub file_starts: Vec<u64>,
+    /// Rows (realizations) in all the part files.
     pub rows: u64,
     /// Realizations of the whole run the parts come from (`run.realizations`).
     pub expected_rows: u64,
     /// Realization ranges of the run that no part holds (empty for a complete dataset; only
     /// with `--allow-partial`).
     pub missing: Vec<std::ops::Range<u64>>,
+    /// The resolved scenario recorded in the footers (the same in every part).
     pub scenario: Scenario,
+    /// Whether the parts store the `switch_times` column (`output.switch_times`).
     pub switch_times: bool,
     /// whether the parts have the tails' state of schema v3 (`columns::TAILS_STATE`)
     pub tails_state: bool,
@@ -43,18 +46,47 @@ pub struct Dataset {
     pub trajectories: Option<PathBuf>,
 }
 
+/// Why a dataset cannot be analysed; every variant names the path.
 #[derive(Debug, thiserror::Error)]
 pub enum InputError {
+    /// A directory could not be listed.
     #[error("cannot read dataset directory {}: {source}", path.display())]
-    Dir { path: PathBuf, source: std::io::Error },
+    Dir {
+        /// the directory
+        path: PathBuf,
+        /// the I/O error
+        source: std::io::Error,
+    },
+    /// No part files below the directory.
     #[error("no dataset part files (part-*.parquet) under {}", path.display())]
-    Empty { path: PathBuf },
+    Empty {
+        /// the directory searched
+        path: PathBuf,
+    },
+    /// A part file failed its checks (footer, schema, scenario, realization range).
     #[error("{}: {reason}", path.display())]
-    File { path: PathBuf, reason: String },
+    File {
+        /// the part file
+        path: PathBuf,
+        /// what is wrong with it
+        reason: String,
+    },
+    /// The directory holds a parameter sweep, not one dataset.
     #[error("{} is a parameter sweep of {cells} cells (key=value/ directories); `analyze` analyses each cell and writes sweep.parquet", path.display())]
-    Sweep { path: PathBuf, cells: usize },
+    Sweep {
+        /// the directory
+        path: PathBuf,
+        /// number of cells (directories holding part files)
+        cells: usize,
+    },
+    /// Realization ranges of the run are missing (and `--allow-partial` was not given).
     #[error("{} is incomplete: {detail}; simulate the missing shards, or pass --allow-partial to analyse the parts present (the summary then says so)", path.display())]
-    Incomplete { path: PathBuf, detail: String },
+    Incomplete {
+        /// the dataset's directory
+        path: PathBuf,
+        /// the run's size and the ranges missing
+        detail: String,
+    },
 }
 
 impl crate::blame::Blame for InputError {

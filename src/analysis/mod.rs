@@ -72,6 +72,7 @@ pub struct Options {
     pub progress: bool,
     /// Compute the tails (survival curves, the conditional estimator, extremes; [`tails`]).
     pub tails: bool,
+    /// Which survival-curve times and severity thresholds to evaluate (with `tails`).
     pub tail: tails::TailOptions,
 }
 
@@ -131,16 +132,33 @@ impl Default for Options {
     }
 }
 
+/// Why `analyze` failed.
 #[derive(Debug, thiserror::Error)]
 pub enum AnalysisError {
+    /// The dataset could not be found or failed its checks.
     #[error(transparent)]
     Input(#[from] InputError),
+    /// Reading the part files failed (in the polars scan, or the rows read disagree with the
+    /// footers).
     #[error("reading {}: {message}", path.display())]
-    Read { path: PathBuf, message: String },
+    Read {
+        /// the file (the dataset's first when the error names none)
+        path: PathBuf,
+        /// what went wrong
+        message: String,
+    },
+    /// Writing an output file into ADIR failed.
     #[error("writing {}: {message}", path.display())]
-    Write { path: PathBuf, message: String },
+    Write {
+        /// the file written
+        path: PathBuf,
+        /// what went wrong
+        message: String,
+    },
+    /// The options cannot work (`Options::check`, or a pair the dataset lacks the columns for).
     #[error("{0}")]
     Options(String),
+    /// The output directory could not be staged or replaced.
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
 }
@@ -158,17 +176,23 @@ impl crate::blame::Blame for AnalysisError {
 /// Statistics of one observable.
 #[derive(Debug, Clone)]
 pub struct SeriesStats {
+    /// the observable
     pub series: Observable,
+    /// its moments over the values present (censored D_k, H_k left out)
     pub moments: Moments,
+    /// censored values excluded: the D_k or H_k cut at t_a (column `n_truncated_excluded`; 0 for
+    /// the others)
     pub truncated: u64,
     /// realizations that have the quantity, or (D_k, H_k) its censored value: for an indexed
     /// quantity, those that reach the k-th interval
     pub reached: u64,
+    /// the mode: of the kernel density estimate, or for a count the most frequent value
     pub mode: Option<f64>,
     /// 1-D histogram (for counts: unit bins centred on the integers).
     pub histogram: Histogram,
     /// the moments and the mode without each realization-index group ([`jackknife`])
     pub loo_moments: Vec<Moments>,
+    /// the mode without each realization-index group (as `loo_moments`)
     pub loo_mode: Vec<Option<f64>>,
 }
 
@@ -205,10 +229,16 @@ impl SeriesStats {
 /// A joint histogram on the two observables' 1-D bins.
 #[derive(Debug, Clone)]
 pub struct Joint {
+    /// the two observables (x, y)
     pub pair: Pair,
+    /// the 1-D bins of x
     pub x: Histogram,
+    /// the 1-D bins of y
     pub y: Histogram,
+    /// `counts[i][j]`: realizations with x in bin i of `x` and y in bin j of `y`
     pub counts: Vec<Vec<u64>>,
+    /// the χ², G and mutual-information tests of independence (None when the table cannot be
+    /// tested)
     pub test: Option<Independence>,
 }
 
@@ -218,7 +248,9 @@ pub struct Joint {
 pub struct GrowthFit {
     /// the family (T or L), at k = 1
     pub family: Observable,
+    /// `mean` or `variance`
     pub statistic: &'static str,
+    /// the fitted line of the statistic against k
     pub line: Line,
     /// the largest index k fitted
     pub k_max: u32,
@@ -229,12 +261,20 @@ pub struct GrowthFit {
 /// Everything `analyze` computes.
 #[derive(Debug, Clone)]
 pub struct Analysis {
+    /// the dataset analysed
     pub dataset: Dataset,
+    /// the options used (`permutations` as capped for the dataset's size)
     pub options: Options,
+    /// statistics of each observable analysed
     pub stats: Vec<SeriesStats>,
+    /// joint histograms and independence tests of the requested pairs
     pub joints: Vec<Joint>,
+    /// growth regressions of the mean and variance of T_k and L_k on k
     pub growth: Vec<GrowthFit>,
+    /// the renewal check: S_T's mean and variance predicted from the growth of T_k beside the
+    /// measured ones (None without the fits or with a slope ≤ 0)
     pub renewal: Option<Renewal>,
+    /// running means of [`CONVERGENCE`]'s observables
     pub convergence: Vec<Convergence>,
     /// None when not asked for (`--no-tails`)
     pub tails: Option<tails::Tails>,
@@ -245,7 +285,9 @@ pub struct Analysis {
 /// mean, standard error of the mean).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Convergence {
+    /// the observable
     pub series: Observable,
+    /// (realizations read, values, running mean, standard error of the mean) at each checkpoint
     pub points: Vec<(u64, u64, f64, Option<f64>)>,
 }
 
@@ -258,6 +300,7 @@ fn checkpoints(n: u64) -> Vec<u64> {
 }
 
 impl Analysis {
+    /// The statistics of `series`, if it was analysed.
     pub fn get(&self, series: Observable) -> Option<&SeriesStats> {
         self.stats.iter().find(|s| s.series == series)
     }

@@ -39,10 +39,13 @@ pub const COUNTS: &[(Observable, f64, f64)] = &[(Observable::Sticks, 16.71, 7.94
 /// last printed decimal (three standard errors for an analysis without intervals).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Cell {
+    /// our value
     pub ours: Option<f64>,
+    /// its standard error (mean and variance only)
     pub se: Option<f64>,
     /// our 95 % interval
     pub interval: Option<(f64, f64)>,
+    /// the paper's printed value (None when not compared or not printed)
     pub paper: Option<f64>,
 }
 
@@ -76,6 +79,8 @@ impl Cell {
         }
     }
 
+    /// Our value with its interval (`v [lo – hi]`), or `v ± se`, to `digits` decimals; `–` without
+    /// one.
     pub fn text(&self, digits: usize) -> String {
         let f = |x: f64| format!("{x:.digits$}");
         match (self.ours, self.interval, self.se) {
@@ -92,6 +97,8 @@ impl Cell {
         format!("{}{paper} {}", self.text(digits), self.mark()).trim_end().to_string()
     }
 
+    /// `✓`, `✗ ±x.x %` (our value's difference from the paper's), `boundary`, or empty when nothing
+    /// is judged.
     pub fn mark(&self) -> String {
         if self.at_boundary() {
             return "boundary".into();
@@ -107,8 +114,11 @@ impl Cell {
 /// A row of Table 1: series label and (mean, variance, mode, skewness, kurtosis) cells.
 #[derive(Debug, Clone)]
 pub struct Row {
+    /// the observable's name (e.g. `T_1`, `S_T`)
     pub label: String,
+    /// values the statistics are computed from (column `n` of `moments.parquet`)
     pub n: i64,
+    /// mean, variance, mode, skewness, kurtosis
     pub cells: [Cell; 5],
     /// a count (S_T, S_L): its mode is an integer, and so are the bounds of its interval
     pub count: bool,

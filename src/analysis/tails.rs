@@ -96,6 +96,7 @@ pub struct Curve {
     /// intervals (stick entries for `conditional`) the curve is estimated from, and how many of
     /// them are censored
     pub n: u64,
+    /// of those, the censored ones (0 for `conditional`)
     pub censored: u64,
     /// (t, P(duration > t), 95 % interval)
     pub points: Vec<(f64, f64, Option<Interval>)>,
@@ -107,8 +108,11 @@ pub struct Exceedance {
     /// `longest_stick`, `severity` (P(value > threshold)) or `breakaway_fraction` (the share of
     /// sticks that end by breakaway, threshold None)
     pub statistic: &'static str,
+    /// s or T of P(statistic > threshold); None for `breakaway_fraction`
     pub threshold: Option<f64>,
+    /// the probability or the fraction
     pub value: f64,
+    /// its 95 % jackknife interval (None where the estimate is 0 or 1)
     pub interval: Option<Interval>,
     /// realizations (sticks for the breakaway fraction) it is estimated from
     pub n: u64,
@@ -117,7 +121,9 @@ pub struct Exceedance {
 /// Everything the tails analysis computes.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Tails {
+    /// survival curves of D and H, per index and pooled, by each method
     pub curves: Vec<Curve>,
+    /// P(longest stick > T), P(severity > s) and the breakaway fraction
     pub exceedances: Vec<Exceedance>,
     /// why the conditional estimator was not computed (None: it was)
     pub conditional_refused: Option<String>,

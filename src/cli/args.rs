@@ -18,12 +18,14 @@ use crate::simulation::simulate::Shard;
 )]
 pub struct Cli {
     #[command(subcommand)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
     pub command: Command,
     /// No progress display, tables or summary lines (errors are still printed).
     #[arg(short, long, global = true)]
     pub quiet: bool,
 }
 
+/// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Simulate realizations and write the event dataset (Parquet) into --out DIR.
@@ -74,9 +76,11 @@ pub struct ScenarioArgs {
     pub sets: Vec<String>,
 }
 
+/// Arguments of `sensitivity`.
 #[derive(Debug, clap::Args)]
 pub struct SensitivityArgs {
     #[command(flatten)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
     pub input: ScenarioArgs,
     /// Output directory (replaced atomically when complete).
     #[arg(long, value_name = "DIR")]
@@ -89,9 +93,11 @@ pub struct SensitivityArgs {
     pub seed: Option<u64>,
 }
 
+/// Arguments of `tradeoff`.
 #[derive(Debug, clap::Args)]
 pub struct TradeoffArgs {
     #[command(flatten)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
     pub input: ScenarioArgs,
     /// Output directory (replaced atomically when complete).
     #[arg(long, value_name = "DIR")]
@@ -105,6 +111,7 @@ pub struct TradeoffArgs {
     pub bias_fraction: f64,
 }
 
+/// Arguments of `scenes`.
 #[derive(Debug, clap::Args)]
 pub struct ScenesArgs {
     /// The scene to print or write (without it: the list).
@@ -114,6 +121,7 @@ pub struct ScenesArgs {
     pub out: Option<PathBuf>,
 }
 
+/// Arguments of `figures`.
 #[derive(Debug, clap::Args)]
 pub struct FiguresArgs {
     /// Analysis directory written by `analyze`.
@@ -123,6 +131,7 @@ pub struct FiguresArgs {
     pub out: PathBuf,
 }
 
+/// Arguments of `report`.
 #[derive(Debug, clap::Args)]
 pub struct ReportArgs {
     /// Dataset directory (for provenance).
@@ -136,6 +145,7 @@ pub struct ReportArgs {
     pub out: PathBuf,
 }
 
+/// Arguments of `analyze`.
 #[derive(Debug, clap::Args)]
 pub struct AnalyzeArgs {
     /// Dataset directory written by `simulate` (all part-*.parquet files below it).
@@ -174,6 +184,7 @@ pub struct AnalyzeArgs {
     pub no_tails: bool,
 }
 
+/// Arguments of `simulate`.
 #[derive(Debug, clap::Args)]
 pub struct SimulateArgs {
     /// Output dataset directory (created if needed); the part file is replaced atomically.
@@ -184,9 +195,11 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "I/N", default_value = "0/1")]
     pub shard: Shard,
     #[command(flatten)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
     pub run: RunArgs,
 }
 
+/// Arguments of `reproduce`.
 #[derive(Debug, clap::Args)]
 pub struct ReproduceArgs {
     /// Output directory of the whole study: DIR/dataset, DIR/analysis, DIR/figures and
@@ -194,6 +207,7 @@ pub struct ReproduceArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
     #[command(flatten)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
     pub run: RunArgs,
 }
 
@@ -201,6 +215,7 @@ pub struct ReproduceArgs {
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
     #[command(flatten)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
     pub input: ScenarioArgs,
     /// Number of realizations (overrides run.realizations).
     #[arg(long, value_name = "N")]

@@ -154,12 +154,16 @@ pub const REPRODUCE_SETS: [&str; 2] = ["output.switch_times=true", "output.traje
 
 /// Where `reproduce --out DIR` puts each stage's output.
 pub struct ReproduceLayout {
+    /// `DIR/dataset`, the `simulate` stage's output
     pub dataset: PathBuf,
+    /// `DIR/analysis`, the `analyze` stage's output
     pub analysis: PathBuf,
+    /// `DIR/figures`, the `figures` stage's output
     pub figures: PathBuf,
 }
 
 impl ReproduceLayout {
+    /// The layout below `dir`.
     pub fn new(dir: &Path) -> ReproduceLayout {
         ReproduceLayout { dataset: dir.join("dataset"), analysis: dir.join("analysis"), figures: dir.join("figures") }
     }

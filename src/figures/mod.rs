@@ -21,12 +21,26 @@ use crate::table::Table;
 
 pub use chart::{Figure, Panel, Series};
 
+/// Why `figures` failed.
 #[derive(Debug, thiserror::Error)]
 pub enum FigureError {
+    /// An analysis table or `summary.json` could not be read.
     #[error("reading {}: {message}", path.display())]
-    Read { path: PathBuf, message: String },
+    Read {
+        /// the file
+        path: PathBuf,
+        /// what went wrong
+        message: String,
+    },
+    /// A figure could not be drawn or written.
     #[error("drawing {name}: {message}")]
-    Draw { name: String, message: String },
+    Draw {
+        /// the figure (or the sweep cell's directory)
+        name: String,
+        /// what went wrong
+        message: String,
+    },
+    /// The output directory could not be staged or replaced.
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
 }
@@ -46,8 +60,11 @@ impl crate::blame::Blame for FigureError {
 pub struct Trajectory {
     /// (t [s], ẋ [m/s], belt velocity [m/s])
     pub samples: Vec<[f64; 3]>,
+    /// instants of the belt velocity changes [s] (`belt_switch` events)
     pub belt_switches: Vec<f64>,
+    /// instants the sticks begin [s] (`stick_start` events)
     pub stick_starts: Vec<f64>,
+    /// instants the sticks end [s] (`stick_end` events)
     pub stick_ends: Vec<f64>,
 }
 
@@ -90,11 +107,17 @@ impl Trajectory {
 /// The analysis tables the figures are drawn from.
 #[derive(Debug, Clone)]
 pub struct Inputs {
+    /// `moments.parquet`
     pub moments: Table,
+    /// `histograms.parquet`
     pub histograms: Table,
+    /// `joint_histograms.parquet`
     pub joints: Table,
+    /// `independence.parquet`
     pub independence: Table,
+    /// `growth.parquet`
     pub growth: Table,
+    /// the scenario recorded in `summary.json`
     pub scenario: Scenario,
     /// realization 0's sampled trajectory, if the analysis has the trajectory tables
     pub trajectory: Option<Trajectory>,
@@ -103,6 +126,7 @@ pub struct Inputs {
     /// `survival.parquet` and `tails.parquet`, if the analysis has the tails (not with
     /// `--no-tails`, nor before them)
     pub survival: Option<Table>,
+    /// `tails.parquet` (see `survival`)
     pub tails: Option<Table>,
 }
 

@@ -116,7 +116,9 @@ impl Law {
 /// The Stribeck law's shape: v_s [m/s] (> 0) and δ (> 0).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Stribeck {
+    /// v_s, the Stribeck velocity [m/s] (> 0)
     pub velocity: f64,
+    /// δ, the Stribeck exponent (> 0)
     pub exponent: f64,
 }
 
@@ -223,8 +225,11 @@ impl Default for Params {
 /// The model per unit mass: `ω²`, `ω`, `γ = c/m`, `a_k`, `a_s`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PerUnitMass {
+    /// ω² = k/m [1/s²]
     pub omega2: f64,
+    /// ω = √(k/m) [rad/s]
     pub omega: f64,
+    /// γ = c/m [1/s]
     pub gamma: f64,
     /// a_k = μ_k n/m, m/s²
     pub kinetic: f64,
@@ -241,11 +246,17 @@ pub struct PerUnitMass {
 pub enum Arrival {
     /// The static friction holds: a stick starts at `x` (clamped onto `|F| ≤ a_s` within the
     /// touch band).
-    Stick { x: f64 },
+    Stick {
+        /// position where the stick starts [m]
+        x: f64,
+    },
     /// A touch at the breakaway point: the slip goes on from `x_b` as after a breakaway.
     Touch,
     /// The mass passes through belt speed; the friction becomes `σ`.
-    Reverse { sigma: f64 },
+    Reverse {
+        /// σ = sgn(ω² x + γ v) = ±1, the friction's sign in the new slip
+        sigma: f64,
+    },
 }
 
 impl PerUnitMass {

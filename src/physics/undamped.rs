@@ -36,7 +36,9 @@ use super::{PerUnitMass, SlipForm};
 /// The undamped closed forms: `ω² = k/m`, `ω`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Undamped {
+    /// ω² = k/m [1/s²]
     pub omega2: f64,
+    /// ω = √(k/m) [rad/s]
     pub omega: f64,
 }
 

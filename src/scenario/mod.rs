@@ -64,18 +64,26 @@ pub const MAX_TRAJECTORY_SAMPLES: f64 = 1e7;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
+    /// `[model]`: the oscillator and its friction
     pub model: ModelSpec,
+    /// `[belt]`: the belt process
     pub belt: BeltSpec,
+    /// `[initial_conditions]`: the ranges X0, Ẋ0 are drawn from
     pub initial_conditions: InitialConditions,
+    /// `[run]`: window, realizations, seed, solver
     pub run: Run,
+    /// `[numerics]`: the solvers' tolerances, steps and budgets
     pub numerics: Numerics,
+    /// `[output]`: what is stored beside the events
     pub output: Output,
 }
 
 /// Typed overrides applied after `--set` (`--realizations`, `--seed`).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Overrides {
+    /// `--realizations`: replaces `run.realizations`
     pub realizations: Option<u64>,
+    /// `--seed`: replaces `run.seed`
     pub seed: Option<u64>,
 }
 
@@ -86,26 +94,69 @@ pub struct Cell {
     pub values: Vec<(String, f64)>,
     /// `name=value/...` with the last component of each key (empty without a sweep)
     pub path: String,
+    /// the cell's scenario (every swept key at its value, `run.seed` derived for the cell)
     pub scenario: Scenario,
 }
 
 /// Everything that can be wrong with a scenario, each naming its culprit.
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
+    /// The scenario file could not be read.
     #[error("cannot read scenario file {}: {source}", path.display())]
-    Read { path: PathBuf, source: std::io::Error },
+    Read {
+        /// the file
+        path: PathBuf,
+        /// the I/O error
+        source: std::io::Error,
+    },
+    /// The scenario file is not valid TOML.
     #[error("scenario file {} is not valid TOML: {message}", path.display())]
-    Syntax { path: PathBuf, message: String },
+    Syntax {
+        /// the file (`<scenario>` for text without one)
+        path: PathBuf,
+        /// the parser's error, on one line with its line and column
+        message: String,
+    },
+    /// A key the scenario does not have (a typo is never ignored).
     #[error("unknown scenario key `{key}`{hint}")]
-    UnknownKey { key: String, hint: Hint },
+    UnknownKey {
+        /// the dotted key
+        key: String,
+        /// the keys known at that place
+        hint: Hint,
+    },
+    /// A key's value is of the wrong type or out of range.
     #[error("scenario key `{key}` = {value}: {reason}")]
-    Invalid { key: String, value: String, reason: String },
+    Invalid {
+        /// the dotted key
+        key: String,
+        /// the value as written (`(missing)` when absent)
+        value: String,
+        /// what is wrong with it
+        reason: String,
+    },
+    /// A `--set` argument that is not `KEY=VALUE`.
     #[error("--set {arg:?}: expected KEY=VALUE with a dotted key, e.g. --set belt.switch_rate=1.0")]
-    BadSet { arg: String },
+    BadSet {
+        /// the argument as given
+        arg: String,
+    },
+    /// A `--set` value that cannot be used.
     #[error("--set {arg:?}: {reason}")]
-    BadSetValue { arg: String, reason: String },
+    BadSetValue {
+        /// the argument as given
+        arg: String,
+        /// what is wrong with it
+        reason: String,
+    },
+    /// The scenario file is not a small regular UTF-8 file.
     #[error("scenario file {}: {reason}", path.display())]
-    Unreadable { path: PathBuf, reason: String },
+    Unreadable {
+        /// the file
+        path: PathBuf,
+        /// why it is refused
+        reason: String,
+    },
 }
 
 impl crate::blame::Blame for ScenarioError {

@@ -14,8 +14,11 @@ use crate::solver::SolverKind;
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(untagged)]
 pub enum Param {
+    /// A number: the key's value in every realization.
     Value(f64),
+    /// A list of numbers: a sweep, one cell per value.
     Sweep(Vec<f64>),
+    /// A distribution: the value drawn per realization.
     Random(Dist),
 }
 
@@ -105,9 +108,13 @@ impl<'de> Deserialize<'de> for Sign {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ProcessName {
+    /// The paper's belt: ±v0, sign changes at the instants of a Poisson process of rate λ.
     Symmetric,
+    /// Two-state Markov chain: +v_f left at rate λ_f, −v_r left at rate λ_r.
     Telegraph,
+    /// Continuous-time Markov chain on the levels `velocities` with the transition `rates`.
     Markov,
+    /// A measured velocity log (`file`); nothing is drawn.
     Recorded,
 }
 
@@ -122,6 +129,7 @@ pub struct BeltSpec {
     pub speed: Param,
     /// λ = λ_f, 1/s, ≥ 0
     pub switch_rate: Param,
+    /// 1, −1 or "random" (±1 with probability ½ each, per realization)
     pub initial_sign: Sign,
     /// v_r, m/s, > 0 (with `reverse_switch_rate`: the asymmetric telegraph belt)
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -156,8 +164,11 @@ pub struct InitialConditions {
 pub struct Run {
     /// t_a, s, > 0
     pub duration: f64,
+    /// N, the number of realizations, 1 ..= `MAX_REALIZATIONS`
     pub realizations: u64,
+    /// the random seed, ≤ i64::MAX (realization i draws from its own stream of the seed)
     pub seed: u64,
+    /// the solver that integrates each realization
     pub solver: SolverKind,
 }
 
@@ -165,6 +176,7 @@ pub struct Run {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Output {
+    /// store the instants of the belt velocity changes (column `switch_times`; Y_k)
     pub switch_times: bool,
     /// realizations 0..N sampled for trajectories (0: none)
     pub trajectories: u64,
@@ -216,7 +228,9 @@ impl Scenario {
 
 /// A [`Param`] slot: required keys always hold one, optional ones may be absent.
 pub enum ParamSlot<'a> {
+    /// A required key: always holds a value.
     Required(&'a mut Param),
+    /// An optional key: may be absent.
     Optional(&'a mut Option<Param>),
 }
 

@@ -35,7 +35,9 @@ use crate::simulation::rng::unit_f64;
 /// Initial belt direction of a symmetric or telegraph belt.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InitialSign {
+    /// +1: the belt starts forward.
     Positive,
+    /// −1: the belt starts in reverse.
     Negative,
     /// ±1 with probability ½ each, drawn per realization.
     Random,
@@ -60,7 +62,9 @@ impl InitialSign {
 /// The paper's symmetric belt: ±`speed` [m/s], `switch_rate` λ [1/s].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Symmetric {
+    /// v0, m/s (> 0): the belt moves at ±v0
     pub speed: f64,
+    /// λ, 1/s (≥ 0): the rate of the sign changes
     pub switch_rate: f64,
 }
 
@@ -305,8 +309,11 @@ pub const MAX_SPEED: f64 = 1e6;
 /// window t_a [s].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Belt {
+    /// the random process of the belt velocity
     pub process: Process,
+    /// the initial direction (symmetric and telegraph belts only)
     pub initial_sign: InitialSign,
+    /// t_a, the observation window [s]
     pub duration: f64,
 }
 
@@ -314,9 +321,13 @@ pub struct Belt {
 /// realization.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Process {
+    /// The paper's belt ([`Symmetric`]).
     Symmetric(Symmetric),
+    /// The asymmetric two-state belt ([`Telegraph`]).
     Telegraph(Telegraph),
+    /// The multi-level Markov belt ([`Markov`]).
     Markov(Arc<Markov>),
+    /// A measured velocity log ([`Recorded`]).
     Recorded(Arc<Recorded>),
 }
 

@@ -21,16 +21,22 @@ use crate::solver::{Drive, SolveError, Solver};
 #[derive(Debug, thiserror::Error)]
 #[error("realization {realization}: {source}")]
 pub struct RunError {
+    /// the realization's index
     pub realization: u64,
+    /// why the solver failed
     pub source: SolveError,
 }
 
 /// One simulated realization.
 #[derive(Debug, Clone, Default)]
 pub struct Outcome {
+    /// X0, the initial position [m]
     pub x0: f64,
+    /// Ẋ0, the initial velocity [m/s]
     pub xdot0: f64,
+    /// the belt's velocity path
     pub belt: BeltPath,
+    /// the counted events and the extremes of the motion
     pub record: Record,
     /// The drawn values of the scene's random keys ([`Scene::columns`] order).
     pub drawn: Vec<f64>,
@@ -76,6 +82,8 @@ pub struct Ensemble {
 }
 
 impl Ensemble {
+    /// Prepare `scenario` to run: build its scene and solver (an error when the scene cannot be
+    /// built).
     pub fn new(scenario: &Scenario) -> Result<Ensemble, ScenarioError> {
         let scene = scenario.scene()?;
         let solver = Solver::new(scenario.solver(), scenario.numerics, scene.damped());

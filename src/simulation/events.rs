@@ -28,6 +28,7 @@ impl StickEnd {
     /// Every value, in the order of their codes.
     pub const ALL: [StickEnd; 3] = [StickEnd::Flip, StickEnd::Breakaway, StickEnd::Horizon];
 
+    /// The `stick_end` column's string.
     pub fn name(self) -> &'static str {
         match self {
             StickEnd::Flip => "flip",
@@ -41,19 +42,25 @@ impl StickEnd {
 /// state it was entered in, and the extremes of the motion over [0, t_a].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Record {
+    /// T_i: start of each counted stick [s]
     pub stick_start: Vec<f64>,
+    /// D_i: duration of each counted stick [s] (the last one cut at t_a when `last_truncated`)
     pub stick_duration: Vec<f64>,
+    /// L_i: start of each counted slip [s] (from the slip after the first stick)
     pub slip_start: Vec<f64>,
+    /// H_i: duration of each counted slip [s] (the last one cut at t_a when `last_truncated`)
     pub slip_duration: Vec<f64>,
     /// how each counted stick ended
     pub stick_end: Vec<StickEnd>,
     /// x [m] and belt velocity [m/s] at each counted stick's start
     pub stick_entry_position: Vec<f64>,
+    /// the belt velocity at each counted stick's start, m/s
     pub stick_entry_velocity: Vec<f64>,
     /// The last counted interval was still running at t_a and was cut there.
     pub last_truncated: bool,
     /// the least and greatest mass velocity ẋ on [0, t_a], m/s
     pub min_velocity: f64,
+    /// the greatest mass velocity ẋ on [0, t_a], m/s
     pub max_velocity: f64,
     /// the largest slip speed |v − ẋ| on [0, t_a], m/s (0 for a motion always stuck)
     pub max_slip_speed: f64,

@@ -29,17 +29,29 @@ use crate::simulation::rng::{substream, unit_f64};
 /// The numeric scene keys (the ones that may be swept or random).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Key {
+    /// `model.mass`: m [kg]
     Mass,
+    /// `model.stiffness`: k [N/m]
     Stiffness,
+    /// `model.damping`: c [N·s/m]
     Damping,
+    /// `model.normal_force`: n [N]
     NormalForce,
+    /// `model.friction_coefficient`: μ_k
     Kinetic,
+    /// `model.static_friction_coefficient`: μ_s
     Static,
+    /// `belt.speed`: v0 = v_f [m/s]
     Speed,
+    /// `belt.switch_rate`: λ = λ_f [1/s]
     SwitchRate,
+    /// `belt.reverse_speed`: v_r [m/s] (telegraph belt)
     ReverseSpeed,
+    /// `belt.reverse_switch_rate`: λ_r [1/s] (telegraph belt)
     ReverseSwitchRate,
+    /// `model.stribeck_velocity`: v_s [m/s] (Stribeck law)
     StribeckVelocity,
+    /// `model.stribeck_exponent`: δ (Stribeck law)
     StribeckExponent,
     /// (last: a key's sub-stream is its place here, so new keys go at the end)
     Viscous,
@@ -92,6 +104,7 @@ pub const KEYS: [KeyInfo; 13] = [
 ];
 
 impl Key {
+    /// Every key, in [`KEYS`] order.
     pub const ALL: [Key; 13] = [
         Key::Mass,
         Key::Stiffness,
@@ -144,10 +157,34 @@ impl Key {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "dist", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Dist {
-    Uniform { low: f64, high: f64 },
-    Normal { mean: f64, sd: f64 },
-    Lognormal { mean: f64, cv: f64 },
-    Gamma { mean: f64, cv: f64 },
+    /// `uniform`: `low + (high − low) U`.
+    Uniform {
+        /// lower end, in the key's unit
+        low: f64,
+        /// upper end, in the key's unit (≥ `low`)
+        high: f64,
+    },
+    /// `normal`, truncated to the key's range.
+    Normal {
+        /// mean before truncation, in the key's unit
+        mean: f64,
+        /// standard deviation before truncation, in the key's unit (> 0)
+        sd: f64,
+    },
+    /// `lognormal`, given by its mean and coefficient of variation.
+    Lognormal {
+        /// mean, in the key's unit (> 0)
+        mean: f64,
+        /// coefficient of variation, sd/mean (> 0)
+        cv: f64,
+    },
+    /// `gamma`, given by its mean and coefficient of variation.
+    Gamma {
+        /// mean, in the key's unit (> 0)
+        mean: f64,
+        /// coefficient of variation, sd/mean (> 0)
+        cv: f64,
+    },
 }
 
 impl Dist {
@@ -266,6 +303,7 @@ impl Dist {
 pub struct Scene {
     /// Fixed parameters (a random key holds its distribution's mean here).
     pub params: Params,
+    /// The belt (a random belt key holds its distribution's mean here).
     pub belt: Belt,
     /// The random keys in [`Key::ALL`] order.
     pub random: Vec<(Key, Dist)>,

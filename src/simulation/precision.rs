@@ -20,7 +20,9 @@ use crate::stats::Moments;
 /// One `--target-se VAR=SE`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Target {
+    /// VAR, the quantity whose mean is tracked
     pub quantity: Observable,
+    /// SE, the standard error of the mean to reach (> 0)
     pub se: f64,
 }
 
@@ -47,11 +49,14 @@ impl FromStr for Target {
 /// The running moments of each target's quantity.
 #[derive(Debug, Clone)]
 pub struct Tracker {
+    /// the targets, in the order given
     pub targets: Vec<Target>,
+    /// the running moments of each target's quantity, in the same order
     pub moments: Vec<Moments>,
 }
 
 impl Tracker {
+    /// A tracker of `targets` with no realization added.
     pub fn new(targets: &[Target]) -> Tracker {
         Tracker { targets: targets.to_vec(), moments: vec![Moments::default(); targets.len()] }
     }

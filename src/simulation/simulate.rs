@@ -25,13 +25,17 @@ use crate::simulation::trajectory;
 /// `[⌊index·total/count⌋, ⌊(index+1)·total/count⌋)` of the whole run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
+    /// I, 0-based (< `count`)
     pub index: u64,
+    /// N, the number of shards (1..=99,999)
     pub count: u64,
 }
 
 impl Shard {
+    /// The whole run as one shard (`0/1`).
     pub const WHOLE: Shard = Shard { index: 0, count: 1 };
 
+    /// The realization range of this shard in a run of `total` realizations.
     pub fn range(&self, total: u64) -> std::ops::Range<u64> {
         let at = |i: u64| (i as u128 * total as u128 / self.count as u128) as u64;
         at(self.index)..at(self.index + 1)
@@ -54,40 +58,60 @@ impl FromStr for Shard {
 /// How to run the stage.
 #[derive(Debug, Clone)]
 pub struct Options {
+    /// the dataset directory (`--out`)
     pub out: PathBuf,
+    /// which part of the run to simulate
     pub shard: Shard,
     /// Worker threads (None: all cores).
     pub threads: Option<usize>,
+    /// show a progress bar on stderr
     pub progress: bool,
 }
 
 /// What a run did.
 #[derive(Debug, Clone)]
 pub struct Summary {
+    /// the part file written
     pub path: PathBuf,
+    /// realizations written (fewer than asked when `--target-se` stopped the run early)
     pub realizations: u64,
+    /// wall-clock time of the run [s]
     pub seconds: f64,
+    /// Σ S_T over the realizations written
     pub total_sticks: u64,
     /// with `--target-se`: whether every target was met (else the cap was reached), and the SEs
     pub targets: Option<(bool, String)>,
 }
 
+/// Why `simulate` failed.
 #[derive(Debug, thiserror::Error)]
 pub enum SimulateError {
+    /// Writing the dataset failed.
     #[error(transparent)]
     Dataset(#[from] DatasetError),
+    /// The output directory could not be prepared.
     #[error(transparent)]
     Out(#[from] OutDirError),
+    /// A realization could not be solved.
     #[error(transparent)]
     Run(#[from] RunError),
+    /// The scenario is invalid.
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
+    /// `--threads` out of range.
     #[error("--threads {0}: must be between 1 and {MAX_THREADS}")]
     Threads(usize),
+    /// The worker thread pool could not be started.
     #[error("cannot start worker threads: {0}")]
     Pool(String),
+    /// A sweep cell failed.
     #[error("sweep cell {cell}: {source}")]
-    Cell { cell: String, source: Box<SimulateError> },
+    Cell {
+        /// the cell's hive path (`name=value/...`)
+        cell: String,
+        /// why it failed
+        source: Box<SimulateError>,
+    },
 }
 
 impl crate::blame::Blame for SimulateError {

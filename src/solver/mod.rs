@@ -26,8 +26,11 @@ use crate::physics::{Damped, PerUnitMass, Undamped};
 /// instants in (0, t_end) (sorted, no duplicates) and the end of the window t_end = t_a [s].
 #[derive(Debug, Clone, Copy)]
 pub struct Drive<'a> {
+    /// the belt velocity of each segment [m/s] (`switches.len() + 1` of them)
     pub velocities: &'a [f64],
+    /// the switch instants in (0, t_end) [s], sorted, no duplicates
     pub switches: &'a [f64],
+    /// t_a, the end of the window [s]
     pub t_end: f64,
 }
 
@@ -35,9 +38,21 @@ pub struct Drive<'a> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Event {
     /// A stick begins at `t` [s] at position `x` [m].
-    Stick { t: f64, x: f64 },
+    Stick {
+        /// when [s]
+        t: f64,
+        /// position [m]
+        x: f64,
+    },
     /// A slip begins at `t` [s] from `(x, ẋ)`.
-    Slip { t: f64, x: f64, xdot: f64 },
+    Slip {
+        /// when [s]
+        t: f64,
+        /// position [m]
+        x: f64,
+        /// velocity ẋ [m/s]
+        xdot: f64,
+    },
 }
 
 /// Why a method's [`Method::advance`] returned.
@@ -101,15 +116,34 @@ pub trait Method {
 /// Why a realization could not be solved.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum SolveError {
+    /// More than `limit` stops of the driver (a runaway realization).
     #[error("more than {limit} mode events before t = {t} s: the run would not finish (raise the friction or lower the stiffness?)")]
-    EventBudget { limit: u64, t: f64 },
+    EventBudget {
+        /// the limit, [`EVENT_LIMIT`]
+        limit: u64,
+        /// the time reached [s]
+        t: f64,
+    },
+    /// More integration steps than `numerics.step_budget`.
     #[error("more than numerics.step_budget = {limit} steps before t = {t} s (loosen the tolerances, raise the step, or raise the budget)")]
-    StepBudget { limit: u64, t: f64 },
+    StepBudget {
+        /// the budget
+        limit: u64,
+        /// the time reached [s]
+        t: f64,
+    },
+    /// The state overflowed to a non-finite value.
     #[error("the state became non-finite at t = {t} s (an overflow no step size avoids: the scene lies outside the range the solvers are proven on)")]
-    NonFinite { t: f64 },
+    NonFinite {
+        /// the time reached [s]
+        t: f64,
+    },
     /// A random key's draw cannot run; `drawn` says which and why.
     #[error("drawn parameters: {drawn}")]
-    Drawn { drawn: String },
+    Drawn {
+        /// the drawn keys (or values) at fault and why they cannot run
+        drawn: String,
+    },
 }
 
 /// At most this many stops per realization (a guard against runaway input, never reached by
@@ -196,12 +230,19 @@ fn sample<M: Method, O: Observer>(method: &M, obs: &mut O, from: f64, step: f64,
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Numerics {
+    /// rk45 and smooth: relative tolerance
     pub rtol: f64,
+    /// rk45 and smooth: absolute tolerance
     pub atol: f64,
+    /// rk45 and smooth: largest step [s]
     pub max_step: f64,
+    /// rk4 and moreau: fixed step [s]
     pub step: f64,
+    /// smooth: ε, the width of the regularized law f_max tanh((v − ẋ)/ε) [m/s]
     pub epsilon: f64,
+    /// smooth: |v − ẋ| below this counts as stick [m/s]
     pub stick_velocity: f64,
+    /// integration steps per realization before a solver gives up with an error
     pub step_budget: u64,
     /// rk45/rk4 keep the Stribeck peak resolved (see [`hybrid`]); false only to see what an
     /// unguarded controller does
@@ -219,10 +260,15 @@ fn yes() -> bool {
 pub enum SolverKind {
     /// Closed forms where the scene has them (today: every scene).
     Auto,
+    /// Closed forms, event to event (undamped or damped).
     Exact,
+    /// Dormand–Prince 5(4) with adaptive steps and located events.
     Rk45,
+    /// Classical Runge–Kutta with a fixed step and located events.
     Rk4,
+    /// Moreau time stepping of the set-valued friction law.
     Moreau,
+    /// Dormand–Prince on a regularized (tanh) friction law.
     Smooth,
 }
 
@@ -230,6 +276,7 @@ impl SolverKind {
     /// Every name, for messages.
     pub const NAMES: [&'static str; 6] = ["auto", "exact", "rk45", "rk4", "moreau", "smooth"];
 
+    /// Its name in a scenario (`run.solver`).
     pub fn name(self) -> &'static str {
         Self::NAMES[self as usize]
     }

@@ -5,8 +5,11 @@
 /// limit) or a belt flip (a change of belt velocity ends any stick).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Release {
+    /// The motion at t = 0.
     Start,
+    /// A breakaway: the spring force reached the holding limit.
     Breakaway,
+    /// A belt flip: a change of belt velocity ended the stick.
     Flip,
 }
 

@@ -205,3 +205,23 @@ fn markov_and_recorded_belts_run_through_every_stage() {
     );
     assert!(out.status.success(), "tradeoff: {}", String::from_utf8_lossy(&out.stderr));
 }
+
+#[test]
+fn markov_and_recorded_belts_at_the_extremes() {
+    // levels at both ends of the speed range and at rest, rates at 1e4 /s (1e5 changes in 10 s),
+    // through exact and rk45; a record of 20,000 rows alternating between 1e6 and -1e-9 m/s
+    let rk45 = ["run.solver=\"rk45\"", "numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10", "numerics.step_budget=100000000"];
+    let chain = ["belt.process=\"markov\"", "belt.velocities=[1e6, 0, -1e-9]", "belt.rates=[[0, 1e4, 0], [1e4, 0, 1e4], [0, 1e4, 0]]"];
+    let tmp = tempfile::tempdir().unwrap();
+    let rows: Vec<(f64, f64)> = (0..20_000).map(|i| (i as f64 * 5e-4, if i % 2 == 0 { 1e6 } else { -1e-9 })).collect();
+    let record = ["belt.process=\"recorded\"".to_string(), format!("belt.file={:?}", log(tmp.path(), &rows).display().to_string())];
+    let record: Vec<&str> = record.iter().map(String::as_str).collect();
+    for base in [&chain[..], &record[..]] {
+        for solver in [&[][..], &rk45[..]] {
+            let sc = scenario(&with(base, solver));
+            for o in outcomes(&sc, 2) {
+                check_invariants(&sc, &o, false).unwrap_or_else(|e| panic!("{base:?} {solver:?}: {e}"));
+            }
+        }
+    }
+}
