@@ -265,7 +265,7 @@ pub fn q_figure(inp: &Inputs) -> Option<Figure> {
     let pmf = mean.map(|m| (lo.ceil().max(0.0) as u32..=hi.floor() as u32).map(|q| (q as f64, poisson_pmf(m, q))).collect());
     Some(Figure {
         name: "fig05_q".into(),
-        title: "Number of belt sign changes Q".into(),
+        title: "Number of belt velocity changes Q".into(),
         rows: 1,
         cols: 1,
         size: (800, 520),
@@ -483,7 +483,7 @@ pub fn all(inp: &Inputs) -> Vec<Figure> {
     let mut out = vec![poisson_figure(inp)];
     out.extend(trajectory_figure(inp));
     out.extend(q_figure(inp));
-    out.extend(indexed_histograms(inp, "Y", "fig06_y", "the first six belt sign changes Y_1..Y_6"));
+    out.extend(indexed_histograms(inp, "Y", "fig06_y", "the first six belt velocity changes Y_1..Y_6"));
     out.extend(growth_figure(inp));
     out.push(counts_figure(inp));
     out.extend(indexed_histograms(inp, "T", "fig09_t", "the first six stick starts T_1..T_6"));

@@ -163,7 +163,11 @@ impl Ranged for Ticked {
 /// has them (those inside the range), else at round numbers (about six).
 fn key_points(ticks: &[(f64, String)], log: bool, (lo, hi): (f64, f64)) -> Vec<f64> {
     if ticks.is_empty() {
-        return RangedCoordf64::from(lo..hi).key_points(6);
+        // plotters steps from the range's start, so the tick at zero may come out as −2.2e-16:
+        // a tick within a billionth of a step of zero is zero
+        let points = RangedCoordf64::from(lo..hi).key_points(6);
+        let step = points.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+        return points.into_iter().map(|v| if v.abs() < 1e-9 * step { 0.0 } else { v }).collect();
     }
     let f = axis(log);
     let (a, b) = (lo.min(hi), lo.max(hi));
