@@ -268,7 +268,7 @@ fn bias_over_se(records: &[Outcome], reference: &[Outcome], n_run: u64) -> f64 {
     worst
 }
 
-/// The reference records: exact, or rk45 at 1e-12 shown converged against 1e-10.
+/// The reference records: exact, or rk45 at 1e-14 shown converged against 1e-13 (module docs).
 fn reference(base: &Scenario, n: u64) -> Result<(Setting, Measured), TradeoffError> {
     if base.has_closed_forms() {
         let exact = ladder(base.run.duration).into_iter().next().expect("exact is the first rung");
