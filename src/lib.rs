@@ -22,7 +22,7 @@ pub(crate) mod outdir;
 pub mod physics;
 pub mod report;
 pub mod scenario;
-pub(crate) mod scenes;
+pub mod scenes;
 pub mod sensitivity;
 pub mod simulation;
 pub mod solver;

@@ -26,7 +26,14 @@ use print::print_analysis;
 
 /// Parse the process arguments and run.
 pub fn main() -> anyhow::Result<()> {
-    let cli = Cli::parse();
+    main_from(std::env::args_os())
+}
+
+/// Parse `args` (the program name first) and run: the command line of the binary and of the
+/// Python package's `stickslip` script alike. `--help`, `--version` and usage errors print and
+/// exit the process, as clap does.
+pub fn main_from<I: IntoIterator<Item = T>, T: Into<std::ffi::OsString> + Clone>(args: I) -> anyhow::Result<()> {
+    let cli = Cli::parse_from(args);
     let quiet = cli.quiet;
     match cli.command {
         Command::Simulate(args) => simulate_command(args, quiet),

@@ -104,7 +104,10 @@ pub enum SimulateError {
     /// The worker thread pool could not be started.
     #[error("cannot start worker threads: {0}")]
     Pool(String),
-    /// A sweep cell failed.
+    /// The caller asked the run to stop (`batches`' `stop`: Ctrl-C in a Python session).
+    #[error("interrupted")]
+    Interrupted,
+    /// A cell of a sweep failed.
     #[error("sweep cell {cell}: {source}")]
     Cell {
         /// the cell's hive path (`name=value/...`)
@@ -120,7 +123,7 @@ impl crate::blame::Blame for SimulateError {
             SimulateError::Threads(_) | SimulateError::Scenario(_) => true,
             SimulateError::Dataset(d) => d.blames_input(),
             SimulateError::Out(o) => o.blames_input(),
-            SimulateError::Run(_) | SimulateError::Pool(_) => false,
+            SimulateError::Run(_) | SimulateError::Pool(_) | SimulateError::Interrupted => false,
             SimulateError::Cell { source, .. } => source.blames_input(),
         }
     }
@@ -316,6 +319,35 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
         targets: (!targets.is_empty()).then(|| (tracker.met(), tracker.describe())),
     };
     Ok(Pending { part, trajectories, summary })
+}
+
+/// Simulate one scene into memory: the dataset's Arrow record batches (its schema carries the
+/// provenance as metadata), in realization order — the rows `simulate` writes, chunk for chunk.
+/// `stop` is asked between windows of chunks; when it answers true the run ends with
+/// [`SimulateError::Interrupted`] (how a Python session's Ctrl-C reaches the run).
+pub fn batches(scenario: &Scenario, threads: Option<usize>, stop: &(dyn Fn() -> bool + Sync)) -> Result<Vec<arrow_array::RecordBatch>, SimulateError> {
+    let threads = worker_threads(threads)?;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| SimulateError::Pool(e.to_string()))?;
+    let ensemble = Ensemble::new(scenario)?;
+    let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
+    let metadata: std::collections::HashMap<String, String> = provenance(scenario, Shard::WHOLE).into_iter().collect();
+    let chunk = ensemble.chunk_len();
+    let total = scenario.run.realizations;
+    let mut chunks = (0..total).step_by(chunk as usize).map(|lo| lo..(lo + chunk).min(total)).peekable();
+    let mut out = Vec::new();
+    while chunks.peek().is_some() {
+        if stop() {
+            return Err(SimulateError::Interrupted);
+        }
+        let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
+        let rows: Vec<Result<(Rows, Tracker), RunError>> = pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), &[])).collect());
+        for r in rows {
+            let batch = r?.0.into_batch(&layout);
+            let schema = std::sync::Arc::new(batch.schema().as_ref().clone().with_metadata(metadata.clone()));
+            out.push(batch.with_schema(schema).expect("the same fields"));
+        }
+    }
+    Ok(out)
 }
 
 /// Simulate a contiguous range of realizations into dataset rows, and the targets' quantities.

@@ -1,0 +1,246 @@
+//! `stickslip._stickslip`: the Python extension, a thin layer over the library — no second
+//! implementation of anything. Scenarios are resolved by `stickslip::scenario`, realizations
+//! simulated by `stickslip::simulation::simulate::batches` (the rows the CLI writes), analyses and
+//! files written by the command line's own code (`stickslip::cli::main_from`).
+//!
+//! Tables cross into Python through the Arrow C stream interface (`__arrow_c_stream__`, a
+//! PyCapsule named `arrow_array_stream` holding an `ArrowArrayStream`): polars, pyarrow and
+//! pandas take them without copying a value. Errors: `ValueError` when the input is to blame
+//! (the same one-line message as the CLI), `RuntimeError` otherwise. Long work runs with the
+//! GIL released; Ctrl-C is noticed between windows of chunks and ends the run with
+//! `KeyboardInterrupt`.
+
+use std::ffi::CString;
+use std::path::Path;
+use std::sync::Arc;
+
+use arrow_array::ffi_stream::FFI_ArrowArrayStream;
+use arrow_array::{RecordBatch, RecordBatchIterator};
+use arrow_schema::{Schema, SchemaRef};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyCapsule;
+
+use stickslip::scenario::{Overrides, Scenario};
+use stickslip::simulation::simulate::{self, SimulateError};
+
+/// An Arrow table held in Rust memory: record batches sharing one schema, exported without a
+/// copy through `__arrow_c_stream__`.
+#[pyclass(module = "stickslip._stickslip", frozen)]
+struct Table {
+    schema: SchemaRef,
+    batches: Vec<RecordBatch>,
+}
+
+#[pymethods]
+impl Table {
+    /// The Arrow PyCapsule stream interface: a fresh stream over the same buffers per call.
+    #[pyo3(signature = (requested_schema=None))]
+    fn __arrow_c_stream__<'py>(&self, py: Python<'py>, requested_schema: Option<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyCapsule>> {
+        // (the schema is not negotiated: a consumer casts if it must)
+        let _ = requested_schema;
+        let reader = RecordBatchIterator::new(self.batches.clone().into_iter().map(Ok), self.schema.clone());
+        let stream = FFI_ArrowArrayStream::new(Box::new(reader));
+        PyCapsule::new(py, stream, Some(CString::new("arrow_array_stream").expect("no NUL")))
+    }
+
+    /// Number of rows.
+    #[getter]
+    fn num_rows(&self) -> usize {
+        self.batches.iter().map(RecordBatch::num_rows).sum()
+    }
+
+    /// The column names.
+    #[getter]
+    fn column_names(&self) -> Vec<String> {
+        self.schema.fields().iter().map(|f| f.name().clone()).collect()
+    }
+
+    /// The schema's key-value metadata (a dataset's provenance).
+    #[getter]
+    fn metadata(&self) -> std::collections::HashMap<String, String> {
+        self.schema.metadata().iter().map(|(k, v)| (k.clone(), v.clone())).collect()
+    }
+
+    fn __len__(&self) -> usize {
+        self.num_rows()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("stickslip.Table({} rows; columns {})", self.num_rows(), self.column_names().join(", "))
+    }
+}
+
+/// An error as Python sees it: `ValueError` when the input is to blame, else `RuntimeError`;
+/// the message is the CLI's one line.
+fn to_py(e: anyhow::Error) -> PyErr {
+    if e.chain().any(|c| c.is::<Interrupted>()) {
+        return PyKeyboardInterrupt::new_err("interrupted");
+    }
+    let message = stickslip::cli::message(&e);
+    if stickslip::cli::exit_code(&e) == 2 {
+        PyValueError::new_err(message)
+    } else {
+        PyRuntimeError::new_err(message)
+    }
+}
+
+/// Ctrl-C reached a run.
+#[derive(Debug)]
+struct Interrupted;
+
+impl std::error::Error for Interrupted {}
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("interrupted")
+    }
+}
+
+/// A JSON value (a Python dict or value, serialized by the package) as a TOML value.
+fn toml_value(v: &serde_json::Value, key: &str) -> anyhow::Result<toml::Value> {
+    use serde_json::Value as J;
+    Ok(match v {
+        J::Bool(b) => toml::Value::Boolean(*b),
+        J::Number(n) => match n.as_i64() {
+            Some(i) => toml::Value::Integer(i),
+            None => toml::Value::Float(n.as_f64().ok_or_else(|| stickslip::cli::Usage(format!("{key}: {n} is not a number")))?),
+        },
+        J::String(s) => toml::Value::String(s.clone()),
+        J::Array(a) => toml::Value::Array(a.iter().map(|x| toml_value(x, key)).collect::<anyhow::Result<_>>()?),
+        J::Object(o) => toml::Value::Table(o.iter().map(|(k, x)| Ok((k.clone(), toml_value(x, &format!("{key}.{k}"))?))).collect::<anyhow::Result<_>>()?),
+        J::Null => return Err(stickslip::cli::Usage(format!("{key}: None is not a scenario value")).into()),
+    })
+}
+
+/// The scenario's TOML text from the package's arguments: a file's text is read by the
+/// resolver itself; a dict arrives as JSON.
+fn scenario_text(toml_text: Option<&str>, dict_json: Option<&str>) -> anyhow::Result<Option<String>> {
+    match (toml_text, dict_json) {
+        (Some(t), _) => Ok(Some(t.to_owned())),
+        (None, Some(j)) => {
+            let v: serde_json::Value = serde_json::from_str(j)?;
+            let toml::Value::Table(t) = toml_value(&v, "scenario")? else {
+                return Err(stickslip::cli::Usage("scenario: a dict of sections, e.g. {\"belt\": {\"switch_rate\": 1.0}}".into()).into());
+            };
+            Ok(Some(toml::to_string(&t)?))
+        }
+        (None, None) => Ok(None),
+    }
+}
+
+/// `--set` arguments from the JSON of a dict of dotted keys.
+fn sets(set_json: Option<&str>) -> anyhow::Result<Vec<String>> {
+    let Some(j) = set_json else { return Ok(Vec::new()) };
+    let v: serde_json::Value = serde_json::from_str(j)?;
+    let serde_json::Value::Object(o) = v else {
+        return Err(stickslip::cli::Usage("set: a dict of dotted keys, e.g. {\"belt.switch_rate\": 1.0}".into()).into());
+    };
+    o.iter().map(|(k, v)| Ok(format!("{k}={}", toml_value(v, k)?))).collect()
+}
+
+/// Resolve a scenario as the CLI does: the embedded paper scenario ← the file or text ←
+/// `set` ← `realizations`, `seed`.
+fn resolve(path: Option<&str>, toml_text: Option<&str>, dict_json: Option<&str>, set_json: Option<&str>, over: Overrides) -> anyhow::Result<Scenario> {
+    let sets = sets(set_json)?;
+    let mut sc = match (path, scenario_text(toml_text, dict_json)?) {
+        (Some(p), _) => Scenario::resolve(Some(Path::new(p)), &sets)?,
+        (None, text) => Scenario::from_text(text.as_deref(), Path::new("<scenario>"), &sets)?,
+    };
+    over.apply(&mut sc);
+    sc.check()?;
+    sc.refuse_sweep("simulate (from Python, into memory)")?;
+    Ok(sc)
+}
+
+/// Most realizations `simulate` holds in memory (about 7.5 GB of rows on the paper scene).
+const MAX_IN_MEMORY: u64 = 10_000_000;
+
+/// Simulate one scene into memory (module docs). Arguments as `stickslip.simulate`.
+#[pyfunction]
+#[pyo3(signature = (path=None, toml_text=None, dict_json=None, set_json=None, realizations=None, seed=None, threads=None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_table(
+    py: Python<'_>,
+    path: Option<&str>,
+    toml_text: Option<&str>,
+    dict_json: Option<&str>,
+    set_json: Option<&str>,
+    realizations: Option<u64>,
+    seed: Option<u64>,
+    threads: Option<usize>,
+) -> PyResult<Table> {
+    let sc = resolve(path, toml_text, dict_json, set_json, Overrides { realizations, seed }).map_err(to_py)?;
+    if sc.run.realizations > MAX_IN_MEMORY {
+        return Err(PyValueError::new_err(format!(
+            "realizations = {}: at most {MAX_IN_MEMORY} are held in memory (about 750 bytes each on the paper scene); write them with out=DIR and scan the Parquet files",
+            sc.run.realizations
+        )));
+    }
+    // Ctrl-C: Python's handler only sets a flag; the run asks for it between windows of chunks
+    let stop = || Python::attach(|py| py.check_signals().is_err());
+    let batches = py
+        .detach(|| simulate::batches(&sc, threads, &stop))
+        .map_err(|e| match e {
+            SimulateError::Interrupted => anyhow::Error::new(Interrupted),
+            e => anyhow::Error::new(e),
+        })
+        .map_err(to_py)?;
+    let schema = match batches.first() {
+        Some(b) => b.schema(),
+        None => Arc::new(Schema::empty()),
+    };
+    Ok(Table { schema, batches })
+}
+
+/// Run the command line with `argv` (the program name first), as the `stickslip` binary does;
+/// returns the exit code (0, 1 or 2), the error printed on stderr as the binary prints it.
+#[pyfunction]
+fn run_cli(py: Python<'_>, argv: Vec<String>) -> i32 {
+    py.detach(|| match stickslip::cli::main_from(argv) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("stickslip: error: {}", stickslip::cli::message(&e));
+            i32::from(stickslip::cli::exit_code(&e))
+        }
+    })
+}
+
+/// Run the command line with `argv` inside the interpreter, raising instead of exiting: the
+/// stages' entry for the package's `analyze`, `tradeoff`, `sensitivity` and `simulate(out=...)`.
+#[pyfunction]
+fn run_stage(py: Python<'_>, argv: Vec<String>) -> PyResult<()> {
+    py.detach(|| stickslip::cli::main_from(argv)).map_err(to_py)
+}
+
+/// Read a Parquet file into a table (an analysis table or a dataset part).
+#[pyfunction]
+fn read_parquet(py: Python<'_>, path: &str) -> PyResult<Table> {
+    py.detach(|| -> anyhow::Result<Table> {
+        let file = std::fs::File::open(path).map_err(|e| anyhow::anyhow!("reading {path}: {e}"))?;
+        let builder = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(file)?;
+        let schema = builder.schema().clone();
+        let batches = builder.build()?.collect::<Result<Vec<_>, _>>()?;
+        Ok(Table { schema, batches })
+    })
+    .map_err(|e| PyRuntimeError::new_err(stickslip::cli::message(&e)))
+}
+
+/// The shipped scenarios: (name, text) pairs, the paper's first.
+#[pyfunction]
+fn scenes() -> Vec<(String, String)> {
+    stickslip::scenes::SHIPPED.iter().map(|s| (s.name.to_owned(), s.text.to_owned())).collect()
+}
+
+/// The extension module.
+#[pymodule]
+fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<Table>()?;
+    m.add_function(wrap_pyfunction!(simulate_table, m)?)?;
+    m.add_function(wrap_pyfunction!(run_cli, m)?)?;
+    m.add_function(wrap_pyfunction!(run_stage, m)?)?;
+    m.add_function(wrap_pyfunction!(read_parquet, m)?)?;
+    m.add_function(wrap_pyfunction!(scenes, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

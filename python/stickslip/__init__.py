@@ -1,0 +1,184 @@
+"""stickslip — stick-slip statistics of a dry-friction oscillator on a randomly reversing belt.
+
+A thin layer over the Rust library (the same code as the ``stickslip`` command line):
+
+- :func:`simulate` runs realizations and returns the dataset as an Arrow table (``polars.from_arrow``,
+  ``pyarrow.table`` and pandas take it without a copy), or writes a dataset directory (``out=``);
+- :func:`analyze` analyses a dataset directory and returns its tidy tables and summary;
+- :func:`tradeoff`, :func:`sensitivity` run those stages into a directory and return their tables;
+- :func:`scenes` lists the shipped scenarios.
+
+Units are SI throughout: seconds, metres, kilograms, newtons. Bad input raises ``ValueError`` with
+the command line's one-line message (naming the key, value or file); a failure while running raises
+``RuntimeError``; Ctrl-C during :func:`simulate` raises ``KeyboardInterrupt``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any, Dict, Mapping, Optional, Union
+
+from . import _stickslip
+from ._stickslip import Table
+
+__all__ = ["Table", "Analysis", "simulate", "analyze", "tradeoff", "sensitivity", "scenes", "__version__"]
+__version__: str = _stickslip.__version__
+
+Scenario = Union[str, "os.PathLike[str]", Mapping[str, Any], None]
+
+
+def _scenario_args(scenario: Scenario) -> Dict[str, Optional[str]]:
+    """The extension's three ways to take a scenario: a path, TOML text, or a dict (as JSON)."""
+    if scenario is None:
+        return {}
+    if isinstance(scenario, Mapping):
+        return {"dict_json": json.dumps(scenario)}
+    text = os.fspath(scenario)
+    if "\n" in text or "=" in text or "[" in text:
+        return {"toml_text": text}
+    return {"path": text}
+
+
+def _set_json(set: Optional[Mapping[str, Any]]) -> Optional[str]:
+    return None if set is None else json.dumps(dict(set))
+
+
+def _cli_scenario_args(scenario: Scenario, set: Optional[Mapping[str, Any]], tmp: str) -> list:
+    """A scenario and overrides as command-line arguments (a dict or TOML text goes through a file)."""
+    args: list = []
+    a = _scenario_args(scenario)
+    if "path" in a:
+        args.append(a["path"])
+    elif a:
+        text = a.get("toml_text")
+        if text is None:
+            text = _stickslip_toml(scenario)  # type: ignore[arg-type]
+        p = os.path.join(tmp, "scenario.toml")
+        with open(p, "w", encoding="utf-8") as f:
+            f.write(text)
+        args.append(p)
+    for key, value in (set or {}).items():
+        args += ["--set", f"{key}={_toml_literal(value)}"]
+    return args
+
+
+def _toml_literal(v: Any) -> str:
+    """A Python value as a TOML literal (numbers, strings, booleans, lists, dicts)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v) if not isinstance(v, float) or v == v else "nan"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, Mapping):
+        return "{ " + ", ".join(f"{k} = {_toml_literal(x)}" for k, x in v.items()) + " }"
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_literal(x) for x in v) + "]"
+    raise ValueError(f"set: {v!r} is not a scenario value")
+
+
+def _stickslip_toml(d: Mapping[str, Any]) -> str:
+    lines = []
+    for section, keys in d.items():
+        if not isinstance(keys, Mapping):
+            raise ValueError(f"scenario: section {section!r} must be a dict of keys")
+        lines.append(f"[{section}]")
+        lines += [f"{k} = {_toml_literal(v)}" for k, v in keys.items()]
+    return "\n".join(lines) + "\n"
+
+
+def simulate(
+    scenario: Scenario = None,
+    *,
+    realizations: Optional[int] = None,
+    seed: Optional[int] = None,
+    set: Optional[Mapping[str, Any]] = None,
+    threads: Optional[int] = None,
+    out: Union[str, "os.PathLike[str]", None] = None,
+) -> Optional[Table]:
+    """Simulate realizations of a scene.
+
+    ``scenario``: a path to a TOML file, TOML text, or a dict of sections (``{"belt": {"switch_rate": 1.0}}``);
+    keys it omits keep the paper's values (m = 1 kg, k = 4 N/m, n = 9.8 N, mu = 0.51, v0 = 1 m/s,
+    lambda = 5 /s, t_a = 10 s, 18,000 realizations). ``set``: dotted keys as the CLI's ``--set``
+    (``{"model.damping": 0.5}``; a list is a sweep, which only ``out=`` can write). ``realizations``,
+    ``seed`` override ``run.realizations`` and ``run.seed``. ``threads``: worker threads (default: all
+    cores; the rows do not depend on it).
+
+    Returns the dataset (one row per realization; columns as the CLI's Parquet files, provenance
+    in the schema metadata) as an Arrow table, or, with ``out=``, writes the dataset directory
+    exactly as ``stickslip simulate --out`` does and returns None.
+    """
+    if out is not None:
+        with tempfile.TemporaryDirectory() as tmp:
+            argv = ["stickslip", "--quiet", "simulate", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out)]
+            if realizations is not None:
+                argv += ["--realizations", str(realizations)]
+            if seed is not None:
+                argv += ["--seed", str(seed)]
+            if threads is not None:
+                argv += ["--threads", str(threads)]
+            _stickslip.run_stage(argv)
+        return None
+    return _stickslip.simulate_table(
+        **_scenario_args(scenario), set_json=_set_json(set), realizations=realizations, seed=seed, threads=threads
+    )
+
+
+class Analysis:
+    """The tables of an analysis (Arrow tables, by name: ``moments``, ``histograms``,
+    ``joint_histograms``, ``growth``, ``convergence``, ``independence``, ``survival``, ``tails``, …,
+    as the CLI's ``ADIR/*.parquet``) and its summary (``summary.json`` as a dict)."""
+
+    def __init__(self, directory: Path):
+        self.directory = directory
+        self.tables: Dict[str, Table] = {
+            p.stem: _stickslip.read_parquet(str(p)) for p in sorted(directory.glob("*.parquet"))
+        }
+        with open(directory / "summary.json", encoding="utf-8") as f:
+            self.summary: Dict[str, Any] = json.load(f)
+
+    def __getattr__(self, name: str) -> Table:
+        tables = self.__dict__.get("tables", {})
+        if name in tables:
+            return tables[name]
+        raise AttributeError(f"no table {name!r}; the tables are {', '.join(tables)}")
+
+    def __repr__(self) -> str:
+        return f"stickslip.Analysis({', '.join(self.tables)})"
+
+
+def analyze(dataset: Union[str, "os.PathLike[str]"], *, out: Union[str, "os.PathLike[str]", None] = None, args: tuple = ()) -> Analysis:
+    """Analyse a dataset directory (``stickslip analyze``): moments with intervals, histograms,
+    joint histograms, independence tests, growth regressions, counts, tails. ``out``: where the
+    tables go (default: a temporary directory, read back and removed). ``args``: further CLI
+    flags, e.g. ``("--max-index", "4")``."""
+    if out is not None:
+        _stickslip.run_stage(["stickslip", "--quiet", "analyze", os.fspath(dataset), "--out", os.fspath(out), *args])
+        return Analysis(Path(out))
+    with tempfile.TemporaryDirectory() as tmp:
+        adir = Path(tmp) / "analysis"
+        _stickslip.run_stage(["stickslip", "--quiet", "analyze", os.fspath(dataset), "--out", str(adir), *args])
+        return Analysis(adir)
+
+
+def tradeoff(scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 100, set: Optional[Mapping[str, Any]] = None) -> Table:
+    """The speed/accuracy trade (``stickslip tradeoff``) written into ``out``; returns ``tradeoff.parquet``."""
+    with tempfile.TemporaryDirectory() as tmp:
+        _stickslip.run_stage(["stickslip", "--quiet", "tradeoff", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)])
+    return _stickslip.read_parquet(os.path.join(os.fspath(out), "tradeoff.parquet"))
+
+
+def sensitivity(scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 1000, set: Optional[Mapping[str, Any]] = None) -> Table:
+    """Sobol indices (``stickslip sensitivity``) written into ``out``; returns ``sobol.parquet``."""
+    with tempfile.TemporaryDirectory() as tmp:
+        _stickslip.run_stage(["stickslip", "--quiet", "sensitivity", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)])
+    return _stickslip.read_parquet(os.path.join(os.fspath(out), "sobol.parquet"))
+
+
+def scenes() -> Dict[str, str]:
+    """The shipped scenario files by name (the paper scenario first), as TOML text."""
+    return dict(_stickslip.scenes())

@@ -1,0 +1,136 @@
+"""The Python package against the command line it wraps: the same rows, the same tables, the same
+errors. The CLI here is the package's own console script (`stickslip`, the Rust binary's code)."""
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import polars as pl
+import pytest
+
+import stickslip
+
+
+def cli(*args: str) -> subprocess.CompletedProcess:
+    exe = shutil.which("stickslip")
+    assert exe, "the package installs the stickslip console script"
+    return subprocess.run([exe, *args], capture_output=True, text=True)
+
+
+def test_simulate_equals_the_cli_dataset_of_the_paper_scenario(tmp_path: Path) -> None:
+    r = cli("simulate", "--out", str(tmp_path / "d"), "--realizations", "18000", "--seed", "1")
+    assert r.returncode == 0, r.stderr
+    from_cli = pl.read_parquet(tmp_path / "d").sort("realization")
+    table = stickslip.simulate(seed=1, realizations=18000)
+    assert table.num_rows == 18000
+    from_python = pl.DataFrame(table)
+    assert from_python.columns == from_cli.columns
+    assert from_python.equals(from_cli), "every value of every column"
+    # provenance travels with the table
+    assert "stickslip.scenario" in table.metadata
+
+
+def test_any_thread_count_gives_the_same_rows() -> None:
+    one = pl.DataFrame(stickslip.simulate(realizations=3000, threads=1))
+    two = pl.DataFrame(stickslip.simulate(realizations=3000, threads=2))
+    assert one.equals(two)
+
+
+def test_a_dict_toml_text_and_set_are_the_same_scenario() -> None:
+    by_dict = stickslip.simulate({"model": {"damping": 0.5}, "run": {"realizations": 500}})
+    by_text = stickslip.simulate("[model]\ndamping = 0.5\n[run]\nrealizations = 500\n")
+    by_set = stickslip.simulate(set={"model.damping": 0.5}, realizations=500)
+    frames = [pl.DataFrame(t) for t in (by_dict, by_text, by_set)]
+    assert frames[0].equals(frames[1]) and frames[0].equals(frames[2])
+    # and not the paper's rows
+    assert not frames[0].equals(pl.DataFrame(stickslip.simulate(realizations=500)))
+
+
+def test_analyze_tables_equal_the_cli_files(tmp_path: Path) -> None:
+    data = tmp_path / "d"
+    stickslip.simulate(realizations=4000, out=data)
+    r = cli("analyze", str(data), "--out", str(tmp_path / "a"))
+    assert r.returncode == 0, r.stderr
+    a = stickslip.analyze(data)
+    names = sorted(p.stem for p in (tmp_path / "a").glob("*.parquet"))
+    assert sorted(a.tables) == names and "moments" in names
+    for name in names:
+        assert pl.DataFrame(a.tables[name]).equals(pl.read_parquet(tmp_path / "a" / f"{name}.parquet")), name
+    cli_summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    assert a.summary["dataset"] == cli_summary["dataset"] if "dataset" in cli_summary else True
+    moments = pl.DataFrame(a.moments)
+    st = moments.filter(pl.col("variable") == "S_T")
+    assert st.height == 1 and 15 < st["mean"][0] < 18
+
+
+def test_bad_input_raises_value_error_naming_the_key(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="model.mass"):
+        stickslip.simulate(set={"model.mass": -1.0}, realizations=10)
+    with pytest.raises(ValueError, match="belt.swich_rate"):
+        stickslip.simulate({"belt": {"swich_rate": 1.0}})
+    with pytest.raises(ValueError, match="nope.toml"):
+        stickslip.simulate(str(tmp_path / "nope.toml"))
+    with pytest.raises(ValueError, match="out=DIR"):
+        stickslip.simulate(realizations=10**8)
+    with pytest.raises(ValueError, match="no dataset part files"):
+        stickslip.analyze(tmp_path)
+
+
+def test_scenes_and_the_console_script() -> None:
+    s = stickslip.scenes()
+    assert list(s)[0] == "paper" and "markov_belt" in s and "[belt]" in s["paper"]
+    r = cli("--version")
+    assert r.returncode == 0 and "stickslip" in r.stdout
+    r = cli("simulate", "--out")
+    assert r.returncode == 2
+    r = cli("simulate", "--out", "/tmp/x", "--set", "model.mass=-1")
+    assert r.returncode == 2 and r.stderr.startswith("stickslip: error: ") and "model.mass" in r.stderr
+
+
+def test_pyarrow_takes_the_table_without_copy() -> None:
+    pa = pytest.importorskip("pyarrow")
+    t = stickslip.simulate(realizations=100)
+    at = pa.table(t)
+    assert at.num_rows == 100 and "stick_duration" in at.column_names
+
+
+def test_the_worked_example_runs(tmp_path: Path) -> None:
+    pytest.importorskip("matplotlib")
+    example = Path(__file__).resolve().parents[1] / "examples" / "paper.py"
+    r = subprocess.run([sys.executable, str(example), str(tmp_path)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "fig12.png").stat().st_size > 10_000
+    # its dataset is the paper scenario's (seed 1, 18,000 realizations) and its Table 1 is what
+    # `stickslip analyze` writes for it
+    assert pl.read_parquet(tmp_path / "dataset").height == 18000
+    a = cli("analyze", str(tmp_path / "dataset"), "--out", str(tmp_path / "cli-analysis"))
+    assert a.returncode == 0, a.stderr
+    moments = pl.read_parquet(tmp_path / "cli-analysis" / "moments.parquet")
+    for variable, index in [("T", 1), ("D", 2), ("H", 6)]:
+        mean = moments.filter((pl.col("variable") == variable) & (pl.col("index") == index))["mean"][0]
+        assert f"{mean:.6f}" in r.stdout, (variable, index, mean)
+    assert "switch_rate" in r.stdout
+
+
+def test_ctrl_c_interrupts_a_long_simulation() -> None:
+    import signal
+    import time
+
+    code = (
+        "import stickslip, sys\n"
+        "print('start', flush=True)\n"
+        "try:\n"
+        "    stickslip.simulate(realizations=10**7)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True); sys.exit(7)\n"
+    )
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert p.stdout is not None and p.stdout.readline().strip() == "start"
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    t0 = time.monotonic()
+    out, _ = p.communicate(timeout=30)
+    assert p.returncode == 7 and "interrupted" in out
+    assert time.monotonic() - t0 < 5, "the run noticed Ctrl-C within a window of chunks"
