@@ -1,7 +1,8 @@
 //! `stickslip._stickslip`: the Python extension, a thin layer over the library — no second
 //! implementation of anything. Scenarios are resolved by `stickslip::scenario`, realizations
-//! simulated by `stickslip::simulation::simulate::batches` (the rows the CLI writes), analyses and
-//! files written by the command line's own code (`stickslip::cli::main_from`).
+//! simulated by `stickslip::simulation::simulate::batches` (the rows the CLI writes); the stages
+//! that write files run the command line's own code (`stickslip::cli::main_from`, in a child
+//! process started by the package, so that Ctrl-C ends them as it ends the CLI).
 //!
 //! Tables cross into Python through the Arrow C stream interface (`__arrow_c_stream__`, a
 //! PyCapsule named `arrow_array_stream` holding an `ArrowArrayStream`): polars, pyarrow and
@@ -195,8 +196,11 @@ fn simulate_table(
 
 /// Run the command line with `argv` (the program name first), as the `stickslip` binary does;
 /// returns the exit code (0, 1 or 2), the error printed on stderr as the binary prints it.
+/// Like the binary, it takes over SIGINT and SIGTERM (temporaries removed, exit 130/143): it is
+/// meant for a process of its own (the console script, or the package's stage runner).
 #[pyfunction]
 fn run_cli(py: Python<'_>, argv: Vec<String>) -> i32 {
+    stickslip::interrupt::install();
     py.detach(|| match stickslip::cli::main_from(argv) {
         Ok(()) => 0,
         Err(e) => {
@@ -206,11 +210,19 @@ fn run_cli(py: Python<'_>, argv: Vec<String>) -> i32 {
     })
 }
 
-/// Run the command line with `argv` inside the interpreter, raising instead of exiting: the
-/// stages' entry for the package's `analyze`, `tradeoff`, `sensitivity` and `simulate(out=...)`.
+/// Write a table made by `simulate_table` as a dataset directory, as `simulate --out` writes it
+/// (the scene from the table's own provenance); returns the part file's path.
 #[pyfunction]
-fn run_stage(py: Python<'_>, argv: Vec<String>) -> PyResult<()> {
-    py.detach(|| stickslip::cli::main_from(argv)).map_err(to_py)
+fn write_table(py: Python<'_>, table: &Table, out: &str) -> PyResult<String> {
+    let text =
+        table.schema.metadata().get("stickslip.scenario").cloned().ok_or_else(|| {
+            PyValueError::new_err("the table has no stickslip.scenario metadata: only tables from stickslip.simulate can be written or analysed")
+        })?;
+    py.detach(|| -> anyhow::Result<String> {
+        let sc = Scenario::recorded(&text, Path::new("<table>"))?;
+        Ok(simulate::write_batches(&table.batches, &sc, Path::new(out))?.display().to_string())
+    })
+    .map_err(to_py)
 }
 
 /// Read a Parquet file into a table (an analysis table or a dataset part).
@@ -238,8 +250,8 @@ fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Table>()?;
     m.add_function(wrap_pyfunction!(simulate_table, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
-    m.add_function(wrap_pyfunction!(run_stage, m)?)?;
     m.add_function(wrap_pyfunction!(read_parquet, m)?)?;
+    m.add_function(wrap_pyfunction!(write_table, m)?)?;
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

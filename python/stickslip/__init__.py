@@ -17,6 +17,9 @@ from __future__ import annotations
 
 import json
 import os
+import signal
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any, Dict, Mapping, Optional, Union
@@ -28,6 +31,28 @@ __all__ = ["Table", "Analysis", "simulate", "analyze", "tradeoff", "sensitivity"
 __version__: str = _stickslip.__version__
 
 Scenario = Union[str, "os.PathLike[str]", Mapping[str, Any], None]
+
+
+def _run_stage(argv: list, progress: bool = False) -> None:
+    """Run a stage that writes files (``argv[0]`` is the program name) in a child process running
+    the command line's own code, so that Ctrl-C ends it cleanly wherever it is: the child removes
+    its temporaries (as the CLI does on SIGINT) and ``KeyboardInterrupt`` is raised here. Its
+    one-line error becomes ``ValueError`` (exit code 2: the input is to blame) or ``RuntimeError``.
+    With ``progress`` the child writes to this terminal (its progress bar, and its error)."""
+    child = subprocess.Popen([sys.executable, "-m", "stickslip._cli", *argv[1:]], stderr=None if progress else subprocess.PIPE, text=True)
+    try:
+        _, err = child.communicate()
+    except KeyboardInterrupt:
+        child.send_signal(signal.SIGINT)
+        child.wait()
+        raise
+    if child.returncode == 0:
+        if err:
+            sys.stderr.write(err)
+        return
+    message = err.strip().splitlines()[-1] if err and err.strip() else f"stickslip exited with code {child.returncode} (its message is above)"
+    message = message.removeprefix("stickslip: error: ") if hasattr(message, "removeprefix") else message
+    raise (ValueError if child.returncode == 2 else RuntimeError)(message)
 
 
 def _scenario_args(scenario: Scenario) -> Dict[str, Optional[str]]:
@@ -98,6 +123,7 @@ def simulate(
     set: Optional[Mapping[str, Any]] = None,
     threads: Optional[int] = None,
     out: Union[str, "os.PathLike[str]", None] = None,
+    progress: bool = False,
 ) -> Optional[Table]:
     """Simulate realizations of a scene.
 
@@ -110,18 +136,19 @@ def simulate(
 
     Returns the dataset (one row per realization; columns as the CLI's Parquet files, provenance
     in the schema metadata) as an Arrow table, or, with ``out=``, writes the dataset directory
-    exactly as ``stickslip simulate --out`` does and returns None.
+    exactly as ``stickslip simulate --out`` does and returns None (``progress``: the CLI's progress
+    bar and summary line on a terminal; into memory nothing is shown).
     """
     if out is not None:
         with tempfile.TemporaryDirectory() as tmp:
-            argv = ["stickslip", "--quiet", "simulate", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out)]
+            argv = ["stickslip", *([] if progress else ["--quiet"]), "simulate", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out)]
             if realizations is not None:
                 argv += ["--realizations", str(realizations)]
             if seed is not None:
                 argv += ["--seed", str(seed)]
             if threads is not None:
                 argv += ["--threads", str(threads)]
-            _stickslip.run_stage(argv)
+            _run_stage(argv, progress)
         return None
     return _stickslip.simulate_table(
         **_scenario_args(scenario), set_json=_set_json(set), realizations=realizations, seed=seed, threads=threads
@@ -151,31 +178,44 @@ class Analysis:
         return f"stickslip.Analysis({', '.join(self.tables)})"
 
 
-def analyze(dataset: Union[str, "os.PathLike[str]"], *, out: Union[str, "os.PathLike[str]", None] = None, args: tuple = ()) -> Analysis:
-    """Analyse a dataset directory (``stickslip analyze``): moments with intervals, histograms,
-    joint histograms, independence tests, growth regressions, counts, tails. ``out``: where the
-    tables go (default: a temporary directory, read back and removed). ``args``: further CLI
-    flags, e.g. ``("--max-index", "4")``."""
+def analyze(
+    dataset: Union[str, "os.PathLike[str]", Table], *, out: Union[str, "os.PathLike[str]", None] = None, args: tuple = (), progress: bool = False
+) -> Analysis:
+    """Analyse a dataset (``stickslip analyze``): moments with intervals, histograms, joint
+    histograms, independence tests, growth regressions, counts, tails. ``dataset``: a dataset
+    directory, or a table from :func:`simulate` (written to a temporary dataset first, exactly as
+    ``simulate --out`` writes it). ``out``: where the tables go (default: a temporary directory, read
+    back and removed). ``args``: further CLI flags, e.g. ``("--max-index", "4")``. ``progress``: show
+    the CLI's progress bar on a terminal."""
+    if isinstance(dataset, Table):
+        with tempfile.TemporaryDirectory() as tmp:
+            _stickslip.write_table(dataset, os.path.join(tmp, "dataset"))
+            return analyze(os.path.join(tmp, "dataset"), out=out, args=args, progress=progress)
+    quiet = [] if progress else ["--quiet"]
     if out is not None:
-        _stickslip.run_stage(["stickslip", "--quiet", "analyze", os.fspath(dataset), "--out", os.fspath(out), *args])
+        _run_stage(["stickslip", *quiet, "analyze", os.fspath(dataset), "--out", os.fspath(out), *args], progress)
         return Analysis(Path(out))
     with tempfile.TemporaryDirectory() as tmp:
         adir = Path(tmp) / "analysis"
-        _stickslip.run_stage(["stickslip", "--quiet", "analyze", os.fspath(dataset), "--out", str(adir), *args])
+        _run_stage(["stickslip", *quiet, "analyze", os.fspath(dataset), "--out", str(adir), *args], progress)
         return Analysis(adir)
 
 
-def tradeoff(scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 100, set: Optional[Mapping[str, Any]] = None) -> Table:
+def tradeoff(
+    scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 100, set: Optional[Mapping[str, Any]] = None, progress: bool = False
+) -> Table:
     """The speed/accuracy trade (``stickslip tradeoff``) written into ``out``; returns ``tradeoff.parquet``."""
     with tempfile.TemporaryDirectory() as tmp:
-        _stickslip.run_stage(["stickslip", "--quiet", "tradeoff", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)])
+        _run_stage(["stickslip", *([] if progress else ["--quiet"]), "tradeoff", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)], progress)
     return _stickslip.read_parquet(os.path.join(os.fspath(out), "tradeoff.parquet"))
 
 
-def sensitivity(scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 1000, set: Optional[Mapping[str, Any]] = None) -> Table:
+def sensitivity(
+    scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 1000, set: Optional[Mapping[str, Any]] = None, progress: bool = False
+) -> Table:
     """Sobol indices (``stickslip sensitivity``) written into ``out``; returns ``sobol.parquet``."""
     with tempfile.TemporaryDirectory() as tmp:
-        _stickslip.run_stage(["stickslip", "--quiet", "sensitivity", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)])
+        _run_stage(["stickslip", *([] if progress else ["--quiet"]), "sensitivity", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)], progress)
     return _stickslip.read_parquet(os.path.join(os.fspath(out), "sobol.parquet"))
 
 

@@ -7,3 +7,7 @@ from . import _stickslip
 
 def main() -> None:
     sys.exit(_stickslip.run_cli(["stickslip", *sys.argv[1:]]))
+
+
+if __name__ == "__main__":
+    main()

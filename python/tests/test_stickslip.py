@@ -134,3 +134,42 @@ def test_ctrl_c_interrupts_a_long_simulation() -> None:
     out, _ = p.communicate(timeout=30)
     assert p.returncode == 7 and "interrupted" in out
     assert time.monotonic() - t0 < 5, "the run noticed Ctrl-C within a window of chunks"
+
+
+def test_a_table_written_or_analysed_is_the_cli_dataset(tmp_path: Path) -> None:
+    t = stickslip.simulate(realizations=3000, seed=4)
+    stickslip.simulate(realizations=3000, seed=4, out=tmp_path / "cli")
+    by_table = stickslip.analyze(t)
+    by_dir = stickslip.analyze(tmp_path / "cli")
+    for name in by_dir.tables:
+        assert pl.DataFrame(by_table.tables[name]).equals(pl.DataFrame(by_dir.tables[name])), name
+    # the part file written from a table is the CLI's, byte for byte
+    from stickslip import _stickslip
+
+    path = _stickslip.write_table(t, str(tmp_path / "from_table"))
+    cli_part = next((tmp_path / "cli").glob("part-*.parquet"))
+    assert Path(path).name == cli_part.name
+    assert Path(path).read_bytes() == cli_part.read_bytes()
+
+
+def test_ctrl_c_ends_a_stage_that_writes_files_and_leaves_nothing(tmp_path: Path) -> None:
+    import signal
+    import time
+
+    out = tmp_path / "big"
+    code = (
+        "import stickslip, sys\n"
+        "print('start', flush=True)\n"
+        "try:\n"
+        f"    stickslip.simulate(realizations=10**8, out={str(out)!r})\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True); sys.exit(7)\n"
+    )
+    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert p.stdout is not None and p.stdout.readline().strip() == "start"
+    time.sleep(1.5)
+    p.send_signal(signal.SIGINT)
+    out_text, _ = p.communicate(timeout=60)
+    assert p.returncode == 7 and "interrupted" in out_text
+    # the CLI's cleanup: no part file, no temporary, no directory it created
+    assert not out.exists() or not any(out.iterdir()), list(out.iterdir())

@@ -415,9 +415,15 @@ impl PartWriter {
 
     /// Append rows; row groups are cut at a fixed row count (or size), never by timing.
     pub fn write(&mut self, rows: Rows) -> Result<(), DatasetError> {
+        let batch = rows.into_batch(&self.layout);
+        self.write_batch(&batch)
+    }
+
+    /// Append a record batch of this file's schema (rows already made, as
+    /// [`crate::simulation::simulate::batches`] makes them).
+    pub fn write_batch(&mut self, batch: &RecordBatch) -> Result<(), DatasetError> {
         let writer = self.writer.as_mut().expect("open until finished");
-        let result =
-            writer.write(&rows.into_batch(&self.layout)).and_then(|()| if writer.in_progress_size() > ROW_GROUP_BYTES { writer.flush() } else { Ok(()) });
+        let result = writer.write(batch).and_then(|()| if writer.in_progress_size() > ROW_GROUP_BYTES { writer.flush() } else { Ok(()) });
         result.map_err(|e| self.write_err(e))
     }
 

@@ -12,6 +12,8 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
+use arrow_schema::Schema;
+
 use crate::metadata as meta;
 use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
 use crate::scenario::{Scenario, ScenarioError};
@@ -348,6 +350,25 @@ pub fn batches(scenario: &Scenario, threads: Option<usize>, stop: &(dyn Fn() -> 
         }
     }
     Ok(out)
+}
+
+/// Write record batches made by [`batches`] as the dataset directory `out` — the part file
+/// `simulate --out` writes for the same scene, with the same provenance. `scenario` is the
+/// batches' own (their schema's `stickslip.scenario`).
+pub fn write_batches(batches: &[arrow_array::RecordBatch], scenario: &Scenario, out: &std::path::Path) -> Result<PathBuf, SimulateError> {
+    let dir = DatasetDir::prepare(out, &[])?;
+    let ensemble = Ensemble::new(scenario)?;
+    let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
+    let mut writer = PartWriter::create(out, 0, 1, layout, provenance(scenario, Shard::WHOLE))?;
+    for b in batches {
+        // (the schema without the provenance the batches carry: the file holds it in its footer)
+        let plain = arrow_array::RecordBatch::try_new(std::sync::Arc::new(Schema::new(b.schema().fields().clone())), b.columns().to_vec())
+            .map_err(|e| DatasetError::Write { path: out.to_owned(), source: Box::new(e) })?;
+        writer.write_batch(&plain)?;
+    }
+    let path = writer.commit()?;
+    dir.commit();
+    Ok(path)
 }
 
 /// Simulate a contiguous range of realizations into dataset rows, and the targets' quantities.
