@@ -201,22 +201,26 @@ def analyze(
         return Analysis(adir)
 
 
+def _stage_table(stage: str, table: str, scenario: Scenario, out: Union[str, "os.PathLike[str]"], realizations: int, set: Optional[Mapping[str, Any]], progress: bool) -> Table:
+    """Run ``stickslip STAGE`` into ``out`` and read back its table."""
+    with tempfile.TemporaryDirectory() as tmp:
+        quiet = [] if progress else ["--quiet"]
+        _run_stage(["stickslip", *quiet, stage, *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)], progress)
+    return _stickslip.read_parquet(os.path.join(os.fspath(out), table))
+
+
 def tradeoff(
     scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 100, set: Optional[Mapping[str, Any]] = None, progress: bool = False
 ) -> Table:
     """The speed/accuracy trade (``stickslip tradeoff``) written into ``out``; returns ``tradeoff.parquet``."""
-    with tempfile.TemporaryDirectory() as tmp:
-        _run_stage(["stickslip", *([] if progress else ["--quiet"]), "tradeoff", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)], progress)
-    return _stickslip.read_parquet(os.path.join(os.fspath(out), "tradeoff.parquet"))
+    return _stage_table("tradeoff", "tradeoff.parquet", scenario, out, realizations, set, progress)
 
 
 def sensitivity(
     scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 1000, set: Optional[Mapping[str, Any]] = None, progress: bool = False
 ) -> Table:
     """Sobol indices (``stickslip sensitivity``) written into ``out``; returns ``sobol.parquet``."""
-    with tempfile.TemporaryDirectory() as tmp:
-        _run_stage(["stickslip", *([] if progress else ["--quiet"]), "sensitivity", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)], progress)
-    return _stickslip.read_parquet(os.path.join(os.fspath(out), "sobol.parquet"))
+    return _stage_table("sensitivity", "sobol.parquet", scenario, out, realizations, set, progress)
 
 
 def scenes() -> Dict[str, str]:

@@ -114,26 +114,25 @@ def test_the_worked_example_runs(tmp_path: Path) -> None:
     assert "switch_rate" in r.stdout
 
 
-def test_ctrl_c_interrupts_a_long_simulation() -> None:
+def interrupt_after(call: str, seconds: float) -> float:
+    """Run ``call`` in a child Python, send it SIGINT after ``seconds``; assert it raised
+    KeyboardInterrupt; return how long it took to end after the signal."""
     import signal
     import time
 
-    code = (
-        "import stickslip, sys\n"
-        "print('start', flush=True)\n"
-        "try:\n"
-        "    stickslip.simulate(realizations=10**7)\n"
-        "except KeyboardInterrupt:\n"
-        "    print('interrupted', flush=True); sys.exit(7)\n"
-    )
+    code = f"import stickslip, sys\nprint('start', flush=True)\ntry:\n    {call}\nexcept KeyboardInterrupt:\n    print('interrupted', flush=True); sys.exit(7)\n"
     p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
     assert p.stdout is not None and p.stdout.readline().strip() == "start"
-    time.sleep(1.0)
+    time.sleep(seconds)
     p.send_signal(signal.SIGINT)
     t0 = time.monotonic()
-    out, _ = p.communicate(timeout=30)
+    out, _ = p.communicate(timeout=60)
     assert p.returncode == 7 and "interrupted" in out
-    assert time.monotonic() - t0 < 5, "the run noticed Ctrl-C within a window of chunks"
+    return time.monotonic() - t0
+
+
+def test_ctrl_c_interrupts_a_long_simulation() -> None:
+    assert interrupt_after("stickslip.simulate(realizations=10**7)", 1.0) < 5, "noticed within a window of chunks"
 
 
 def test_a_table_written_or_analysed_is_the_cli_dataset(tmp_path: Path) -> None:
@@ -153,23 +152,16 @@ def test_a_table_written_or_analysed_is_the_cli_dataset(tmp_path: Path) -> None:
 
 
 def test_ctrl_c_ends_a_stage_that_writes_files_and_leaves_nothing(tmp_path: Path) -> None:
-    import signal
-    import time
-
     out = tmp_path / "big"
-    code = (
-        "import stickslip, sys\n"
-        "print('start', flush=True)\n"
-        "try:\n"
-        f"    stickslip.simulate(realizations=10**8, out={str(out)!r})\n"
-        "except KeyboardInterrupt:\n"
-        "    print('interrupted', flush=True); sys.exit(7)\n"
-    )
-    p = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
-    assert p.stdout is not None and p.stdout.readline().strip() == "start"
-    time.sleep(1.5)
-    p.send_signal(signal.SIGINT)
-    out_text, _ = p.communicate(timeout=60)
-    assert p.returncode == 7 and "interrupted" in out_text
+    interrupt_after(f"stickslip.simulate(realizations=10**8, out={str(out)!r})", 1.5)
     # the CLI's cleanup: no part file, no temporary, no directory it created
     assert not out.exists() or not any(out.iterdir()), list(out.iterdir())
+
+
+def test_tradeoff_and_sensitivity_return_the_cli_tables(tmp_path: Path) -> None:
+    t = pl.DataFrame(stickslip.tradeoff(out=tmp_path / "t", realizations=20))
+    assert t.equals(pl.read_parquet(tmp_path / "t" / "tradeoff.parquet")) and "solver" in t.columns
+    s = pl.DataFrame(stickslip.sensitivity(set={"model.friction_coefficient": {"dist": "uniform", "low": 0.4, "high": 0.6}}, out=tmp_path / "s", realizations=200))
+    assert s.equals(pl.read_parquet(tmp_path / "s" / "sobol.parquet")) and s.height > 0
+    with pytest.raises(ValueError, match="no random key"):
+        stickslip.sensitivity(out=tmp_path / "s2", realizations=20)
