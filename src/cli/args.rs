@@ -65,7 +65,7 @@ pub enum Command {
 #[derive(Debug, clap::Args)]
 pub struct ScenarioArgs {
     /// Scenario file (TOML); keys it omits keep the paper values. `stickslip scenes` lists the
-    /// shipped ones (the paper scenario; damping, static friction, an asymmetric belt, random
+    /// shipped ones (the paper scenario; damping, static friction, an asymmetric belt, a Markov belt that stops, viscous friction, random
     /// parameters, Stribeck friction) and writes one out to edit.
     pub scenario: Option<PathBuf>,
     /// Override a scenario key by its dotted name, e.g. --set belt.switch_rate=1.0 (repeatable). The
