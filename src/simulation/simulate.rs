@@ -399,7 +399,7 @@ fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path:
     let mut out = Outcome::default();
     for index in 0..scenario.output.trajectories.min(scenario.run.realizations) {
         let sampler = ensemble.trajectory(index, scenario.output.trajectory_step, &mut out)?;
-        tables.push(index, &sampler.samples, out.switches(), &out.record);
+        tables.push(index, &sampler.samples, out.switches(), out.velocities(), &out.record);
     }
     Ok((tables.write(&place, &scenario.to_toml())?, created))
 }

@@ -10,7 +10,8 @@
 //! - `samples.parquet`: `realization` (int64), `t`, `x`, `xdot`, `belt_velocity` (float64, s, m,
 //!   m/s, m/s), one row per grid instant;
 //! - `events.parquet`: `realization` (int64), `event` (`belt_switch`, `stick_start`,
-//!   `stick_end`), `t` (float64, s), one row per event.
+//!   `stick_end`), `t` (float64, s), `belt_velocity` (float64, m/s: the belt's velocity from
+//!   this instant on), one row per event.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -104,11 +105,13 @@ pub struct Tables {
     event_realization: Vec<i64>,
     event: Vec<&'static str>,
     event_t: Vec<f64>,
+    event_belt: Vec<f64>,
 }
 
 impl Tables {
-    /// Add one sampled realization: its grid samples, its effective belt switches and its sticks.
-    pub fn push(&mut self, realization: u64, samples: &[[f64; 4]], switches: &[f64], record: &Record) {
+    /// Add one sampled realization: its grid samples, its effective belt switches with the
+    /// velocity of each segment (`switches.len() + 1` of them) and its sticks.
+    pub fn push(&mut self, realization: u64, samples: &[[f64; 4]], switches: &[f64], velocities: &[f64], record: &Record) {
         let r = realization as i64;
         self.sample_realization.extend(std::iter::repeat_n(r, samples.len()));
         self.samples.extend_from_slice(samples);
@@ -116,11 +119,15 @@ impl Tables {
         for (t, d) in record.stick_start.iter().zip(&record.stick_duration) {
             events.extend([(*t, "stick_start"), (t + d, "stick_end")]);
         }
+        // (stable: a belt switch stays before the stick end it causes)
         events.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // the belt from an instant on: the segment that starts at or before it
+        let belt = |t: f64| velocities[switches.partition_point(|&s| s <= t)];
         for (t, e) in events {
             self.event_realization.push(r);
             self.event.push(e);
             self.event_t.push(t);
+            self.event_belt.push(belt(t));
         }
     }
 
@@ -137,11 +144,13 @@ impl Tables {
             Field::new("realization", DataType::Int64, false),
             Field::new("event", DataType::Utf8, false),
             Field::new("t", DataType::Float64, false),
+            Field::new("belt_velocity", DataType::Float64, false),
         ]);
         let cols: Vec<ArrayRef> = vec![
             Arc::new(Int64Array::from(self.event_realization.clone())),
             Arc::new(StringArray::from(self.event.clone())),
             Arc::new(Float64Array::from(self.event_t.clone())),
+            Arc::new(Float64Array::from(self.event_belt.clone())),
         ];
         RecordBatch::try_new(Arc::new(schema), cols).expect("columns of equal length")
     }

@@ -319,7 +319,7 @@ fn the_trajectory_figure_draws_the_belt_at_its_own_two_speeds() {
             [t, v, v]
         })
         .collect();
-    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![0.3, 0.6], ..Default::default() });
+    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![(0.3, f64::NAN), (0.6, f64::NAN)], ..Default::default() });
     let f = figures::trajectory_figure(&inp).unwrap();
     let belt = &f.panels[0].lines[1].points;
     // on to the end of the window, t_a (the samples stop at 0.9 s)
@@ -356,6 +356,21 @@ fn a_clipped_colour_scale_says_how_many_cells_it_saturates() {
 }
 
 #[test]
+fn the_trajectory_figure_draws_a_belt_of_three_levels_at_the_recorded_velocities() {
+    // a belt that stops: +1, 0 at 0.3 s, −1 at 0.6 s, +1 at 0.8 s (with the velocities the events
+    // record; alternating two levels would draw +1 where the belt runs at −1)
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let mut inp = Inputs::load(tmp.path()).unwrap();
+    let samples = (0..10).map(|i| [i as f64 * 0.1, 0.0, 1.0]).collect();
+    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![(0.3, 0.0), (0.6, -1.0), (0.8, 1.0)], ..Default::default() });
+    let f = figures::trajectory_figure(&inp).unwrap();
+    let t_a = inp.scenario.run.duration;
+    let want = [(0.0, 1.0), (0.3, 1.0), (0.3, 0.0), (0.6, 0.0), (0.6, -1.0), (0.8, -1.0), (0.8, 1.0), (t_a, 1.0)];
+    assert_eq!(f.panels[0].lines[1].points, want);
+}
+
+#[test]
 fn the_belt_trace_reaches_the_end_of_each_window() {
     // flips at 0.3, 0.6, 1.8 and 2.2 s: the first-2-s panel must carry the belt on from its last
     // flip (1.8) to 2 s, and the whole-window panel to t_a, though the samples stop at 2.9 s
@@ -366,7 +381,7 @@ fn the_belt_trace_reaches_the_end_of_each_window() {
     assert!(t_a > 3.0, "the paper's scene runs for {t_a} s");
     let level = |t: f64| if (0.3..0.6).contains(&t) || (1.8..2.2).contains(&t) { -0.5 } else { 1.0 };
     let samples = (0..30).map(|i| i as f64 * 0.1).map(|t| [t, 0.0, level(t)]).collect();
-    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![0.3, 0.6, 1.8, 2.2], ..Default::default() });
+    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: [0.3, 0.6, 1.8, 2.2].map(|t| (t, f64::NAN)).to_vec(), ..Default::default() });
     let f = figures::trajectory_figure(&inp).unwrap();
     let (whole, first) = (&f.panels[0], &f.panels[1]);
     assert_eq!(first.lines[1].points.last(), Some(&(2.0, -0.5)), "{:?}", first.lines[1].points);
