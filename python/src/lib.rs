@@ -98,55 +98,12 @@ impl std::fmt::Display for Interrupted {
     }
 }
 
-/// A JSON value (a Python dict or value, serialized by the package) as a TOML value.
-fn toml_value(v: &serde_json::Value, key: &str) -> anyhow::Result<toml::Value> {
-    use serde_json::Value as J;
-    Ok(match v {
-        J::Bool(b) => toml::Value::Boolean(*b),
-        J::Number(n) => match n.as_i64() {
-            Some(i) => toml::Value::Integer(i),
-            None => toml::Value::Float(n.as_f64().ok_or_else(|| stickslip::cli::Usage(format!("{key}: {n} is not a number")))?),
-        },
-        J::String(s) => toml::Value::String(s.clone()),
-        J::Array(a) => toml::Value::Array(a.iter().map(|x| toml_value(x, key)).collect::<anyhow::Result<_>>()?),
-        J::Object(o) => toml::Value::Table(o.iter().map(|(k, x)| Ok((k.clone(), toml_value(x, &format!("{key}.{k}"))?))).collect::<anyhow::Result<_>>()?),
-        J::Null => return Err(stickslip::cli::Usage(format!("{key}: None is not a scenario value")).into()),
-    })
-}
-
-/// The scenario's TOML text from the package's arguments: a file's text is read by the
-/// resolver itself; a dict arrives as JSON.
-fn scenario_text(toml_text: Option<&str>, dict_json: Option<&str>) -> anyhow::Result<Option<String>> {
-    match (toml_text, dict_json) {
-        (Some(t), _) => Ok(Some(t.to_owned())),
-        (None, Some(j)) => {
-            let v: serde_json::Value = serde_json::from_str(j)?;
-            let toml::Value::Table(t) = toml_value(&v, "scenario")? else {
-                return Err(stickslip::cli::Usage("scenario: a dict of sections, e.g. {\"belt\": {\"switch_rate\": 1.0}}".into()).into());
-            };
-            Ok(Some(toml::to_string(&t)?))
-        }
-        (None, None) => Ok(None),
-    }
-}
-
-/// `--set` arguments from the JSON of a dict of dotted keys.
-fn sets(set_json: Option<&str>) -> anyhow::Result<Vec<String>> {
-    let Some(j) = set_json else { return Ok(Vec::new()) };
-    let v: serde_json::Value = serde_json::from_str(j)?;
-    let serde_json::Value::Object(o) = v else {
-        return Err(stickslip::cli::Usage("set: a dict of dotted keys, e.g. {\"belt.switch_rate\": 1.0}".into()).into());
-    };
-    o.iter().map(|(k, v)| Ok(format!("{k}={}", toml_value(v, k)?))).collect()
-}
-
-/// Resolve a scenario as the CLI does: the embedded paper scenario ← the file or text ←
-/// `set` ← `realizations`, `seed`.
-fn resolve(path: Option<&str>, toml_text: Option<&str>, dict_json: Option<&str>, set_json: Option<&str>, over: Overrides) -> anyhow::Result<Scenario> {
-    let sets = sets(set_json)?;
-    let mut sc = match (path, scenario_text(toml_text, dict_json)?) {
-        (Some(p), _) => Scenario::resolve(Some(Path::new(p)), &sets)?,
-        (None, text) => Scenario::from_text(text.as_deref(), Path::new("<scenario>"), &sets)?,
+/// Resolve a scenario as the CLI does: the embedded paper scenario ← the file or TOML text (the
+/// package writes a dict as TOML) ← `sets` (`--set KEY=VALUE`) ← `realizations`, `seed`.
+fn resolve(path: Option<&str>, toml_text: Option<&str>, sets: &[String], over: Overrides) -> anyhow::Result<Scenario> {
+    let mut sc = match path {
+        Some(p) => Scenario::resolve(Some(Path::new(p)), sets)?,
+        None => Scenario::from_text(toml_text, Path::new("<scenario>"), sets)?,
     };
     over.apply(&mut sc);
     sc.check()?;
@@ -159,19 +116,17 @@ const MAX_IN_MEMORY: u64 = 10_000_000;
 
 /// Simulate one scene into memory (module docs). Arguments as `stickslip.simulate`.
 #[pyfunction]
-#[pyo3(signature = (path=None, toml_text=None, dict_json=None, set_json=None, realizations=None, seed=None, threads=None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (path=None, toml_text=None, sets=Vec::new(), realizations=None, seed=None, threads=None))]
 fn simulate_table(
     py: Python<'_>,
     path: Option<&str>,
     toml_text: Option<&str>,
-    dict_json: Option<&str>,
-    set_json: Option<&str>,
+    sets: Vec<String>,
     realizations: Option<u64>,
     seed: Option<u64>,
     threads: Option<usize>,
 ) -> PyResult<Table> {
-    let sc = resolve(path, toml_text, dict_json, set_json, Overrides { realizations, seed }).map_err(to_py)?;
+    let sc = resolve(path, toml_text, &sets, Overrides { realizations, seed }).map_err(to_py)?;
     if sc.run.realizations > MAX_IN_MEMORY {
         return Err(PyValueError::new_err(format!(
             "realizations = {}: at most {MAX_IN_MEMORY} are held in memory (about 750 bytes each on the paper scene); write them with out=DIR and scan the Parquet files",

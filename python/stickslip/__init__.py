@@ -22,7 +22,7 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
-from typing import Any, Dict, Mapping, Optional, Union
+from typing import Any, Dict, List, Mapping, Optional, Union
 
 from . import _stickslip
 from ._stickslip import Table
@@ -56,37 +56,35 @@ def _run_stage(argv: list, progress: bool = False) -> None:
 
 
 def _scenario_args(scenario: Scenario) -> Dict[str, Optional[str]]:
-    """The extension's three ways to take a scenario: a path, TOML text, or a dict (as JSON)."""
+    """The extension's two ways to take a scenario: a path, or TOML text (a dict is written as TOML)."""
     if scenario is None:
         return {}
     if isinstance(scenario, Mapping):
-        return {"dict_json": json.dumps(scenario)}
+        return {"toml_text": _stickslip_toml(scenario)}
     text = os.fspath(scenario)
     if "\n" in text or "=" in text or "[" in text:
         return {"toml_text": text}
     return {"path": text}
 
 
-def _set_json(set: Optional[Mapping[str, Any]]) -> Optional[str]:
-    return None if set is None else json.dumps(dict(set))
+def _sets(set: Optional[Mapping[str, Any]]) -> List[str]:
+    """Dotted keys and values as the CLI's ``--set KEY=VALUE`` arguments (TOML values)."""
+    return [f"{key}={_toml_literal(value)}" for key, value in (set or {}).items()]
 
 
 def _cli_scenario_args(scenario: Scenario, set: Optional[Mapping[str, Any]], tmp: str) -> list:
-    """A scenario and overrides as command-line arguments (a dict or TOML text goes through a file)."""
+    """A scenario and overrides as command-line arguments (TOML text goes through a file)."""
     args: list = []
     a = _scenario_args(scenario)
     if "path" in a:
         args.append(a["path"])
     elif a:
-        text = a.get("toml_text")
-        if text is None:
-            text = _stickslip_toml(scenario)  # type: ignore[arg-type]
         p = os.path.join(tmp, "scenario.toml")
         with open(p, "w", encoding="utf-8") as f:
-            f.write(text)
+            f.write(a["toml_text"] or "")
         args.append(p)
-    for key, value in (set or {}).items():
-        args += ["--set", f"{key}={_toml_literal(value)}"]
+    for s in _sets(set):
+        args += ["--set", s]
     return args
 
 
@@ -151,7 +149,7 @@ def simulate(
             _run_stage(argv, progress)
         return None
     return _stickslip.simulate_table(
-        **_scenario_args(scenario), set_json=_set_json(set), realizations=realizations, seed=seed, threads=threads
+        **_scenario_args(scenario), sets=_sets(set), realizations=realizations, seed=seed, threads=threads
     )
 
 

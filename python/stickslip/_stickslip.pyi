@@ -16,8 +16,7 @@ class Table:
 def simulate_table(
     path: Optional[str] = None,
     toml_text: Optional[str] = None,
-    dict_json: Optional[str] = None,
-    set_json: Optional[str] = None,
+    sets: List[str] = ...,
     realizations: Optional[int] = None,
     seed: Optional[int] = None,
     threads: Optional[int] = None,
