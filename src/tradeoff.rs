@@ -62,7 +62,7 @@ pub struct Setting {
     pub solver: SolverKind,
     /// the setting, as shown (e.g. `rtol=atol=1e-6`)
     pub label: String,
-    /// the setting's number: the tolerance (rk45), the step [s] (rk4, moreau), ε = stick_velocity
+    /// the setting's number: the tolerance (rk45, dop853), the step [s] (rk4, moreau), ε = stick_velocity
     /// [m/s] (smooth); 0 for exact
     pub parameter: f64,
     /// set the setting on a scenario's `[numerics]`
@@ -82,6 +82,15 @@ pub fn ladder(duration: f64) -> Vec<Setting> {
     }
     out.push(rk45("rtol=atol=1e-6, max_step=1e-4".into(), 1e-6, 1e-4));
     out.push(rk45("paper ode45: rtol=atol=1e-9, max_step=1e-4".into(), 1e-9, 1e-4));
+    // dop853, the accurate end: down to 1e-12
+    for tol in [1e-3, 1e-6, 1e-9, 1e-12] {
+        out.push(rung(
+            SolverKind::Dop853,
+            format!("rtol=atol={tol:e}"),
+            tol,
+            Box::new(move |n: &mut Numerics| (n.rtol, n.atol, n.max_step) = (tol, tol, duration)),
+        ));
+    }
     for solver in [SolverKind::Rk4, SolverKind::Moreau] {
         for h in [1e-2, 1e-3, 1e-4] {
             out.push(rung(solver, format!("step={h:e}"), h, Box::new(move |n: &mut Numerics| n.step = h)));

@@ -228,7 +228,7 @@ impl Scenario {
             return Err(invalid(key, &value, &format!("with model.mass, {symbol} reaches {rate:e} 1/s: {rule}, so it may be at most {max_rate:e} 1/s")));
         }
         let least_steps = self.run.duration / if fixed { num.step } else { num.max_step };
-        if matches!(solver, SolverKind::Rk45 | SolverKind::Rk4 | SolverKind::Moreau) && least_steps > num.step_budget as f64 {
+        if matches!(solver, SolverKind::Rk45 | SolverKind::Dop853 | SolverKind::Rk4 | SolverKind::Moreau) && least_steps > num.step_budget as f64 {
             let key = if fixed { "numerics.step" } else { "numerics.max_step" };
             return Err(invalid(
                 key,

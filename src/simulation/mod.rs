@@ -14,3 +14,4 @@ pub mod precision;
 pub(crate) mod rng;
 pub mod simulate;
 pub(crate) mod trajectory;
+pub(crate) mod writeback;

@@ -1,4 +1,4 @@
-//! `rk45` and `rk4`: the slip integrated numerically, transitions located as events.
+//! `rk45`, `dop853` and `rk4`: the slip integrated numerically, transitions located as events.
 //!
 //! The mode logic is the physics home's ([`PerUnitMass::arrival`]): a slip ends where the relative
 //! velocity `g = σ(v − ẋ)` falls from positive to zero, and there the mass sticks, touches or
@@ -35,7 +35,7 @@
 //! this method never asks which law it runs. `numerics.peak_guard = false` turns it off, only to
 //! see what an unguarded controller does.
 
-use super::rk::{rk4, Dopri, State, Step};
+use super::rk::{rk4, Dopri, Pair, State, Step};
 use super::Numerics;
 use super::{step_end, Event, Method, Stop};
 use crate::physics::{Arrival, PerUnitMass};
@@ -45,6 +45,8 @@ use crate::physics::{Arrival, PerUnitMass};
 pub enum Scheme {
     /// Dormand–Prince 5(4), adaptive (rtol, atol, max_step)
     Rk45,
+    /// Dormand–Prince 8(5,3), adaptive (rtol, atol, max_step)
+    Dop853,
     /// classical RK4 at a fixed step
     Rk4,
 }
@@ -83,6 +85,8 @@ pub struct Hybrid {
     f: Option<State>,
     /// the last piece: a stick `(t0, x0, v)` or a step's dense output
     piece: Piece,
+    /// every step's dense output is completed (the driver samples a trajectory)
+    keep: bool,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -99,13 +103,18 @@ impl Hybrid {
             step: num.step,
             peak_guard: num.peak_guard,
             peak_window: p.law.peak_window(),
-            dopri: Dopri { budget: num.step_budget, ..Dopri::new(num.rtol, num.atol, num.max_step) },
+            dopri: Dopri {
+                budget: num.step_budget,
+                pair: if scheme == Scheme::Dop853 { Pair::Dop853 } else { Pair::Dp54 },
+                ..Dopri::new(num.rtol, num.atol, num.max_step)
+            },
             steps: 0,
             mode: Mode::Stick { t0: 0.0, x0: 0.0 },
             t: 0.0,
             y: [0.0, 0.0],
             f: None,
             piece: Piece::Stick { t0: 0.0, x0: 0.0, v: 0.0 },
+            keep: false,
         }
     }
 
@@ -168,25 +177,30 @@ impl Method for Hybrid {
                 let limit = if self.peak_guard {
                     // the step rk45 would try (rk4's fixed step), unless the peak needs a shorter one
                     let want = match self.scheme {
-                        Scheme::Rk45 => self.dopri.next(),
+                        Scheme::Rk45 | Scheme::Dop853 => self.dopri.next(),
                         Scheme::Rk4 => self.step,
                     };
                     p.peak_step_limit(self.peak_window, self.y, v, f0[1], want.min(rest))
                 } else {
                     rest
                 };
-                let step: Step = match self.scheme {
-                    Scheme::Rk45 => self.dopri.step_from(&acc, self.t, self.y, f0, limit, &mut self.steps),
+                let mut step: Step = match self.scheme {
+                    Scheme::Rk45 | Scheme::Dop853 => self.dopri.step_from(&acc, self.t, self.y, f0, limit, &mut self.steps),
                     Scheme::Rk4 => {
                         self.steps += 1;
                         rk4(&acc, self.t, self.y, self.step.min(limit))
                     }
                 };
-                self.piece = Piece::Step(step);
                 // g = σ(v − ẋ) > 0 in this slip, g′ = −σ ẍ: a velocity extremum inside the step
                 // (g′ from − to +) may hide a crossing and its return (a near-graze)
                 let g = |y: State| sigma * (v - y[1]);
                 let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
+                // the dense output is looked inside only where a crossing may lie, where the
+                // velocity turns (its range), or for the trajectory's samples
+                if self.keep || g(step.y1) <= 0.0 || dips || step.f0[1].signum() != step.f1[1].signum() {
+                    self.dopri.complete(&acc, &mut step);
+                }
+                self.piece = Piece::Step(step);
                 if let Some(theta) = (!grazing).then(|| step.first_zero(g, dips)).flatten() {
                     let t = step.t0 + theta * step.h;
                     return self.classify(t, step.at(theta)[0], v).into();
@@ -211,6 +225,10 @@ impl Method for Hybrid {
 
     fn time(&self) -> f64 {
         self.t
+    }
+
+    fn keep_pieces(&mut self) {
+        self.keep = true;
     }
 
     fn state_at(&self, t: f64) -> (f64, f64) {

@@ -49,11 +49,26 @@ pub struct Step {
     pub f0: State,
     pub y1: State,
     pub f1: State,
-    /// the fifth-order correction `d` of the dense output (zero: cubic Hermite)
-    pub d: State,
+    /// the dense output's terms beyond the cubic Hermite, `d(θ) = d₀ + θ (d₁ + (1−θ)(d₂ + θ d₃))`:
+    /// Dormand–Prince 5(4) fills `d₀` (its fifth-order correction), DOP853 all four (its
+    /// seventh-order interpolant); all zero: cubic Hermite
+    pub d: [State; 4],
+    /// whether `d` is filled: a DOP853 step leaves it to [`Dopri::complete`] (three more
+    /// right-hand sides), which is called only when the step is looked inside
+    pub complete: bool,
 }
 
 impl Step {
+    /// The correction `d(θ)` of component `i` and its derivative in θ (see [`Step::d`]). With
+    /// d₁ = d₂ = d₃ = 0 (Dormand–Prince 5(4), RK4) they are d₀ and 0 exactly.
+    #[inline]
+    fn correction(&self, theta: f64, i: usize) -> (f64, f64) {
+        let (t, u) = (theta, 1.0 - theta);
+        let [d0, d1, d2, d3] = self.d.map(|d| d[i]);
+        let inner = d2 + t * d3;
+        (d0 + t * (d1 + u * inner), d1 + u * inner + t * (-inner + u * d3))
+    }
+
     /// The dense output at fraction θ ∈ [0, 1] of the step.
     pub fn at(&self, theta: f64) -> State {
         let (t, u, h) = (theta, 1.0 - theta, self.h);
@@ -61,7 +76,8 @@ impl Step {
             let delta = self.y1[i] - self.y0[i];
             let b = h * self.f0[i] - delta;
             let c = delta - h * self.f1[i] - b;
-            self.y0[i] + t * (delta + u * (b + t * (c + u * self.d[i])))
+            let d = self.correction(theta, i).0;
+            self.y0[i] + t * (delta + u * (b + t * (c + u * d)))
         })
     }
 
@@ -90,20 +106,9 @@ impl Step {
         (lo, hi)
     }
 
-    /// d/dθ of the velocity's dense output: with `u = 1 − θ`, `p = y₀ + θ A`, `A = δ + u B`,
-    /// `B = b + θ C`, `C = c + u d`, the product rule gives `p' = A + θ A'`.
+    /// d/dθ of the velocity's dense output.
     fn slope(&self, theta: f64) -> f64 {
-        let (t, u, h) = (theta, 1.0 - theta, self.h);
-        let delta = self.y1[1] - self.y0[1];
-        let b = h * self.f0[1] - delta;
-        let c = delta - h * self.f1[1] - b;
-        let d = self.d[1];
-        let cc = c + u * d;
-        let bb = b + t * cc;
-        let aa = delta + u * bb;
-        let dbb = cc - t * d;
-        let daa = -bb + u * dbb;
-        aa + t * daa
+        self.rate(theta)[1]
     }
 
     /// The first θ ∈ (0, 1] where `g` along the dense output falls to ≤ 0 after being positive.
@@ -170,18 +175,21 @@ impl Step {
         b
     }
 
-    /// The time derivative of the dense output at θ, times h: `dy/dθ`. With `R = c + (1−θ) d`,
-    /// `Q = b + θ R`, `P = Δ + (1−θ) Q`: `y = y₀ + θ P` and `dy/dθ = P + θ (−Q + (1−θ)(R − θ d))`.
+    /// The time derivative of the dense output at θ, times h: `dy/dθ`. With `R = c + (1−θ) d(θ)`,
+    /// `Q = b + θ R`, `P = Δ + (1−θ) Q`: `y = y₀ + θ P`, and by the product rule
+    /// `R′ = −d + (1−θ) d′`, `Q′ = R + θ R′`, `P′ = −Q + (1−θ) Q′`, `dy/dθ = P + θ P′`.
     fn rate(&self, theta: f64) -> State {
         let (t, u, h) = (theta, 1.0 - theta, self.h);
         std::array::from_fn(|i| {
             let delta = self.y1[i] - self.y0[i];
             let b = h * self.f0[i] - delta;
             let c = delta - h * self.f1[i] - b;
-            let r = c + u * self.d[i];
+            let (d, dd) = self.correction(theta, i);
+            let r = c + u * d;
             let q = b + t * r;
             let p = delta + u * q;
-            p + t * (-q + u * (r - t * self.d[i]))
+            let dr = -d + u * dd;
+            p + t * (-q + u * (r + t * dr))
         })
     }
 
@@ -248,12 +256,35 @@ pub fn rk4(a: &impl Fn(State) -> f64, t0: f64, y0: State, h: f64) -> Step {
     let k3 = deriv(a, axpy(y0, 0.5 * h, &[(1.0, k2)]));
     let k4 = deriv(a, axpy(y0, h, &[(1.0, k3)]));
     let y1 = axpy(y0, h / 6.0, &[(1.0, k1), (2.0, k2), (2.0, k3), (1.0, k4)]);
-    Step { t0, h, y0, f0: k1, y1, f1: deriv(a, y1), d: [0.0, 0.0] }
+    Step { t0, h, y0, f0: k1, y1, f1: deriv(a, y1), d: [[0.0; 2]; 4], complete: true }
+}
+
+/// The embedded pair of an adaptive integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pair {
+    /// Dormand–Prince 5(4) (`rk45`, `smooth`)
+    Dp54,
+    /// Dormand–Prince 8(5,3) ([`super::dop853`])
+    Dop853,
+}
+
+impl Pair {
+    /// The step controller `h ← h·clamp(0.9‖e‖^{−1/(q+1)}, lo, hi)` (q the estimate's order):
+    /// `(1/(q+1), lo, hi)`, the error at or below which the factor is `hi` (so the power is only
+    /// taken where it changes the step: (0.9/hi)^{q+1}) and above which it is below one
+    /// (0.9^{q+1}).
+    fn controller(self) -> (f64, f64, f64, f64, f64) {
+        match self {
+            Pair::Dp54 => (0.2, 0.2, 5.0, 1.8e-4, 0.59),
+            Pair::Dop853 => (0.125, 1.0 / 3.0, 6.0, 2.5e-7, 0.43),
+        }
+    }
 }
 
 /// The adaptive Dormand–Prince integrator's state between steps.
 #[derive(Debug, Clone, Copy)]
 pub struct Dopri {
+    pub pair: Pair,
     pub rtol: f64,
     pub atol: f64,
     pub max_step: f64,
@@ -263,17 +294,20 @@ pub struct Dopri {
     pub budget: u64,
     /// the error estimate or the state stayed non-finite down to the smallest step
     pub failed: bool,
+    /// the stages of the last step (DOP853's dense output is made from them on demand)
+    pub k: [State; 16],
 }
 
 impl Dopri {
+    /// Dormand–Prince 5(4).
     pub fn new(rtol: f64, atol: f64, max_step: f64) -> Dopri {
-        Dopri { rtol, atol, max_step, h: max_step.min(1e-3), budget: u64::MAX, failed: false }
+        Dopri { pair: Pair::Dp54, rtol, atol, max_step, h: max_step.min(1e-3), budget: u64::MAX, failed: false, k: [[0.0; 2]; 16] }
     }
 
     /// No step: what [`Dopri::step_from`] returns when it gives up (over the budget, or
     /// [`Dopri::failed`]); the driver then stops the realization with the reason.
     fn null(t0: f64, y0: State, f0: State) -> Step {
-        Step { t0, h: 0.0, y0, f0, y1: y0, f1: f0, d: [0.0, 0.0] }
+        Step { t0, h: 0.0, y0, f0, y1: y0, f1: f0, d: [[0.0; 2]; 4], complete: true }
     }
 
     /// The step the next trial takes when nothing shorter is asked for.
@@ -290,30 +324,23 @@ impl Dopri {
     /// [`Dopri::step`] given the derivative `k1 = f(y0)` — the previous step's last stage when
     /// the right-hand side has not changed (FSAL: first same as last).
     pub fn step_from(&mut self, a: &impl Fn(State) -> f64, t0: f64, y0: State, k1: State, limit: f64, trials: &mut u64) -> Step {
+        let (exponent, lo, hi, fast, shrinks) = self.pair.controller();
+        let mut k = self.k;
+        k[0] = k1;
         loop {
             *trials += 1;
             if *trials > self.budget {
                 return Dopri::null(t0, y0, k1);
             }
             let h = self.next().min(limit);
-            let k2 = deriv(a, axpy(y0, h, &[(1.0 / 5.0, k1)]));
-            let k3 = deriv(a, axpy(y0, h, &[(3.0 / 40.0, k1), (9.0 / 40.0, k2)]));
-            let k4 = deriv(a, axpy(y0, h, &[(44.0 / 45.0, k1), (-56.0 / 15.0, k2), (32.0 / 9.0, k3)]));
-            let k5 = deriv(a, axpy(y0, h, &[(19372.0 / 6561.0, k1), (-25360.0 / 2187.0, k2), (64448.0 / 6561.0, k3), (-212.0 / 729.0, k4)]));
-            let k6 = deriv(a, axpy(y0, h, &[(9017.0 / 3168.0, k1), (-355.0 / 33.0, k2), (46732.0 / 5247.0, k3), (49.0 / 176.0, k4), (-5103.0 / 18656.0, k5)]));
-            let y1 = axpy(y0, h, &[(35.0 / 384.0, k1), (500.0 / 1113.0, k3), (125.0 / 192.0, k4), (-2187.0 / 6784.0, k5), (11.0 / 84.0, k6)]);
-            let k7 = deriv(a, y1);
-            let e = axpy(
-                [0.0, 0.0],
-                h,
-                &[(71.0 / 57600.0, k1), (-71.0 / 16695.0, k3), (71.0 / 1920.0, k4), (-17253.0 / 339200.0, k5), (22.0 / 525.0, k6), (-1.0 / 40.0, k7)],
-            );
-            let err = ((0..2).map(|i| (e[i] / (self.atol + self.rtol * y0[i].abs().max(y1[i].abs()))).powi(2)).sum::<f64>() / 2.0).sqrt();
-            // the controller's factor 0.9 err^(−1/5), clamped to [0.2, 5]; ≥ 5 for
-            // err ≤ (0.9/5)^5 = 1.89e-4 and < 1 only for err > 0.9^5 = 0.59, so the power is
-            // taken only where it changes the step (most steps are cut short by a belt switch or
-            // the Stribeck guard with a tiny error, and keep the controller's step)
-            let factor = || if err > 1.8e-4 { (0.9 * err.powf(-0.2)).clamp(0.2, 5.0) } else { 5.0 };
+            let (y1, err) = match self.pair {
+                Pair::Dp54 => dp54_trial(a, y0, h, &mut k, (self.rtol, self.atol)),
+                Pair::Dop853 => super::dop853::trial(a, y0, h, &mut k, (self.rtol, self.atol)),
+            };
+            // the controller's factor 0.9 err^(−1/(q+1)), clamped to [lo, hi]; most steps are cut
+            // short by a belt switch or the Stribeck guard with a tiny error, and keep the
+            // controller's step
+            let factor = || if err > fast { (0.9 * err.powf(-exponent)).clamp(lo, hi) } else { hi };
             let floor = h <= 1e-14 * t0.abs().max(1.0);
             if !(err.is_finite() && y1[0].is_finite() && y1[1].is_finite()) {
                 // an overflow inside the step: shrink as far as the floor, then give up (never
@@ -328,29 +355,69 @@ impl Dopri {
             if err <= 1.0 || floor {
                 if h >= self.next() * 0.999 {
                     self.h = (h * factor()).min(self.max_step);
-                } else if err > 0.59 {
+                } else if err > shrinks {
                     let f = factor();
                     if f < 1.0 {
                         self.h = (h * f).min(self.max_step);
                     }
                 }
-                let d = axpy(
-                    [0.0, 0.0],
-                    h,
-                    &[
-                        (-12715105075.0 / 11282082432.0, k1),
-                        (87487479700.0 / 32700410799.0, k3),
-                        (-10690763975.0 / 1880347072.0, k4),
-                        (701980252875.0 / 199316789632.0, k5),
-                        (-1453857185.0 / 822651844.0, k6),
-                        (69997945.0 / 29380423.0, k7),
-                    ],
-                );
-                return Step { t0, h, y0, f0: k1, y1, f1: k7, d };
+                return match self.pair {
+                    Pair::Dp54 => Step { t0, h, y0, f0: k1, y1, f1: k[6], d: [dp54_dense(h, &k), [0.0; 2], [0.0; 2], [0.0; 2]], complete: true },
+                    Pair::Dop853 => {
+                        self.k = k;
+                        Step { t0, h, y0, f0: k1, y1, f1: k[12], d: [[0.0; 2]; 4], complete: false }
+                    }
+                };
             }
             self.h = h * factor();
         }
     }
+}
+
+impl Dopri {
+    /// Fill the dense output of `step`, the last step this integrator returned (DOP853: three
+    /// more right-hand sides; nothing for a step already complete).
+    pub fn complete(&mut self, a: &impl Fn(State) -> f64, step: &mut Step) {
+        if !step.complete {
+            step.d = super::dop853::dense(a, step.y0, step.h, &mut self.k);
+            step.complete = true;
+        }
+    }
+}
+
+/// One Dormand–Prince 5(4) trial step of length `h` from `y0` with `k[0] = f(y0)`: fills stages
+/// 1–6 (`k[6] = f(y₁)`, FSAL) and returns `(y₁, ‖e‖)` with the norm of the module docs.
+#[inline(always)]
+fn dp54_trial(a: &impl Fn(State) -> f64, y0: State, h: f64, k: &mut [State; 16], (rtol, atol): (f64, f64)) -> (State, f64) {
+    let k1 = k[0];
+    let k2 = deriv(a, axpy(y0, h, &[(1.0 / 5.0, k1)]));
+    let k3 = deriv(a, axpy(y0, h, &[(3.0 / 40.0, k1), (9.0 / 40.0, k2)]));
+    let k4 = deriv(a, axpy(y0, h, &[(44.0 / 45.0, k1), (-56.0 / 15.0, k2), (32.0 / 9.0, k3)]));
+    let k5 = deriv(a, axpy(y0, h, &[(19372.0 / 6561.0, k1), (-25360.0 / 2187.0, k2), (64448.0 / 6561.0, k3), (-212.0 / 729.0, k4)]));
+    let k6 = deriv(a, axpy(y0, h, &[(9017.0 / 3168.0, k1), (-355.0 / 33.0, k2), (46732.0 / 5247.0, k3), (49.0 / 176.0, k4), (-5103.0 / 18656.0, k5)]));
+    let y1 = axpy(y0, h, &[(35.0 / 384.0, k1), (500.0 / 1113.0, k3), (125.0 / 192.0, k4), (-2187.0 / 6784.0, k5), (11.0 / 84.0, k6)]);
+    let k7 = deriv(a, y1);
+    let e = axpy([0.0, 0.0], h, &[(71.0 / 57600.0, k1), (-71.0 / 16695.0, k3), (71.0 / 1920.0, k4), (-17253.0 / 339200.0, k5), (22.0 / 525.0, k6), (-1.0 / 40.0, k7)]);
+    let err = ((0..2).map(|i| (e[i] / (atol + rtol * y0[i].abs().max(y1[i].abs()))).powi(2)).sum::<f64>() / 2.0).sqrt();
+    k[1..7].copy_from_slice(&[k2, k3, k4, k5, k6, k7]);
+    (y1, err)
+}
+
+/// The fifth-order correction `d` of Dormand–Prince 5(4)'s dense output (module docs).
+#[inline(always)]
+fn dp54_dense(h: f64, k: &[State; 16]) -> State {
+    axpy(
+        [0.0, 0.0],
+        h,
+        &[
+            (-12715105075.0 / 11282082432.0, k[0]),
+            (87487479700.0 / 32700410799.0, k[2]),
+            (-10690763975.0 / 1880347072.0, k[3]),
+            (701980252875.0 / 199316789632.0, k[4]),
+            (-1453857185.0 / 822651844.0, k[5]),
+            (69997945.0 / 29380423.0, k[6]),
+        ],
+    )
 }
 
 #[cfg(test)]
@@ -394,9 +461,56 @@ mod tests {
         let mut step = dp.step(&a, t0, [t0.cos(), -t0.sin()], h, &mut 0);
         assert_eq!(step.h, h);
         if hermite {
-            step.d = [0.0, 0.0];
+            step.d = [[0.0; 2]; 4];
         }
         (1..20).map(|i| i as f64 / 20.0).map(|th| (step.at(th)[0] - (t0 + th * h).cos()).abs()).fold(0.0, f64::max)
+    }
+
+    /// One DOP853 step of length h on x'' = −x from (cos t0, −sin t0), forced: the largest
+    /// dense-output error in x over the step against cos t, and the end point's error.
+    fn dop853_errors(t0: f64, h: f64) -> (f64, f64) {
+        let a = |y: State| -y[0];
+        let mut dp = Dopri { pair: Pair::Dop853, ..Dopri::new(1.0, 1.0, h) };
+        dp.h = h;
+        let mut step = dp.step(&a, t0, [t0.cos(), -t0.sin()], h, &mut 0);
+        assert_eq!(step.h, h);
+        dp.complete(&a, &mut step);
+        let dense = (1..20).map(|i| i as f64 / 20.0).map(|th| (step.at(th)[0] - (t0 + th * h).cos()).abs()).fold(0.0, f64::max);
+        (dense, (step.y1[0] - (t0 + h).cos()).abs())
+    }
+
+    #[test]
+    fn dop853_is_eighth_order_with_a_seventh_order_dense_output() {
+        // local errors: the step O(h^9), the dense output O(h^8) — halving h divides them by
+        // 512 and 256 (within the pre-asymptotic spread)
+        let (d1, e1) = dop853_errors(0.3, 0.8);
+        let (d2, e2) = dop853_errors(0.3, 0.4);
+        assert!((300.0..=900.0).contains(&(e1 / e2)), "step error ratio {}", e1 / e2);
+        assert!((150.0..=450.0).contains(&(d1 / d2)), "dense error ratio {}", d1 / d2);
+        // global: x'' = −x to t = 2 at rtol = atol = 1e-12, far beyond what rk45 reaches in as
+        // many steps
+        let a = |y: State| -y[0];
+        let mut dp = Dopri { pair: Pair::Dop853, ..Dopri::new(1e-12, 1e-12, 1.0) };
+        let (mut t, mut y, mut trials) = (0.0, [1.0, 0.0], 0);
+        while t < 2.0 {
+            let s = dp.step(&a, t, y, 2.0 - t, &mut trials);
+            t += s.h;
+            y = s.y1;
+        }
+        assert!((y[0] - 2f64.cos()).abs() < 1e-11, "{}", y[0] - 2f64.cos());
+        assert!(trials < 60, "{trials} trials");
+        // the derivative of the dense output (rate, slope) against a central difference
+        let mut dp = Dopri { pair: Pair::Dop853, ..Dopri::new(1.0, 1.0, 0.6) };
+        dp.h = 0.6;
+        let mut step = dp.step(&a, 1.2, [1.2f64.cos(), -(1.2f64).sin()], 0.6, &mut 0);
+        dp.complete(&a, &mut step);
+        for &th in &[0.1, 0.5, 0.9] {
+            let fd = (step.at(th + 1e-6)[1] - step.at(th - 1e-6)[1]) / 2e-6;
+            assert!((step.slope(th) - fd).abs() < 1e-7, "θ {th}: {} vs {fd}", step.slope(th));
+            // and dx/dθ = h ẋ of the exact solution, to the interpolant's accuracy
+            let t = 1.2 + 0.6 * th;
+            assert!((step.rate(th)[0] / 0.6 + t.sin()).abs() < 1e-7, "θ {th}: ẋ {} vs {}", step.rate(th)[0] / 0.6, -t.sin());
+        }
     }
 
     #[test]

@@ -35,6 +35,20 @@ fn rk45_converges_as_its_tolerance_shrinks() {
 }
 
 #[test]
+fn dop853_converges_as_its_tolerance_shrinks() {
+    let run = |solver: &str, tol: &str| {
+        errors(&[&format!("run.solver={solver}"), &format!("numerics.rtol={tol}"), &format!("numerics.atol={tol}"), "numerics.max_step=10"], 20)
+    };
+    let (e3, e6, e9, e12) = (run("dop853", "1e-3"), run("dop853", "1e-6"), run("dop853", "1e-9"), run("dop853", "1e-12"));
+    assert!(rms(&e3.0) > rms(&e6.0) && rms(&e6.0) > rms(&e9.0) && rms(&e9.0) > rms(&e12.0), "{} {} {} {}", rms(&e3.0), rms(&e6.0), rms(&e9.0), rms(&e12.0));
+    for (tol, e) in [(1e-6, &e6), (1e-9, &e9), (1e-12, &e12)] {
+        assert!(e.1 == 0 && e.2 == 0, "rtol {tol}: {} missed, {} spurious sticks", e.1, e.2);
+    }
+    // event times to 1e-9 s at rtol = 1e-12 (the exact solver is the judge)
+    assert!(*e12.0.last().unwrap() < 1e-9, "largest error at 1e-12: {}", e12.0.last().unwrap());
+}
+
+#[test]
 fn long_steps_step_over_no_stick() {
     // Without a max_step, rk45 at rtol = 1e-6 takes steps of ~0.1 s through the slips. Two
     // excursions fit inside one such step and must still be seen (the exact solver is the judge):
@@ -44,6 +58,9 @@ fn long_steps_step_over_no_stick() {
     let loose = ["run.solver=rk45", "numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10"];
     let (errs, missed, spurious) = errors(&loose, 200);
     assert_eq!((missed, spurious), (0, 0), "rk45 at rtol = 1e-6 over 200 paper realizations");
+    assert!(*errs.last().unwrap() < 1e-4, "largest event-time error {}", errs.last().unwrap());
+    let (errs, missed, spurious) = errors(&["run.solver=dop853", "numerics.rtol=1e-6", "numerics.atol=1e-6", "numerics.max_step=10"], 200);
+    assert_eq!((missed, spurious), (0, 0), "dop853 at rtol = 1e-6 over 200 paper realizations");
     assert!(*errs.last().unwrap() < 1e-4, "largest event-time error {}", errs.last().unwrap());
     let (errs, missed, spurious) = errors(&["run.solver=rk4", "numerics.step=1e-2"], 200);
     assert_eq!((missed, spurious), (0, 0), "rk4 at h = 1e-2 over 200 paper realizations");
@@ -133,7 +150,7 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
         &["model.stiffness=1e5"],
         &["belt.switch_rate=1e4", "run.duration=1"],
     ];
-    for solver in ["rk45", "rk4", "moreau", "smooth"] {
+    for solver in ["rk45", "dop853", "rk4", "moreau", "smooth"] {
         for ext in extremes {
             let mut sets: Vec<String> = ext.iter().map(|s| s.to_string()).collect();
             sets.extend(fast.iter().map(|s| s.to_string()));
