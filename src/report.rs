@@ -312,7 +312,9 @@ fn solver_settings(sc: &crate::scenario::Scenario) -> String {
     let guard = if n.peak_guard { "on" } else { "off" };
     let settings = match kind {
         SolverKind::Exact | SolverKind::Auto => return kind.name().to_string(),
-        SolverKind::Rk45 | SolverKind::Dop853 => format!("rtol = {}, atol = {}, max_step = {} s, peak guard {guard}", short(n.rtol), short(n.atol), short(n.max_step)),
+        SolverKind::Rk45 | SolverKind::Dop853 => {
+            format!("rtol = {}, atol = {}, max_step = {} s, peak guard {guard}", short(n.rtol), short(n.atol), short(n.max_step))
+        }
         SolverKind::Rk4 => format!("step = {} s, peak guard {guard}", short(n.step)),
         SolverKind::Moreau => format!("step = {} s", short(n.step)),
         SolverKind::Smooth => format!(

@@ -181,14 +181,30 @@ fn tick_label(ticks: &[(f64, String)], log: bool) -> impl Fn(&f64) -> String + '
     move |v: &f64| ticks.iter().min_by(|a, b| (f(a.0) - v).abs().total_cmp(&(f(b.0) - v).abs())).map_or_else(|| plain(v), |t| t.1.clone())
 }
 
-/// The corner of the plot where the legend covers the fewest data points.
-fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> SeriesLabelPosition {
+/// The corner of the plot where the legend covers the fewest data: the points, and lines
+/// sampled along their segments (a line through a corner is covered too). The legend's box is
+/// estimated from its entries (about 20 px per entry, 7 px per character of the longest label
+/// plus the key, and a margin) against the plot's size in pixels `(w, h)`.
+fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64), (w, h): (u32, u32)) -> SeriesLabelPosition {
     let (fx, fy) = (axis(p.x_log), axis(p.y_log));
-    let mut pts: Vec<(f64, f64)> = p.lines.iter().chain(&p.points).chain(&p.stems).flat_map(|s| s.points.iter().copied()).collect();
-    pts.extend(p.bars.iter().map(|b| (0.5 * (b.0 + b.1), b.2)));
-    let norm: Vec<(f64, f64)> = pts.iter().map(|&(x, y)| ((fx(x) - x0) / (x1 - x0), (fy(y) - y0) / (y1 - y0))).collect();
-    let count =
-        |left: bool, top: bool| norm.iter().filter(|(u, v)| (if left { *u < 0.4 } else { *u > 0.6 }) && (if top { *v > 0.55 } else { *v < 0.45 })).count();
+    let to_norm = |(x, y): (f64, f64)| ((fx(x) - x0) / (x1 - x0), (fy(y) - y0) / (y1 - y0));
+    let mut norm: Vec<(f64, f64)> = p.points.iter().chain(&p.stems).flat_map(|s| s.points.iter().copied()).map(to_norm).collect();
+    norm.extend(p.bars.iter().map(|b| to_norm((0.5 * (b.0 + b.1), b.2))));
+    for line in &p.lines {
+        let pts: Vec<(f64, f64)> = line.points.iter().copied().map(to_norm).collect();
+        norm.extend(pts.first().copied());
+        for seg in pts.windows(2) {
+            let ((ua, va), (ub, vb)) = (seg[0], seg[1]);
+            norm.extend((1..=SEGMENT_SAMPLES).map(|i| i as f64 / SEGMENT_SAMPLES as f64).map(|f| (ua + f * (ub - ua), va + f * (vb - va))));
+        }
+    }
+    let labels: Vec<&str> = p.lines.iter().chain(&p.points).chain(&p.stems).map(|s| s.label.as_str()).filter(|l| !l.is_empty()).collect();
+    let longest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    let width = (40.0 + 7.0 * longest as f64) / f64::from(w.max(1)) + 0.05;
+    let height = (10.0 + 20.0 * labels.len() as f64) / f64::from(h.max(1)) + 0.05;
+    let count = |left: bool, top: bool| {
+        norm.iter().filter(|(u, v)| (if left { *u < width } else { *u > 1.0 - width }) && (if top { *v > 1.0 - height } else { *v < height })).count()
+    };
     [
         (SeriesLabelPosition::UpperRight, count(false, true)),
         (SeriesLabelPosition::UpperLeft, count(true, true)),
@@ -199,6 +215,9 @@ fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> Serie
     .min_by_key(|(_, n)| *n)
     .map_or(SeriesLabelPosition::UpperRight, |(pos, _)| pos)
 }
+
+/// Samples per line segment when the legend looks for the emptiest corner.
+const SEGMENT_SAMPLES: usize = 8;
 
 /// Pixels of the colour bar strip beside a heat map, and of the room left of the bar for its
 /// tick labels (up to `≥ -0.0512`) and its title: enough that neither is clipped.
@@ -313,9 +332,10 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
         }
     }
     if labelled {
+        let corner = legend_corner(p, (x0, x1), (y0, y1), chart.plotting_area().dim_in_pixel());
         chart
             .configure_series_labels()
-            .position(legend_corner(p, (x0, x1), (y0, y1)))
+            .position(corner)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.3))
             .label_font(("sans-serif", 12))

@@ -24,6 +24,10 @@
 //! Only the stages the system needs are kept: the equation is autonomous (`y′ = (ẋ, a(x, ẋ))`
 //! within a slip), so the nodes cᵢ are not used.
 
+// The coefficients are written as Hairer's code publishes them (30 digits), so that they can be
+// checked against it digit by digit; the compiler rounds each to the nearest double.
+#![allow(clippy::excessive_precision)]
+
 use super::rk::State;
 
 /// The nonzero coefficients `(k, aᵢₖ)` of stage i (i = 1..15; stage 0 is y₀'s derivative), in
