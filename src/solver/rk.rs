@@ -428,6 +428,18 @@ fn dp54_dense(h: f64, k: &[State; 16]) -> State {
 mod tests {
     use super::*;
 
+    /// x'' = −x from (1, 0) to t = 2 by `dp`: (x(2), the attempted steps).
+    fn oscillator_to_2(mut dp: Dopri) -> (f64, u64) {
+        let a = |y: State| -y[0];
+        let (mut t, mut y, mut trials) = (0.0, [1.0, 0.0], 0);
+        while t < 2.0 {
+            let s = dp.step(&a, t, y, 2.0 - t, &mut trials);
+            t += s.h;
+            y = s.y1;
+        }
+        (y[0], trials)
+    }
+
     #[test]
     fn methods_integrate_a_harmonic_oscillator_at_their_order() {
         // x'' = −x from (1, 0): x(t) = cos t
@@ -442,14 +454,8 @@ mod tests {
         };
         let (e1, e2) = (run_rk4(0.02), run_rk4(0.01));
         assert!((e1 / e2 - 16.0).abs() < 2.0, "RK4 error ratio {}", e1 / e2);
-        let mut dp = Dopri::new(1e-10, 1e-10, 1.0);
-        let (mut t, mut y, mut trials) = (0.0, [1.0, 0.0], 0);
-        while t < 2.0 {
-            let s = dp.step(&a, t, y, 2.0 - t, &mut trials);
-            t += s.h;
-            y = s.y1;
-        }
-        assert!((y[0] - 2f64.cos()).abs() < 1e-8, "{}", y[0] - 2f64.cos());
+        let (x, _) = oscillator_to_2(Dopri::new(1e-10, 1e-10, 1.0));
+        assert!((x - 2f64.cos()).abs() < 1e-8, "{}", x - 2f64.cos());
         // dense output and root: cos t = 0 at π/2
         let s = rk4(&a, 1.5, [1.5f64.cos(), -(1.5f64).sin()], 0.1);
         let theta = s.first_zero(|y| y[0], false).unwrap();
@@ -494,14 +500,8 @@ mod tests {
         // global: x'' = −x to t = 2 at rtol = atol = 1e-12, far beyond what rk45 reaches in as
         // many steps
         let a = |y: State| -y[0];
-        let mut dp = Dopri { pair: Pair::Dop853, ..Dopri::new(1e-12, 1e-12, 1.0) };
-        let (mut t, mut y, mut trials) = (0.0, [1.0, 0.0], 0);
-        while t < 2.0 {
-            let s = dp.step(&a, t, y, 2.0 - t, &mut trials);
-            t += s.h;
-            y = s.y1;
-        }
-        assert!((y[0] - 2f64.cos()).abs() < 1e-11, "{}", y[0] - 2f64.cos());
+        let (x, trials) = oscillator_to_2(Dopri { pair: Pair::Dop853, ..Dopri::new(1e-12, 1e-12, 1.0) });
+        assert!((x - 2f64.cos()).abs() < 1e-11, "{}", x - 2f64.cos());
         assert!(trials < 60, "{trials} trials");
         // the derivative of the dense output (rate, slope) against a central difference
         let mut dp = Dopri { pair: Pair::Dop853, ..Dopri::new(1.0, 1.0, 0.6) };
