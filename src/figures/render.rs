@@ -202,6 +202,8 @@ fn legend_corner(p: &Panel, (x0, x1): (f64, f64), (y0, y1): (f64, f64), (w, h): 
     let longest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
     let width = (40.0 + 7.0 * longest as f64) / f64::from(w.max(1)) + 0.05;
     let height = (10.0 + 20.0 * labels.len() as f64) / f64::from(h.max(1)) + 0.05;
+    // (data outside the plot's ranges is not under the legend)
+    norm.retain(|(u, v)| (0.0..=1.0).contains(u) && (0.0..=1.0).contains(v));
     let count = |left: bool, top: bool| {
         norm.iter().filter(|(u, v)| (if left { *u < width } else { *u > 1.0 - width }) && (if top { *v > 1.0 - height } else { *v < height })).count()
     };

@@ -66,7 +66,7 @@ enum Mode {
     },
 }
 
-/// One realization's integration by rk45 or rk4.
+/// One realization's integration by rk45, dop853 or rk4.
 #[derive(Debug, Clone)]
 pub struct Hybrid {
     p: PerUnitMass,
@@ -197,7 +197,7 @@ impl Method for Hybrid {
                 let dips = sigma * step.f0[1] > 0.0 && sigma * step.f1[1] < 0.0;
                 // the dense output is looked inside only where a crossing may lie, where the
                 // velocity turns (its range), or for the trajectory's samples
-                if self.keep || g(step.y1) <= 0.0 || dips || step.f0[1].signum() != step.f1[1].signum() {
+                if self.keep || g(step.y1) <= 0.0 || dips || step.turns_before(1.0) {
                     self.dopri.complete(&acc, &mut step);
                 }
                 self.piece = Piece::Step(step);

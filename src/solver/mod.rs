@@ -231,11 +231,11 @@ fn sample<M: Method, O: Observer>(method: &M, obs: &mut O, from: f64, step: f64,
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Numerics {
-    /// rk45 and smooth: relative tolerance
+    /// rk45, dop853 and smooth: relative tolerance
     pub rtol: f64,
-    /// rk45 and smooth: absolute tolerance
+    /// rk45, dop853 and smooth: absolute tolerance
     pub atol: f64,
-    /// rk45 and smooth: largest step [s]
+    /// rk45, dop853 and smooth: largest step [s]
     pub max_step: f64,
     /// rk4 and moreau: fixed step [s]
     pub step: f64,
@@ -245,7 +245,7 @@ pub struct Numerics {
     pub stick_velocity: f64,
     /// integration steps per realization before a solver gives up with an error
     pub step_budget: u64,
-    /// rk45/rk4 keep the Stribeck peak resolved (see [`hybrid`]); false only to see what an
+    /// rk45/dop853/rk4 keep the Stribeck peak resolved (see [`hybrid`]); false only to see what an
     /// unguarded controller does
     #[serde(default = "yes")]
     pub peak_guard: bool,

@@ -71,6 +71,7 @@ impl Step {
 
     /// The dense output at fraction θ ∈ [0, 1] of the step.
     pub fn at(&self, theta: f64) -> State {
+        debug_assert!(self.complete || theta == 0.0 || theta == 1.0, "inside a DOP853 step before Dopri::complete");
         let (t, u, h) = (theta, 1.0 - theta, self.h);
         std::array::from_fn(|i| {
             let delta = self.y1[i] - self.y0[i];
@@ -89,8 +90,7 @@ impl Step {
         let (a, b) = (self.at(0.0)[1], self.at(end)[1]);
         let (mut lo, mut hi) = (a.min(b), a.max(b));
         let slope0 = self.slope(0.0);
-        let slope1 = self.slope(end);
-        if end > 0.0 && slope0 != 0.0 && slope0.signum() != slope1.signum() {
+        if end > 0.0 && self.turns_before(end) {
             let (mut l, mut r) = (0.0, end);
             for _ in 0..60 {
                 let m = 0.5 * (l + r);
@@ -109,6 +109,14 @@ impl Step {
     /// d/dθ of the velocity's dense output.
     fn slope(&self, theta: f64) -> f64 {
         self.rate(theta)[1]
+    }
+
+    /// Whether the velocity's dense output turns on θ ∈ [0, `end`]: its slope changes sign
+    /// between the ends. At θ = 0 and 1 the slope is h·f₀ and h·f₁ whatever the correction d, so
+    /// `turns_before(1.0)` is known before a DOP853 step is completed ([`Dopri::complete`]).
+    pub fn turns_before(&self, end: f64) -> bool {
+        let (slope0, slope1) = (self.slope(0.0), self.slope(end));
+        slope0 != 0.0 && slope0.signum() != slope1.signum()
     }
 
     /// The first θ ∈ (0, 1] where `g` along the dense output falls to ≤ 0 after being positive.
@@ -179,6 +187,7 @@ impl Step {
     /// `Q = b + θ R`, `P = Δ + (1−θ) Q`: `y = y₀ + θ P`, and by the product rule
     /// `R′ = −d + (1−θ) d′`, `Q′ = R + θ R′`, `P′ = −Q + (1−θ) Q′`, `dy/dθ = P + θ P′`.
     fn rate(&self, theta: f64) -> State {
+        debug_assert!(self.complete || theta == 0.0 || theta == 1.0, "inside a DOP853 step before Dopri::complete");
         let (t, u, h) = (theta, 1.0 - theta, self.h);
         std::array::from_fn(|i| {
             let delta = self.y1[i] - self.y0[i];
