@@ -26,14 +26,10 @@ import os
 import random
 import resource
 import subprocess
-import sys
 import tempfile
 import time
 
-# the benches directory, which Python puts first on sys.path for this script, holds coverage.py:
-# it would shadow the package numba looks for, so it goes before numba is imported
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path = [p for p in sys.path if os.path.abspath(p or ".") != HERE]
 
 import numpy as np
 import polars as pl
@@ -41,7 +37,7 @@ import polars as pl
 
 
 def _load(name):
-    # by path (the benches directory is off sys.path, see above)
+    # by path, whatever the working directory
     spec = importlib.util.spec_from_file_location(name, os.path.join(HERE, name + ".py"))
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

@@ -2,7 +2,7 @@
 """Coverage of analyze's 95 % intervals (delete-a-group jackknife): RUNS independent datasets of N
 realizations (seeds 1..RUNS) of a scene against a 200,000-realization reference (seed 999999).
 
-    python3 benches/coverage.py [--bin target/release/stickslip] [--runs 200] [--n 1500]
+    python3 benches/interval_coverage.py [--bin target/release/stickslip] [--runs 200] [--n 1500]
                                 [--scenario FILE] [--set KEY=VALUE ...]
 
 For T_1, L_1, D_1, H_1, S_T and the stick fraction, and each statistic kind (mean, variance,
