@@ -301,7 +301,10 @@ fn holding_bin(p: PerUnitMass, (v_f, v_r): (f64, f64), ts: Vec<f64>) -> Expr {
     col(X).map_many(
         move |c: &mut [Column]| {
             let (x, v) = (c[0].f64()?, c[1].f64()?);
-            let bin = |x: f64, v: f64| ts.partition_point(|&t| t < p.stick_duration(x, if v > 0.0 { v_f } else { -v_r })) as i64;
+            let bin = |x: f64, v: f64| {
+                let d = p.stick_duration(x, if v > 0.0 { v_f } else { -v_r });
+                ts.partition_point(|&t| t < d) as i64
+            };
             let out: Int64Chunked = x.iter().zip(v.iter()).map(|(x, v)| Some(bin(x?, v?))).collect();
             Ok(out.with_name(c[0].name().clone()).into_column())
         },
