@@ -236,14 +236,17 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel) -> R
         let (a, b) = area.split_horizontally(w.saturating_sub(COLOUR_BAR));
         (a, Some(b))
     };
+    let (tx, ty) = (tick_label(&p.x_ticks, p.x_log), tick_label(&p.y_ticks, p.y_log));
+    let y_points = key_points(&p.y_ticks, p.y_log, (y0, y1));
+    // room for the widest y tick label (about 7 px a character at 13 px) and the axis title
+    let widest = y_points.iter().map(|v| ty(v).chars().count()).max().unwrap_or(0) as u32;
     let mut chart = ChartBuilder::on(&area)
         .caption(&p.title, ("sans-serif", 17))
         .margin(8)
         .x_label_area_size(36)
-        .y_label_area_size(52)
-        .build_cartesian_2d(Ticked::new((x0, x1), key_points(&p.x_ticks, p.x_log, (x0, x1))), Ticked::new((y0, y1), key_points(&p.y_ticks, p.y_log, (y0, y1))))
+        .y_label_area_size(52.max(7 * widest + 26))
+        .build_cartesian_2d(Ticked::new((x0, x1), key_points(&p.x_ticks, p.x_log, (x0, x1))), Ticked::new((y0, y1), y_points))
         .map_err(err)?;
-    let (tx, ty) = (tick_label(&p.x_ticks, p.x_log), tick_label(&p.y_ticks, p.y_log));
     chart
         .configure_mesh()
         .disable_mesh()
