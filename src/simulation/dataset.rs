@@ -33,13 +33,12 @@ use arrow_array::{ArrayRef, BooleanArray, Float64Array, Int32Array, Int64Array, 
 use arrow_buffer::{OffsetBuffer, ScalarBuffer};
 use arrow_schema::{DataType, Field, Schema, SchemaRef};
 use parquet::arrow::ArrowWriter;
-
-use super::writeback::WriteBehind;
 use parquet::basic::{Compression, Encoding, ZstdLevel};
 use parquet::file::metadata::{KeyValue, SortingColumn};
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 use parquet::schema::types::ColumnPath;
 
+use super::writeback::WriteBehind;
 use crate::outdir::{Created, Lock, OutDirError, TempFile};
 use crate::simulation::ensemble::Outcome;
 use crate::simulation::events::StickEnd;
