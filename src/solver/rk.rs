@@ -334,8 +334,8 @@ impl Dopri {
     /// the right-hand side has not changed (FSAL: first same as last).
     pub fn step_from(&mut self, a: &impl Fn(State) -> f64, t0: f64, y0: State, k1: State, limit: f64, trials: &mut u64) -> Step {
         let (exponent, lo, hi, fast, shrinks) = self.pair.controller();
-        let mut k = self.k;
-        k[0] = k1;
+        // the stages live in `self.k`: the last accepted trial's are what `complete` reads
+        self.k[0] = k1;
         loop {
             *trials += 1;
             if *trials > self.budget {
@@ -343,8 +343,8 @@ impl Dopri {
             }
             let h = self.next().min(limit);
             let (y1, err) = match self.pair {
-                Pair::Dp54 => dp54_trial(a, y0, h, &mut k, (self.rtol, self.atol)),
-                Pair::Dop853 => super::dop853::trial(a, y0, h, &mut k, (self.rtol, self.atol)),
+                Pair::Dp54 => dp54_trial(a, y0, h, &mut self.k, (self.rtol, self.atol)),
+                Pair::Dop853 => super::dop853::trial(a, y0, h, &mut self.k, (self.rtol, self.atol)),
             };
             // the controller's factor 0.9 err^(−1/(q+1)), clamped to [lo, hi]; most steps are cut
             // short by a belt switch or the Stribeck guard with a tiny error, and keep the
@@ -371,11 +371,8 @@ impl Dopri {
                     }
                 }
                 return match self.pair {
-                    Pair::Dp54 => Step { t0, h, y0, f0: k1, y1, f1: k[6], d: [dp54_dense(h, &k), [0.0; 2], [0.0; 2], [0.0; 2]], complete: true },
-                    Pair::Dop853 => {
-                        self.k = k;
-                        Step { t0, h, y0, f0: k1, y1, f1: k[12], d: [[0.0; 2]; 4], complete: false }
-                    }
+                    Pair::Dp54 => Step { t0, h, y0, f0: k1, y1, f1: self.k[6], d: [dp54_dense(h, &self.k), [0.0; 2], [0.0; 2], [0.0; 2]], complete: true },
+                    Pair::Dop853 => Step { t0, h, y0, f0: k1, y1, f1: self.k[12], d: [[0.0; 2]; 4], complete: false },
                 };
             }
             self.h = h * factor();
