@@ -16,6 +16,7 @@ pub(crate) mod blame;
 pub mod cli;
 pub mod figures;
 pub mod interrupt;
+pub mod law;
 pub(crate) mod metadata;
 pub mod observables;
 pub(crate) mod outdir;

@@ -51,6 +51,12 @@ pub enum Command {
     /// mean stick and slip durations with respect to each random scene key and to the intrinsic
     /// randomness (pick-freeze, N·(d+3) realizations); writes DIR/sobol.parquet, sobol.png, sobol.md.
     Sensitivity(SensitivityArgs),
+    /// The law without sampling: the long-run stick fraction, the mean and variance of the stick
+    /// and slip durations, sticks per second and the breakaway fraction, computed from the
+    /// process' equations (no Monte Carlo) at three resolutions, the change between the last two
+    /// as the error; writes DIR/stationary.parquet and DIR/convergence.parquet. Scenes: Coulomb
+    /// friction (mu_s >= mu_k) without damping, the symmetric belt, fixed parameters.
+    ExactLaw(ExactLawArgs),
     /// List the scenario files shipped in the binary (the paper scenario and the example
     /// scenes), print one, or write it to a file to edit: `stickslip scenes damped --out my.toml`.
     Scenes(ScenesArgs),
@@ -109,6 +115,22 @@ pub struct TradeoffArgs {
     /// fraction of its Monte Carlo standard error at the scenario's run.realizations.
     #[arg(long, value_name = "F", default_value_t = crate::tradeoff::BIAS_FRACTION)]
     pub bias_fraction: f64,
+}
+
+/// Arguments of `exact-law`.
+#[derive(Debug, clap::Args)]
+pub struct ExactLawArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
+    pub input: ScenarioArgs,
+    /// Output directory (replaced atomically when complete).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// The finest resolution N: grid nodes per c_s + v0/omega of the phase plane (the solve runs
+    /// at N/4, N/2 and N; the error is first order in 1/N; 8 to 320; N = 160 takes about a
+    /// minute on 2 cores).
+    #[arg(long, value_name = "N", default_value_t = 80)]
+    pub resolution: u32,
 }
 
 /// Arguments of `scenes`.

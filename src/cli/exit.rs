@@ -46,6 +46,7 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
         crate::figures::FigureError,
         crate::tradeoff::TradeoffError,
         crate::sensitivity::SensitivityError,
+        crate::law::LawError,
     );
     false
 }

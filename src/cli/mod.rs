@@ -43,6 +43,7 @@ pub fn main_from<I: IntoIterator<Item = T>, T: Into<std::ffi::OsString> + Clone>
         Command::Reproduce(args) => reproduce_command(args, quiet),
         Command::Tradeoff(args) => tradeoff_command(args, quiet),
         Command::Sensitivity(args) => sensitivity_command(args, quiet),
+        Command::ExactLaw(args) => exact_law_command(args, quiet),
         Command::Scenes(args) => scenes_command(&args),
         Command::Completions { shell } => {
             clap_complete::generate(shell, &mut <Cli as clap::CommandFactory>::command(), "stickslip", &mut std::io::stdout());
@@ -152,6 +153,26 @@ fn sensitivity_command(args: SensitivityArgs, quiet: bool) -> anyhow::Result<()>
     let rows = crate::sensitivity::run(&scenario, args.realizations, &args.out).context("sensitivity")?;
     if !quiet {
         print!("{}", crate::sensitivity::markdown(&rows, args.realizations));
+    }
+    Ok(())
+}
+
+fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
+    if !(8..=320).contains(&args.resolution) {
+        return Err(usage(format!("--resolution {}: must be between 8 and 320", args.resolution)));
+    }
+    check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
+    let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
+    scenario.check()?;
+    scenario.refuse_sweep("exact-law")?;
+    let mut progress = |l: &crate::law::Level, seconds: f64| {
+        if !quiet {
+            eprintln!("resolution {:>3}: {} iterations, {seconds:.1} s", l.n, l.iterations);
+        }
+    };
+    let levels = crate::law::run(&scenario, args.resolution, &args.out, &mut progress).context("exact-law")?;
+    if !quiet {
+        print!("{}", crate::law::markdown(&levels));
     }
     Ok(())
 }

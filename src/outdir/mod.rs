@@ -55,6 +55,7 @@ pub enum Kind {
     Tradeoff,
     Reproduce,
     Sensitivity,
+    ExactLaw,
 }
 
 impl Kind {
@@ -66,6 +67,7 @@ impl Kind {
             Kind::Tradeoff => "tradeoff",
             Kind::Reproduce => "reproduce",
             Kind::Sensitivity => "sensitivity",
+            Kind::ExactLaw => "exact-law",
         }
     }
 }

@@ -13,6 +13,7 @@ mod extremes;
 mod figures;
 mod fingerprint;
 mod invariants;
+mod law;
 mod observables;
 mod pinned;
 mod pipelines;

@@ -1,0 +1,397 @@
+//! The chain of post-flip states (module docs of [`super`]): its measure on three supports — a
+//! grid of the plane, the belt line's image and the breakaway slip's image — one step of its
+//! kernel by walking every atom's flow, and the long-run tallies read off the same walks.
+
+use super::flow::{aged_decay, centroid, decay, Frame, Slip, Visitor};
+
+/// Sums over the walks of one step, per unit mass of the measure walked (module docs of
+/// [`super`]): times are ∫ e^{−λt}(…) dt up to the next flip, counts are weighted by e^{−λt}.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Tally {
+    /// ∫ e^{−λt} 1{stuck} dt
+    pub stick_time: f64,
+    /// ∫ e^{−λt} 1{slipping} dt
+    pub slip_time: f64,
+    /// ∫ e^{−λt} (age of the slip) 1{slipping} dt
+    pub slip_age_time: f64,
+    /// Σ e^{−λ t_e} over stick entries
+    pub entries: f64,
+    /// Σ e^{−λ t_b} over breakaways
+    pub breakaways: f64,
+    /// Σ e^{−λ t_e} E[D | entry], D = min(flip time, holding time)
+    pub d1: f64,
+    /// Σ e^{−λ t_e} E[D² | entry]
+    pub d2: f64,
+    /// mass deposited outside the grid (lost to the truncation)
+    pub lost: f64,
+}
+
+impl Tally {
+    fn add(&mut self, o: &Tally, f: f64) {
+        self.stick_time += f * o.stick_time;
+        self.slip_time += f * o.slip_time;
+        self.slip_age_time += f * o.slip_age_time;
+        self.entries += f * o.entries;
+        self.breakaways += f * o.breakaways;
+        self.d1 += f * o.d1;
+        self.d2 += f * o.d2;
+        self.lost += f * o.lost;
+    }
+}
+
+/// The supports of the measure and how fine they are.
+#[derive(Debug, Clone)]
+pub(crate) struct Mesh {
+    pub frame: Frame,
+    /// grid spacing in the plane (X, V/ω) [m]
+    pub h: f64,
+    /// nodes per axis; node (i, j) is at X = (i − nx/2 + ½) h, V/ω = w0 + (j − nw/2 + ½) h (no
+    /// node on the belt lines V = ±v0)
+    pub nx: usize,
+    pub nw: usize,
+    /// the belt line's nodes y_j = −c_s + j h_line, j = 0..=n_line: a flip during a stick at y
+    /// leaves the mass at (−y, −v0) in the new frame
+    pub h_line: f64,
+    pub n_line: usize,
+    /// walks stop where e^{−λt} < 1e-18
+    pub horizon: f64,
+}
+
+impl Mesh {
+    /// The mesh of spacing h over the box |X|, |V/ω| ≤ `half`.
+    pub fn new(frame: Frame, h: f64, half: f64) -> Mesh {
+        let n = |extent: f64| 2 * (extent / h).ceil() as usize;
+        let n_line = ((2.0 * frame.cs / (h / 4.0)).ceil() as usize).max(2);
+        Mesh { frame, h, nx: n(half), nw: n(half + frame.w0), h_line: 2.0 * frame.cs / n_line as f64, n_line, horizon: 41.4 / frame.lambda }
+    }
+
+    fn node(&self, i: usize, j: usize) -> (f64, f64) {
+        let x = (i as f64 - (self.nx / 2) as f64 + 0.5) * self.h;
+        let w = self.frame.w0 + (j as f64 - (self.nw / 2) as f64 + 0.5) * self.h;
+        (x, w * self.frame.omega)
+    }
+
+    /// Bilinear weights of (x, v) on the grid: the lower-left node and the fractions, or None
+    /// outside.
+    fn locate(&self, x: f64, v: f64) -> Option<(usize, usize, f64, f64)> {
+        let fx = x / self.h + (self.nx / 2) as f64 - 0.5;
+        let fw = (v / self.frame.omega - self.frame.w0) / self.h + (self.nw / 2) as f64 - 0.5;
+        if !(fx >= 0.0 && fw >= 0.0) {
+            return None;
+        }
+        let (i, j) = (fx as usize, fw as usize);
+        (i + 1 < self.nx && j + 1 < self.nw).then_some((i, j, fx - i as f64, fw - j as f64))
+    }
+}
+
+/// The measure of the post-flip state: mass and age-mass (mass × the slip's age) per grid node
+/// and per sample of the breakaway slip; mass per belt-line node (age 0: the slip just began).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Measure {
+    pub grid: Vec<[f64; 2]>,
+    pub line: Vec<f64>,
+    pub graze: Vec<[f64; 2]>,
+}
+
+impl Measure {
+    pub fn zero(mesh: &Mesh, graze: usize) -> Measure {
+        Measure { grid: vec![[0.0; 2]; mesh.nx * mesh.nw], line: vec![0.0; mesh.n_line + 1], graze: vec![[0.0; 2]; graze] }
+    }
+
+    pub fn total(&self) -> f64 {
+        self.grid.iter().map(|g| g[0]).sum::<f64>() + self.line.iter().sum::<f64>() + self.graze.iter().map(|g| g[0]).sum::<f64>()
+    }
+
+    fn add(&mut self, o: &Measure) {
+        self.grid.iter_mut().zip(&o.grid).for_each(|(a, b)| *a = [a[0] + b[0], a[1] + b[1]]);
+        self.line.iter_mut().zip(&o.line).for_each(|(a, b)| *a += b);
+        self.graze.iter_mut().zip(&o.graze).for_each(|(a, b)| *a = [a[0] + b[0], a[1] + b[1]]);
+    }
+
+    /// Every number of the measure in one vector (grid, line, graze).
+    pub fn flat(&self) -> Vec<f64> {
+        let mut v: Vec<f64> = self.grid.iter().flatten().copied().collect();
+        v.extend(&self.line);
+        v.extend(self.graze.iter().flatten());
+        v
+    }
+
+    /// The measure from [`Measure::flat`]'s vector.
+    pub fn set_flat(&mut self, v: &[f64]) {
+        let (g, rest) = v.split_at(2 * self.grid.len());
+        let (l, z) = rest.split_at(self.line.len());
+        self.grid.iter_mut().zip(g.chunks(2)).for_each(|(a, b)| *a = [b[0], b[1]]);
+        self.line.copy_from_slice(l);
+        self.graze.iter_mut().zip(z.chunks(2)).for_each(|(a, b)| *a = [b[0], b[1]]);
+    }
+
+    pub fn scale(&mut self, f: f64) {
+        self.grid.iter_mut().for_each(|a| *a = [a[0] * f, a[1] * f]);
+        self.line.iter_mut().for_each(|a| *a *= f);
+        self.graze.iter_mut().for_each(|a| *a = [a[0] * f, a[1] * f]);
+    }
+
+    /// Σ |mass difference|.
+    pub fn distance(&self, o: &Measure) -> f64 {
+        let g: f64 = self.grid.iter().zip(&o.grid).map(|(a, b)| (a[0] - b[0]).abs()).sum();
+        let l: f64 = self.line.iter().zip(&o.line).map(|(a, b)| (a - b).abs()).sum();
+        let z: f64 = self.graze.iter().zip(&o.graze).map(|(a, b)| (a[0] - b[0]).abs()).sum();
+        g + l + z
+    }
+}
+
+/// What follows a breakaway, per unit mass at the breakaway instant (the same for every walk
+/// that reaches one): its deposits and tallies, the repetitions of its cycle summed.
+#[derive(Debug, Clone)]
+pub(crate) struct Continuation {
+    /// the breakaway slip's samples (x, v) before the flip: the graze support's atoms are their
+    /// images (−x, −v)
+    pub samples: Vec<(f64, f64)>,
+    /// its deposits on the belt line's nodes and the graze support
+    pub line: Vec<f64>,
+    pub graze: Vec<[f64; 2]>,
+    pub tally: Tally,
+}
+
+/// A walk's visitor: deposits the post-flip states of a flip at each moment into `out` and adds
+/// the tallies, for a walk of mass `m`.
+struct Deposit<'a> {
+    mesh: &'a Mesh,
+    out: &'a mut Measure,
+    tally: &'a mut Tally,
+    m: f64,
+    /// slip samples go to the graze support in order (building the continuation) instead of
+    /// the grid
+    to_graze: Option<usize>,
+    /// the weights of the continuation to add (`add_continuation`)
+    follow: [f64; 2],
+}
+
+impl Deposit<'_> {
+    fn slip_at(&mut self, x: f64, v: f64, mass: f64, age_mass: f64) {
+        if let Some(k) = self.to_graze.as_mut() {
+            self.out.graze[*k][0] += mass;
+            self.out.graze[*k][1] += age_mass;
+            *k += 1;
+            return;
+        }
+        // the flip reverses the frame: (x, v) → (−x, −v)
+        match self.mesh.locate(-x, -v) {
+            Some((i, j, fx, fw)) => {
+                let nw = self.mesh.nw;
+                for (di, dj, w) in [(0, 0, (1.0 - fx) * (1.0 - fw)), (1, 0, fx * (1.0 - fw)), (0, 1, (1.0 - fx) * fw), (1, 1, fx * fw)] {
+                    let g = &mut self.out.grid[(i + di) * nw + j + dj];
+                    g[0] += w * mass;
+                    g[1] += w * age_mass;
+                }
+            }
+            None => self.tally.lost += mass,
+        }
+    }
+}
+
+impl Visitor for Deposit<'_> {
+    fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, age: f64) {
+        let lambda = self.mesh.frame.lambda;
+        let w = self.m * lambda * decay(lambda, t, t + dt);
+        self.slip_at(x, v, w, w * (age + centroid(lambda, dt)));
+        self.tally.slip_time += self.m * decay(lambda, t, t + dt);
+        self.tally.slip_age_time += self.m * aged_decay(lambda, t, t + dt, age);
+    }
+
+    fn periodic(&mut self, start: Slip, t: f64, age: f64, period: f64) {
+        // every sample repeats at t + kP, k ≥ 0: mass Σ_k e^{−λkP} = 1/(1 − q), age-mass
+        // Σ_k e^{−λkP}(a + kP) = a/(1 − q) + P q/(1 − q)², q = e^{−λP}
+        let f = self.mesh.frame;
+        let lambda = f.lambda;
+        let q = (-lambda * period).exp();
+        let (one, extra) = (1.0 / -(-lambda * period).exp_m1(), period * q / (1.0 - q).powi(2));
+        let c = if start.below { f.ck } else { -f.ck };
+        let (r, phi0) = f.polar(c, start.x, start.v);
+        let n = ((f.omega * r * period / self.mesh.h).ceil() as usize).max(8);
+        let dt = period / n as f64;
+        for i in 0..n {
+            let s = t + i as f64 * dt;
+            let (x, v) = f.on_circle(c, r, phi0, i as f64 * dt + centroid(lambda, dt));
+            let w = self.m * lambda * decay(lambda, s, s + dt);
+            let a = age + i as f64 * dt + centroid(lambda, dt);
+            self.slip_at(x, v, w * one, w * (a * one + extra));
+        }
+        let e = (-lambda * t).exp();
+        self.tally.slip_time += self.m * e / lambda;
+        self.tally.slip_age_time += self.m * e * (age / lambda + 1.0 / (lambda * lambda));
+    }
+
+    fn stick(&mut self, x_e: f64, t: f64) {
+        let (mesh, f) = (self.mesh, self.mesh.frame);
+        let lambda = f.lambda;
+        let e = (-lambda * t).exp();
+        let d = (f.cs - x_e) / f.v0;
+        let x = lambda * d;
+        self.tally.entries += self.m * e;
+        self.tally.stick_time += self.m * decay(lambda, t, t + d);
+        self.tally.d1 += self.m * e * -(-x).exp_m1() / lambda;
+        self.tally.d2 += self.m * e * 2.0 * super::one_minus_exp_poly(x) / (lambda * lambda);
+        // a flip at y ∈ [x_e, c_s) leaves (−y, −v0): the belt line's nodes, linearly
+        let n = ((f.cs - x_e) / (mesh.h_line / 2.0)).ceil().max(1.0) as usize;
+        let dy = (f.cs - x_e) / n as f64;
+        let dt = dy / f.v0;
+        for i in 0..n {
+            let s = t + i as f64 * dt;
+            let y = x_e + i as f64 * dy + f.v0 * centroid(lambda, dt);
+            let w = self.m * lambda * decay(lambda, s, s + dt);
+            let fy = ((y + f.cs) / mesh.h_line).clamp(0.0, mesh.n_line as f64);
+            let k = (fy as usize).min(mesh.n_line - 1);
+            let frac = fy - k as f64;
+            self.out.line[k] += w * (1.0 - frac);
+            self.out.line[k + 1] += w * frac;
+        }
+        let tb = t + d;
+        self.tally.breakaways += self.m * (-lambda * tb).exp();
+        self.follow(tb, 0.0);
+    }
+
+    fn breakaway_slip(&mut self, t: f64, age: f64) {
+        self.follow(t, age);
+    }
+}
+
+impl Deposit<'_> {
+    /// The continuation from time t (of a slip `age` old going on through a touch): added per
+    /// step, by its total weight (`Deposit::follow`).
+    fn follow(&mut self, t: f64, age: f64) {
+        let f = self.m * (-self.mesh.frame.lambda * t).exp();
+        self.follow[0] += f;
+        self.follow[1] += f * age;
+    }
+}
+
+/// Add the continuation with weight `w` = [Σ mass, Σ mass × age] to a step's measure and tallies:
+/// every walk's breakaway adds the same deposits, so they are added once, scaled by the sum.
+fn add_continuation(cont: &Continuation, [w, wa]: [f64; 2], out: &mut Measure, tally: &mut Tally) {
+    out.line.iter_mut().zip(&cont.line).for_each(|(a, b)| *a += w * b);
+    // (an age only through a touch, where the continuation is one slip going on: older by it)
+    out.graze.iter_mut().zip(&cont.graze).for_each(|(a, b)| *a = [a[0] + w * b[0], a[1] + w * b[1] + wa * b[0]]);
+    tally.add(&cont.tally, w);
+    tally.slip_age_time += wa * cont.tally.slip_time;
+}
+
+/// The continuation of a breakaway (module docs of [`super`]): walk the breakaway slip once;
+/// it ends in a touch after a period P (μ_s = μ_k: the slip grazes the belt line and goes on,
+/// older) or in a stick, whose breakaway after the holding time closes a cycle of length P
+/// (μ_s > μ_k); the cycle's repetitions are summed in closed form.
+pub(crate) fn continuation(mesh: &Mesh) -> Continuation {
+    let f = mesh.frame;
+    let lambda = f.lambda;
+    // the samples of one pass, with their unrepeated deposits and tallies
+    struct Record {
+        samples: Vec<(f64, f64, f64, f64, f64)>,
+        end: Option<(bool, f64, f64)>,
+    }
+    impl Visitor for Record {
+        fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, age: f64) {
+            self.samples.push((x, v, t, dt, age));
+        }
+        fn periodic(&mut self, _: Slip, _: f64, _: f64, _: f64) {
+            unreachable!("the breakaway slip reaches belt speed")
+        }
+        fn stick(&mut self, x_e: f64, t: f64) {
+            self.end = Some((true, x_e, t));
+        }
+        fn breakaway_slip(&mut self, t: f64, _age: f64) {
+            self.end = Some((false, 0.0, t));
+        }
+    }
+    let mut rec = Record { samples: Vec::new(), end: None };
+    f.walk(f.breakaway(), 0.0, mesh.h, f64::INFINITY, &mut rec);
+    let samples: Vec<(f64, f64)> = rec.samples.iter().map(|s| (s.0, s.1)).collect();
+    let mut deposit = Measure::zero(mesh, samples.len());
+    let mut tally = Tally::default();
+    let (stuck, x_e, t_end) = rec.end.expect("the breakaway slip ends in a touch or a stick");
+    {
+        let mut d = Deposit { mesh, out: &mut deposit, tally: &mut tally, m: 1.0, to_graze: Some(0), follow: [0.0; 2] };
+        for &(x, v, t, dt, age) in &rec.samples {
+            d.slip(x, v, t, dt, age);
+        }
+        if stuck {
+            d.stick(x_e, t_end);
+        }
+    }
+    let period = if stuck { t_end + (f.cs - x_e) / f.v0 } else { t_end };
+    let q = (-lambda * period).exp();
+    let one = 1.0 / -(-lambda * period).exp_m1();
+    if stuck {
+        // the ages restart at every stick: every part repeats unchanged, e^{−λP} later
+        deposit.scale(one);
+        let unit = tally;
+        tally = Tally::default();
+        tally.add(&unit, one);
+    } else {
+        // one slip going on forever: the k-th pass is kP older
+        let extra = period * q / (1.0 - q).powi(2);
+        deposit.graze.iter_mut().for_each(|g| *g = [g[0] * one, g[1] * one + g[0] * extra]);
+        tally.slip_time = 1.0 / lambda;
+        tally.slip_age_time = 1.0 / (lambda * lambda);
+    }
+    Continuation { samples, line: deposit.line, graze: deposit.graze, tally }
+}
+
+/// The atoms of a measure: (start, age, mass).
+fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip, f64, f64)> {
+    let f = mesh.frame;
+    let mut out = Vec::new();
+    for i in 0..mesh.nx {
+        for j in 0..mesh.nw {
+            let [m, a] = nu.grid[i * mesh.nw + j];
+            if m.abs() > 1e-300 {
+                let (x, v) = mesh.node(i, j);
+                out.push((Slip::at(x, v, f.v0), a / m, m));
+            }
+        }
+    }
+    for (k, &m) in nu.line.iter().enumerate() {
+        if m.abs() > 1e-300 {
+            let y = -f.cs + k as f64 * mesh.h_line;
+            out.push((Slip::at(-y, -f.v0, f.v0), 0.0, m));
+        }
+    }
+    for (&(x, v), &[m, a]) in cont.samples.iter().zip(&nu.graze) {
+        if m.abs() > 1e-300 {
+            out.push((Slip::at(-x, -v, f.v0), a / m, m));
+        }
+    }
+    out
+}
+
+/// Chunks of a step's atoms, fixed in number so that the sums do not depend on the threads.
+const CHUNKS: usize = 16;
+
+/// One step of the chain: the measure of the next post-flip state, and the tallies of the walks
+/// from `nu` (per unit of its mass).
+pub(crate) fn step(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> (Measure, Tally) {
+    use rayon::prelude::*;
+    let atoms = atoms(mesh, cont, nu);
+    let size = atoms.len().div_ceil(CHUNKS).max(1);
+    let parts: Vec<(Measure, Tally)> = atoms
+        .par_chunks(size)
+        .map(|chunk| {
+            let mut out = Measure::zero(mesh, cont.samples.len());
+            let mut tally = Tally::default();
+            let mut d = Deposit { mesh, out: &mut out, tally: &mut tally, m: 0.0, to_graze: None, follow: [0.0; 2] };
+            for &(z, age, m) in chunk {
+                d.m = m;
+                mesh.frame.walk(z, age, mesh.h, mesh.horizon, &mut d);
+            }
+            let follow = d.follow;
+            add_continuation(cont, follow, &mut out, &mut tally);
+            (out, tally)
+        })
+        .collect();
+    let mut out = Measure::zero(mesh, cont.samples.len());
+    let mut tally = Tally::default();
+    for (m, t) in &parts {
+        out.add(m);
+        tally.add(t, 1.0);
+    }
+    (out, tally)
+}

@@ -1,0 +1,288 @@
+//! The flow between two belt flips, in the belt's frame (module docs of [`super`]): slip arcs
+//! about ±c_k, sticks on the belt line, the breakaway, and the periodic slips that never reach
+//! belt speed — walked in closed form, each piece handed to a [`Visitor`] with its exact times.
+
+use std::f64::consts::TAU;
+
+/// The reflected frame's constants (module docs of [`super`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Frame {
+    /// ω [1/s]
+    pub omega: f64,
+    /// v0 [m/s], the belt speed (+v0 in this frame)
+    pub v0: f64,
+    /// w0 = v0/ω [m]: the belt line's height in the plane (X, V/ω)
+    pub w0: f64,
+    /// c_k = a_k/ω² [m]: the slip centres ±c_k
+    pub ck: f64,
+    /// c_s = a_s/ω² [m]: the stick holds on −c_s ≤ X < c_s
+    pub cs: f64,
+    /// λ [1/s], the flip rate
+    pub lambda: f64,
+}
+
+/// A slip state: position X, velocity V, on which side of belt speed it moves (the side decides
+/// the friction, and so the centre, when V = v0 exactly).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Slip {
+    pub x: f64,
+    pub v: f64,
+    /// below belt speed (σ = +1, centre +c_k)
+    pub below: bool,
+}
+
+impl Slip {
+    /// A post-flip state off the belt line: its side from V.
+    pub fn at(x: f64, v: f64, v0: f64) -> Slip {
+        Slip { x, v, below: v < v0 }
+    }
+}
+
+/// What the walk reports, every time as an absolute time t from the walk's start; `scale` is the
+/// factor of a periodic piece's repetitions where it applies (module docs of [`super`]).
+pub(crate) trait Visitor {
+    /// A slip sample: the mass is at (x, v) in slip during [t, t + dt) and was age-`age` into its slip at t.
+    fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, age: f64);
+    /// A periodic slip piece from time t (state at its start, age at its start, period P): the
+    /// walk ends here; the visitor samples it itself (it repeats forever until the next flip).
+    fn periodic(&mut self, start: Slip, t: f64, age: f64, period: f64);
+    /// A stick entered at x_e at time t (it lasts until the breakaway at c_s unless a flip comes first).
+    fn stick(&mut self, x_e: f64, t: f64);
+    /// The slip after a breakaway (or after a touch at the breakaway point, which is not a stick)
+    /// begins at time t: the walk ends here (what follows is the same for every start: the
+    /// visitor adds it); `age` is the slip's age then (0 after a breakaway, which ends a stick;
+    /// a touch continues the slip).
+    fn breakaway_slip(&mut self, t: f64, age: f64);
+}
+
+impl Frame {
+    /// The centre of the slip's circle: +c_k below belt speed, −c_k above.
+    fn centre(&self, below: bool) -> f64 {
+        if below {
+            self.ck
+        } else {
+            -self.ck
+        }
+    }
+
+    /// The state after the time τ on the circle of centre `c` started at angle φ0, radius r:
+    /// X = C + r sin φ, V = ω r cos φ, φ = φ0 + ω τ (the harmonic slip ẍ = −ω²(x − C)).
+    pub fn on_circle(&self, c: f64, r: f64, phi0: f64, tau: f64) -> (f64, f64) {
+        let (s, co) = (phi0 + self.omega * tau).sin_cos();
+        (c + r * s, self.omega * r * co)
+    }
+
+    /// Polar coordinates (r, φ) of a state about the centre `c`.
+    pub fn polar(&self, c: f64, x: f64, v: f64) -> (f64, f64) {
+        let (dx, dw) = (x - c, v / self.omega);
+        (dx.hypot(dw), dx.atan2(dw))
+    }
+
+    /// Walk from the slip state `z` (age `age` into its slip) until the next stick, breakaway
+    /// slip or periodic slip, reporting each piece to `visit`; pieces later than `horizon` are
+    /// not walked (their weight e^{−λt} is below what the caller keeps). Slip arcs are cut into
+    /// samples at most `spacing` long in the plane (X, V/ω).
+    pub fn walk(&self, mut z: Slip, age: f64, spacing: f64, horizon: f64, visit: &mut impl Visitor) {
+        let mut t = 0.0;
+        // each pass-through loses 2 c_k of amplitude (Coulomb), so the walk ends; the bound only
+        // guards against c_k = 0, where an arc can pass through belt speed forever
+        for _ in 0..100_000 {
+            if t > horizon {
+                return;
+            }
+            let c = self.centre(z.below);
+            let (r, phi0) = self.polar(c, z.x, z.v);
+            if z.below && r < self.w0 {
+                // a circle under the belt line: slips forever (until a flip)
+                visit.periodic(z, t, age + t, TAU / self.omega);
+                return;
+            }
+            // the arrival at belt speed: rising on the circle's left side (below), falling on
+            // its right side (above), where r cos φ = w0
+            let half = (self.w0 / r).min(1.0).acos();
+            let target = if z.below { TAU - half } else { half };
+            let mut turn = (target - phi0).rem_euclid(TAU);
+            if turn == 0.0 {
+                turn = TAU;
+            }
+            let duration = turn / self.omega;
+            self.sample_arc(c, r, phi0, t, duration, age, spacing, horizon, visit);
+            t += duration;
+            let reach = (r * r - self.w0 * self.w0).max(0.0).sqrt();
+            let xa = if z.below { c - reach } else { c + reach };
+            if (-self.cs..self.cs).contains(&xa) {
+                visit.stick(xa, t);
+                return;
+            }
+            if z.below && xa >= self.cs {
+                // (only c_k = c_s, r = w0: a touch at the breakaway point)
+                visit.breakaway_slip(t, age + t);
+                return;
+            }
+            // passes through belt speed: the friction reverses
+            z = Slip { x: xa, v: self.v0, below: !z.below };
+        }
+    }
+
+    /// Samples of the arc of centre `c`, radius r from angle φ0 over [t0, t0 + duration).
+    #[allow(clippy::too_many_arguments)]
+    fn sample_arc(&self, c: f64, r: f64, phi0: f64, t0: f64, duration: f64, age: f64, spacing: f64, horizon: f64, visit: &mut impl Visitor) {
+        let n = ((self.omega * r * duration / spacing).ceil() as usize).max(1);
+        let dt = duration / n as f64;
+        for i in 0..n {
+            let t = t0 + i as f64 * dt;
+            if t > horizon {
+                return;
+            }
+            let (x, v) = self.on_circle(c, r, phi0, i as f64 * dt + centroid(self.lambda, dt));
+            visit.slip(x, v, t, dt, age + t);
+        }
+    }
+
+    /// The slip right after a breakaway at (c_s, v0), below belt speed.
+    pub fn breakaway(&self) -> Slip {
+        Slip { x: self.cs, v: self.v0, below: true }
+    }
+}
+
+/// The e^{−λτ}-weighted mean of τ over [0, dt): where a sample of that interval is placed.
+pub(crate) fn centroid(lambda: f64, dt: f64) -> f64 {
+    let x = lambda * dt;
+    if x < 1e-4 {
+        dt * (0.5 - x / 12.0)
+    } else {
+        1.0 / lambda - dt / x.exp_m1()
+    }
+}
+
+/// ∫_{t0}^{t1} e^{−λt} dt.
+pub(crate) fn decay(lambda: f64, t0: f64, t1: f64) -> f64 {
+    (-lambda * t0).exp() * -(-lambda * (t1 - t0)).exp_m1() / lambda
+}
+
+/// ∫_{t0}^{t1} e^{−λt} (a + t − t0) dt: the age integral of an interval that starts at age a.
+pub(crate) fn aged_decay(lambda: f64, t0: f64, t1: f64, a: f64) -> f64 {
+    let d = t1 - t0;
+    let e = (-lambda * d).exp();
+    // ∫_0^d e^{−λs}(a + s) ds = a(1 − e)/λ + (1 − e(1 + λd))/λ²
+    let second = if lambda * d < 1e-3 {
+        // (1 − e^{−x}(1 + x))/λ² = d²(1/2 − x/3 + x²/8 − x³/30 + …)
+        let x = lambda * d;
+        d * d * (0.5 - x / 3.0 + x * x / 8.0 - x * x * x / 30.0)
+    } else {
+        (1.0 - e * (1.0 + lambda * d)) / (lambda * lambda)
+    };
+    (-lambda * t0).exp() * (a * -(-lambda * d).exp_m1() / lambda + second)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PAPER: Frame = Frame { omega: 2.0, v0: 1.0, w0: 0.5, ck: 1.2495, cs: 1.2495, lambda: 5.0 };
+
+    #[derive(Default)]
+    struct Log {
+        slip: f64,
+        last: Option<(f64, f64)>,
+        stick: Option<(f64, f64)>,
+        periodic: bool,
+        breakaway: Option<f64>,
+    }
+
+    impl Visitor for Log {
+        fn slip(&mut self, x: f64, v: f64, _t: f64, dt: f64, _age: f64) {
+            self.slip += dt;
+            self.last = Some((x, v));
+        }
+        fn periodic(&mut self, _start: Slip, _t: f64, _age: f64, _period: f64) {
+            self.periodic = true;
+        }
+        fn stick(&mut self, x_e: f64, t: f64) {
+            self.stick = Some((x_e, t));
+        }
+        fn breakaway_slip(&mut self, t: f64, _age: f64) {
+            self.breakaway = Some(t);
+        }
+    }
+
+    #[test]
+    fn a_stick_ended_by_a_flip_resticks_at_the_same_place() {
+        // stuck at y on the belt, the belt flips: in the new frame the mass is at (−y, −v0) on
+        // the circle about +c_k of radius √((y + c_k)² + w0²), which meets V = v0 at the mirror
+        // point −y (the same place on the ground) after (2/ω) atan(w0/(y + c_k))
+        for y in [-1.2, -0.3, 0.0, 0.7, 1.2] {
+            let mut log = Log::default();
+            PAPER.walk(Slip::at(-y, -1.0, 1.0), 0.0, 1e-3, 100.0, &mut log);
+            let (xe, t) = log.stick.expect("a stick");
+            assert!((xe + y).abs() < 1e-12, "{xe} {y}");
+            let expect = 2.0 / PAPER.omega * (PAPER.w0 / (PAPER.ck + y)).atan();
+            assert!((t - expect).abs() < 1e-12 && (log.slip - t).abs() < 1e-12, "{t} {expect}");
+        }
+    }
+
+    #[test]
+    fn a_large_oscillation_loses_2ck_per_half_turn_until_it_sticks() {
+        // from rest at X = −5 (below belt speed, centre +c_k, r = 6.2495 > w0): it rises to belt
+        // speed at c_k − √(r² − w0²) < −c_s, passes, turns about −c_k and comes down at
+        // −2c_k − X_a; the energy check: the walk ends in a stick inside [−c_s, c_s)
+        let mut log = Log::default();
+        PAPER.walk(Slip::at(-5.0, 0.0, 1.0), 0.0, 1e-3, 100.0, &mut log);
+        let r: f64 = 5.0 + PAPER.ck;
+        let xa = PAPER.ck - (r * r - 0.25).sqrt();
+        assert!(xa < -PAPER.cs);
+        let (xe, _) = log.stick.expect("a stick");
+        assert!((xe - (-2.0 * PAPER.ck - xa)).abs() < 1e-12 || xe.abs() < PAPER.cs, "{xe}");
+        assert!((-PAPER.cs..PAPER.cs).contains(&xe));
+    }
+
+    #[test]
+    fn inside_the_belt_line_the_slip_is_periodic_and_the_breakaway_grazes() {
+        let mut log = Log::default();
+        PAPER.walk(Slip::at(1.3, 0.2, 1.0), 0.0, 1e-3, 100.0, &mut log);
+        assert!(log.periodic && log.stick.is_none());
+        // μ_s = μ_k: after a breakaway the circle of radius w0 about c_k touches the belt line
+        // after one period and the walk hands over to the breakaway slip
+        let mut log = Log::default();
+        PAPER.walk(PAPER.breakaway(), 0.0, 1e-3, 100.0, &mut log);
+        let t = log.breakaway.expect("a touch");
+        assert!((t - TAU / PAPER.omega).abs() < 1e-12, "{t}");
+        // μ_s > μ_k: the mass falls behind and sticks at 2c_k − c_s
+        let f = Frame { cs: 1.5, ..PAPER };
+        let mut log = Log::default();
+        f.walk(f.breakaway(), 0.0, 1e-3, 100.0, &mut log);
+        assert!((log.stick.unwrap().0 - (2.0 * f.ck - f.cs)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn samples_follow_the_harmonic_slip() {
+        // the last sample before the stick lies on the circle and near the arrival point
+        let mut log = Log::default();
+        PAPER.walk(Slip::at(0.4, -0.8, 1.0), 0.0, 1e-4, 100.0, &mut log);
+        let (x, v) = log.last.unwrap();
+        let (xe, _) = log.stick.unwrap();
+        assert!((x - xe).abs() < 1e-3 && (v - 1.0).abs() < 1e-3, "{x} {v} {xe}");
+    }
+
+    #[test]
+    fn decay_integrals_match_quadrature() {
+        for (lambda, t0, t1, a) in [(5.0, 0.3, 0.9, 0.2), (1e-3, 2.0, 2.5, 1.0), (5.0, 1.0, 1.0 + 1e-6, 0.0)] {
+            let n = 200_000;
+            let h = (t1 - t0) / n as f64;
+            let (mut q, mut qa) = (0.0, 0.0);
+            for i in 0..n {
+                let t = t0 + (i as f64 + 0.5) * h;
+                q += (-lambda * t).exp() * h;
+                qa += (-lambda * t).exp() * (a + t - t0) * h;
+            }
+            assert!((decay(lambda, t0, t1) - q).abs() < 1e-9 * q.abs().max(1e-300), "{lambda}");
+            assert!((aged_decay(lambda, t0, t1, a) - qa).abs() < 1e-8 * qa.abs().max(1e-300), "{lambda} {qa}");
+        }
+        // the centroid: ∫_0^dt e^{−λτ} τ dτ / ∫_0^dt e^{−λτ} dτ
+        let (lambda, dt): (f64, f64) = (5.0, 0.3);
+        let num = (1.0 - (-lambda * dt).exp() * (1.0 + lambda * dt)) / (lambda * lambda);
+        let den = -(-lambda * dt).exp_m1() / lambda;
+        assert!((centroid(lambda, dt) - num / den).abs() < 1e-14);
+        assert!((centroid(1e-9, 0.3) - 0.15).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,188 @@
+//! The law without sampling: the long-run (stationary) stick-slip quantities computed from the
+//! equations of the process, with no Monte Carlo noise and an error estimate from refinement.
+//!
+//! **The process.** Between belt flips the oscillator moves deterministically in closed form;
+//! flips come at the exponential times of a Poisson process of rate λ. It is a piecewise-
+//! deterministic Markov process, and the state just after each flip is a Markov chain: walk the
+//! flow for an Exp(λ) time, flip. This module computes that chain's stationary measure ν and
+//! reads every long-run quantity off the walks from it (renewal–reward: flips come at rate λ in
+//! the long run, so a per-flip mean times λ is a per-second rate).
+//!
+//! **The frame.** With the belt at s·v0 (s = ±1) write X = s x, V = s ẋ: the belt then always
+//! moves at +v0, and a flip is the point reflection (X, V) → (−X, −V) (the symmetric belt and
+//! Coulomb friction are odd). With ω² = k/m, a_k = μ_k n/m, a_s = μ_s n/m, c_k = a_k/ω²,
+//! c_s = a_s/ω², w0 = v0/ω, in the plane (X, W = V/ω):
+//!
+//! ```text
+//!     slip below belt speed (V < v0):  Ẍ = −ω²(X − c_k)   clockwise circles about (+c_k, 0)
+//!     slip above belt speed (V > v0):  Ẍ = −ω²(X + c_k)   clockwise circles about (−c_k, 0)
+//!     X = C + r sin φ,  W = r cos φ,  φ̇ = ω
+//!     arrival at V = v0: rising at X_a = c_k − √(r² − w0²) (below), falling at −c_k + √(r² − w0²)
+//!                         (above); −c_s ≤ X_a < c_s → stick, else it passes belt speed
+//!     stick: Ẋ = v0 until X = c_s (breakaway after d(X_e) = (c_s − X_e)/v0)
+//! ```
+//!
+//! A circle below the belt line with r < w0 never reaches belt speed (it slips until a flip);
+//! after a breakaway the slip leaves (c_s, v0) on the circle of radius √((c_s − c_k)² + w0²)
+//! about c_k — for μ_s = μ_k the grazing circle r = w0, which touches the belt line again after
+//! 2π/ω and goes on (a touch is not a stick), for μ_s > μ_k a slip back to a stick at 2c_k − c_s:
+//! either way the same periodic continuation for every breakaway, summed once in closed form
+//! over its repetitions (`chain::continuation`).
+//!
+//! **The chain.** ν lives on three supports: the line {(−y, −v0) : −c_s ≤ y ≤ c_s} (a flip during
+//! a stick at y; nodes every h/4, linear), the images of the breakaway slip's samples (exact
+//! points), and a grid of the plane of spacing h (bilinear): the measure of the post-flip
+//! state after a flip at time t of a walk is deposited with weight λ e^{−λt} dt. Each atom
+//! also carries its slip's age-mass (mass × the time since the slip began), so that the second
+//! moment of the slip duration is a renewal–reward too: ∫ age dt over a slip is H²/2. One
+//! step walks every atom's flow in closed form (`flow::Frame::walk`); the stationary ν is the
+//! fixed point of the steps (power iteration, renormalised: mass leaving the grid's box is
+//! counted and reported).
+//!
+//! **The quantities**, per unit mass of ν, with the walk's integrals T_stick = E∫e^{−λt}1{stuck},
+//! T_slip, A_slip = E∫e^{−λt}·age·1{slip}, N = E Σ_entries e^{−λ t_e}, B = E Σ_breakaways e^{−λ t_b}:
+//!
+//! ```text
+//!     stick fraction = λ T_stick,   sticks per second = λ N,   breakaway fraction = B / N
+//!     E[D] = T_stick / N,   E[D²] = Σ e^{−λt_e} (2/λ²)(1 − e^{−λd}(1 + λd)) / N   (D = min(Exp(λ), d))
+//!     E[H] = T_slip / N,    E[H²] = 2 A_slip / N
+//! ```
+//!
+//! **Accuracy.** The walks are exact (closed forms; the times of every sample integrated
+//! exactly); the discretisation is where ν is held: a post-flip state is moved to the nearest
+//! nodes (by at most h). The error is first order in h; `exact-law` solves at several h and
+//! reports the finest with the change from the previous one as its error estimate.
+//!
+//! **Where it holds**: Coulomb friction (μ_s ≥ μ_k), no damping, no viscous friction, k > 0,
+//! the symmetric belt (or a telegraph belt with equal rates and speeds), λ > 0, fixed
+//! parameters. Anything else is refused with the reason.
+
+mod anderson;
+pub(crate) mod chain;
+pub(crate) mod flow;
+mod output;
+
+pub use output::{estimates, markdown, resolutions, run, LawError};
+
+use crate::physics::Law;
+use crate::simulation::belt::Process;
+use crate::simulation::keys::Scene;
+
+use chain::{Mesh, Tally};
+use flow::Frame;
+
+/// 1 − e^{−x}(1 + x), accurate for small x (x²/2 − x³/3 + x⁴/8 − …).
+pub(crate) fn one_minus_exp_poly(x: f64) -> f64 {
+    if x < 1e-3 {
+        x * x * (0.5 - x / 3.0 + x * x / 8.0 - x * x * x / 30.0)
+    } else {
+        1.0 - (-x).exp() * (1.0 + x)
+    }
+}
+
+/// The long-run quantities, in the names of `stationary.parquet`.
+pub const QUANTITIES: [&str; 7] =
+    ["stick_fraction", "mean_stick_duration", "mean_slip_duration", "var_stick_duration", "var_slip_duration", "sticks_per_second", "breakaway_fraction"];
+
+/// The frame of a scene, or why the method does not hold for it.
+pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
+    if !scene.random.is_empty() {
+        return Err("parameters are drawn per realization (the long-run law is computed for fixed parameters)".into());
+    }
+    let p = scene.params;
+    if p.damping != 0.0 || p.viscous != 0.0 {
+        return Err("the slip is damped (model.damping or model.viscous_friction): only the undamped closed forms are implemented".into());
+    }
+    if p.static_ != p.kinetic && matches!(p.law, Law::Stribeck(_)) {
+        return Err("Stribeck friction with mu_s > mu_k has no closed-form slip".into());
+    }
+    if p.stiffness <= 0.0 {
+        return Err("model.stiffness is 0: without a spring there is no stick region to return to (the stick ends only by a flip)".into());
+    }
+    let (speed, rate) = match &scene.belt.process {
+        Process::Symmetric(s) => (s.speed, s.switch_rate),
+        Process::Telegraph(t) if t.forward_speed == t.reverse_speed && t.forward_rate == t.reverse_rate => (t.forward_speed, t.forward_rate),
+        Process::Telegraph(_) => return Err("the telegraph belt is asymmetric: only the symmetric belt is implemented".into()),
+        other => return Err(format!("the belt is \"{}\", not a two-state flip process", other.name())),
+    };
+    if rate <= 0.0 {
+        return Err("belt.switch_rate is 0: without flips the motion is deterministic and has no stationary law".into());
+    }
+    let u = p.per_unit_mass();
+    if u.breakaway <= 0.0 {
+        return Err("the static friction is 0: the mass never sticks".into());
+    }
+    Ok(Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate })
+}
+
+/// One solve at one resolution.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Level {
+    /// nodes per c_s + w0 (the grid spacing is (c_s + w0)/n)
+    pub n: u32,
+    /// the grid spacing [m, in the plane (X, V/ω)]
+    pub h: f64,
+    /// the values, in the order of [`QUANTITIES`]
+    pub values: [f64; 7],
+    /// power iterations to the fixed point
+    pub iterations: u32,
+    /// mass per flip leaving the grid's box (renormalised away)
+    pub lost: f64,
+    /// the last iteration's change of the measure (L1)
+    pub change: f64,
+    /// λ (T_stick + T_slip): the share of the time to the next flip the walks accounted for
+    /// (1 but for the mass lost and the walks' horizon e^{−41.4})
+    pub covered: f64,
+}
+
+/// Steps remembered by the Anderson mixing of [`solve`].
+const DEPTH: usize = 8;
+/// The change of the measure (L1) at which the power iteration stops.
+const TOLERANCE: f64 = 1e-12;
+/// The iteration limit (the chain mixes in a few flips: ~40 iterations reach the tolerance).
+const MAX_ITERATIONS: u32 = 1000;
+
+/// Solve for the stationary law at resolution `n` (grid spacing (c_s + w0)/n).
+pub(crate) fn solve(frame: Frame, n: u32) -> Level {
+    let h = (frame.cs + frame.w0) / f64::from(n);
+    // the box: the post-flip states of the paper scene stay within |X| < 2(c_s + c_k) + w0 but
+    // for a mass ~1e-12 pumped further by flips at the turning points
+    let half = 3.0 * (frame.cs + frame.ck + frame.w0);
+    let mesh = Mesh::new(frame, h, half);
+    let cont = chain::continuation(&mesh);
+    let mut nu = chain::Measure::zero(&mesh, cont.samples.len());
+    let share = 1.0 / nu.line.len() as f64;
+    nu.line.iter_mut().for_each(|m| *m = share);
+    let (mut tally, mut iterations, mut change, mut lost) = (Tally::default(), 0, f64::INFINITY, 0.0);
+    // The step is linear (but for the renormalisation) and its slowest modes are an oscillating
+    // pair of modulus ≈ 0.8 per flip on the paper scene (the stick position's walk over the
+    // stick region): plain power iteration needs ~120 steps to 1e-12; Anderson mixing over the
+    // last `DEPTH` steps (a GMRES in disguise for a linear map) removes those modes.
+    let mut anderson = anderson::Anderson::new(DEPTH);
+    while iterations < MAX_ITERATIONS && change > TOLERANCE {
+        let (mut next, t) = chain::step(&mesh, &cont, &nu);
+        lost = t.lost;
+        tally = t;
+        next.scale(1.0 / next.total());
+        change = next.distance(&nu);
+        iterations += 1;
+        let mixed = anderson.mix(nu.flat(), next.flat());
+        nu.set_flat(&mixed);
+        nu.scale(1.0 / nu.total());
+    }
+    Level { n, h, values: quantities(&tally, frame.lambda), iterations, lost, change, covered: frame.lambda * (tally.stick_time + tally.slip_time) }
+}
+
+/// The quantities from the tallies (module docs).
+fn quantities(t: &Tally, lambda: f64) -> [f64; 7] {
+    let n = t.entries;
+    let (d, h) = (t.d1 / n, t.slip_time / n);
+    [lambda * t.stick_time, d, h, t.d2 / n - d * d, 2.0 * t.slip_age_time / n - h * h, lambda * n, t.breakaways / n]
+}
+
+/// The long-run law of a scene at the resolutions `levels` (increasing), or why it cannot be
+/// computed (module docs).
+pub fn stationary(scene: &Scene, levels: &[u32]) -> Result<Vec<Level>, String> {
+    let frame = frame(scene)?;
+    Ok(levels.iter().map(|&n| solve(frame, n)).collect())
+}

@@ -1,0 +1,165 @@
+//! The law without sampling (`exact-law`): against a closed form (the deterministic stick-slip
+//! cycle that μ_s > μ_k leaves when flips are rare), against long Monte Carlo runs of the exact
+//! solver, and its refusals.
+
+use std::f64::consts::PI;
+
+use stickslip::law::{stationary, Level, QUANTITIES};
+use stickslip::simulation::events::StickEnd;
+
+use crate::common::{outcomes, scenario};
+
+fn value(level: &Level, name: &str) -> f64 {
+    level.values[QUANTITIES.iter().position(|q| *q == name).expect("a quantity")]
+}
+
+/// With μ_s > μ_k the breakaway slip falls behind the belt and sticks again: without flips the
+/// motion is a cycle — a stick from 2c_k − c_s to c_s (holding time 2(c_s − c_k)/v0), then the
+/// slip on the circle about c_k through (c_s, v0), which takes (2π − 2φ0)/ω with
+/// φ0 = atan((c_s − c_k)ω/v0). With a flip every 10^4 s on average the long run is that cycle
+/// but for the transients after flips (relative share ~ λ × a few seconds). (Not so the
+/// variances: a flip can leave the mass on a circle that never reaches belt speed, and that slip
+/// lasts ~1/λ.)
+#[test]
+fn rare_flips_leave_the_deterministic_cycle() {
+    let sc = scenario(&["model.static_friction_coefficient=0.6", "belt.switch_rate=1e-4"]);
+    let levels = stationary(&sc.scene().unwrap(), &[16]).unwrap();
+    let l = &levels[0];
+    let (omega, v0): (f64, f64) = (2.0, 1.0);
+    let (ck, cs) = (0.51 * 9.8 / 4.0, 0.6 * 9.8 / 4.0);
+    let hold = 2.0 * (cs - ck) / v0;
+    let phi0 = ((cs - ck) * omega / v0).atan();
+    let slip = (2.0 * PI - 2.0 * phi0) / omega;
+    let period = hold + slip;
+    let close = |got: f64, want: f64, what: &str| assert!((got - want).abs() <= 2e-3 * want, "{what}: {got} against the cycle's {want}");
+    close(value(l, "stick_fraction"), hold / period, "stick fraction");
+    close(value(l, "sticks_per_second"), 1.0 / period, "sticks per second");
+    close(value(l, "mean_stick_duration"), hold, "mean stick duration");
+    close(value(l, "mean_slip_duration"), slip, "mean slip duration");
+    close(value(l, "breakaway_fraction"), 1.0, "breakaway fraction");
+    assert!((l.covered - 1.0).abs() < 1e-12, "the walks account for the whole time to the next flip: {}", l.covered);
+}
+
+/// Long-run estimates from Monte Carlo (realizations independent; within one the sticks after
+/// the burn-in): each a ratio Σa/Σb of per-realization sums, with its delta-method standard error.
+struct LongRun {
+    /// (estimate, standard error) per quantity of [`QUANTITIES`]
+    values: Vec<(f64, f64)>,
+}
+
+fn long_run(sets: &[&str], realizations: u64, horizon: f64, burn: f64) -> LongRun {
+    let mut all: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    all.push(format!("run.duration={horizon}"));
+    let sc = stickslip::scenario::Scenario::resolve(None, &all).unwrap();
+    // per realization: [window, stuck time, sticks, completed sticks, ΣD, ΣD², breakaways,
+    // completed slips, ΣH, ΣH²]
+    let rows: Vec<[f64; 10]> = outcomes(&sc, realizations)
+        .iter()
+        .map(|o| {
+            let r = &o.record;
+            let mut a = [horizon - burn, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+            for (i, (&s, &d)) in r.stick_start.iter().zip(&r.stick_duration).enumerate() {
+                a[1] += ((s + d).min(horizon) - s.max(burn)).max(0.0);
+                if s < burn {
+                    continue;
+                }
+                a[2] += 1.0;
+                if r.stick_end[i] != StickEnd::Horizon {
+                    a[3] += 1.0;
+                    a[4] += d;
+                    a[5] += d * d;
+                    a[6] += f64::from(r.stick_end[i] == StickEnd::Breakaway);
+                }
+            }
+            let n = r.slip_start.len();
+            for (i, (&s, &h)) in r.slip_start.iter().zip(&r.slip_duration).enumerate() {
+                if s >= burn && !(i + 1 == n && r.last_truncated && r.stick_start.len() == n) {
+                    a[7] += 1.0;
+                    a[8] += h;
+                    a[9] += h * h;
+                }
+            }
+            a
+        })
+        .collect();
+    let ratio = |num: &dyn Fn(&[f64; 10]) -> f64, den: &dyn Fn(&[f64; 10]) -> f64| {
+        let (sn, sd): (f64, f64) = (rows.iter().map(num).sum(), rows.iter().map(den).sum());
+        let r = sn / sd;
+        let var: f64 = rows.iter().map(|a| (num(a) - r * den(a)).powi(2)).sum();
+        (r, var.sqrt() / sd)
+    };
+    let (d, d_se) = ratio(&|a| a[4], &|a| a[3]);
+    let (d2, d2_se) = ratio(&|a| a[5], &|a| a[3]);
+    let (h, h_se) = ratio(&|a| a[8], &|a| a[7]);
+    let (h2, h2_se) = ratio(&|a| a[9], &|a| a[7]);
+    LongRun {
+        values: vec![
+            ratio(&|a| a[1], &|a| a[0]),
+            (d, d_se),
+            (h, h_se),
+            (d2 - d * d, d2_se + 2.0 * d * d_se),
+            (h2 - h * h, h2_se + 2.0 * h * h_se),
+            ratio(&|a| a[2], &|a| a[0]),
+            ratio(&|a| a[6], &|a| a[3]),
+        ],
+    }
+}
+
+/// Every long-run quantity of the exact law inside the Monte Carlo estimate's 4.5 standard
+/// errors widened by the law's own error estimate (the change from the previous resolution).
+fn agrees(sets: &[&str], realizations: u64, horizon: f64) {
+    let sc = scenario(sets);
+    let levels = stationary(&sc.scene().unwrap(), &[16, 32]).unwrap();
+    let mc = long_run(sets, realizations, horizon, 20.0);
+    for (q, name) in QUANTITIES.iter().enumerate() {
+        let (exact, error) = (levels[1].values[q], (levels[1].values[q] - levels[0].values[q]).abs());
+        let (m, se) = mc.values[q];
+        assert!((exact - m).abs() <= 4.5 * se + error, "{sets:?} {name}: exact {exact} (error {error:.1e}) against Monte Carlo {m} ± {se:.1e}");
+    }
+}
+
+#[test]
+fn the_paper_scene_agrees_with_a_long_monte_carlo_run() {
+    agrees(&[], 4000, 400.0);
+}
+
+#[test]
+fn static_friction_and_slow_flips_agree_with_a_long_monte_carlo_run() {
+    agrees(&["model.static_friction_coefficient=0.6", "belt.switch_rate=1.0"], 2000, 600.0);
+}
+
+#[test]
+fn scenes_outside_the_method_are_refused_with_the_reason() {
+    for (sets, reason) in [
+        (&["model.damping=0.5"][..], "damped"),
+        (&["belt.reverse_speed=0.5", "belt.reverse_switch_rate=2"][..], "asymmetric"),
+        (&["model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}"][..], "drawn per realization"),
+        (&["belt.switch_rate=0"][..], "no stationary law"),
+        (&["model.stiffness=0"][..], "without a spring"),
+    ] {
+        let e = stationary(&scenario(sets).scene().unwrap(), &[8]).expect_err("refused");
+        assert!(e.contains(reason), "{sets:?}: {e}");
+    }
+}
+
+#[test]
+fn the_command_writes_its_tables_and_refuses_a_damped_scene() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = crate::common::stickslip(&["exact-law", "--out", "e", "--resolution", "16"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t = stickslip::table::Table::read_checked(&tmp.path().join("e/stationary.parquet"), &[("quantity", 's'), ("value", 'f'), ("error", 'f')]).unwrap();
+    assert_eq!(t.strings("quantity").unwrap(), QUANTITIES.map(String::from));
+    assert!(t.floats("error").unwrap().iter().all(|e| e.is_some_and(|e| e.is_finite() && e >= 0.0)));
+    let c =
+        stickslip::table::Table::read_checked(&tmp.path().join("e/convergence.parquet"), &[("resolution", 'i'), ("quantity", 's'), ("value", 'f')]).unwrap();
+    assert_eq!(c.height(), 3 * QUANTITIES.len());
+    // the table it prints carries the same values
+    let printed = String::from_utf8_lossy(&o.stdout);
+    let sticks = t.floats("value").unwrap()[5].unwrap();
+    assert!(printed.contains(&format!("{sticks:.6}")), "{printed}");
+    let o = crate::common::stickslip(&["exact-law", "--out", "d", "--set", "model.damping=0.5", "-q"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("damped") && err.lines().count() == 1, "{err}");
+    assert!(!tmp.path().join("d").exists());
+}
