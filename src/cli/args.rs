@@ -53,8 +53,8 @@ pub enum Command {
     Sensitivity(SensitivityArgs),
     /// The law without sampling: the long-run stick fraction, the mean and variance of the stick
     /// and slip durations, sticks per second and the breakaway fraction, computed from the
-    /// process' equations (no Monte Carlo) at three resolutions, the change between the last two
-    /// as the error; writes DIR/stationary.parquet and DIR/convergence.parquet. Scenes: Coulomb
+    /// process' equations (no Monte Carlo) at three resolutions, extrapolated, with an error
+    /// estimate; writes DIR/stationary.parquet and DIR/convergence.parquet. Scenes: Coulomb
     /// friction (mu_s >= mu_k) without damping, the symmetric belt, fixed parameters.
     ExactLaw(ExactLawArgs),
     /// List the scenario files shipped in the binary (the paper scenario and the example
@@ -127,8 +127,8 @@ pub struct ExactLawArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
     /// The finest resolution N: grid nodes per c_s + v0/omega of the phase plane (the solve runs
-    /// at N/4, N/2 and N; the error is first order in 1/N; 8 to 320; N = 160 takes about a
-    /// minute on 2 cores).
+    /// at N/4, N/2 and N; the error is second order in 1/N; 8 to 320; N = 160 takes about a
+    /// minute and a half on 2 cores).
     #[arg(long, value_name = "N", default_value_t = 80)]
     pub resolution: u32,
 }

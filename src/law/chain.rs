@@ -45,10 +45,14 @@ pub(crate) struct Mesh {
     pub frame: Frame,
     /// grid spacing in the plane (X, V/ω) [m]
     pub h: f64,
-    /// nodes per axis; node (i, j) is at X = (i − nx/2 + ½) h, V/ω = w0 + (j − nw/2 + ½) h (no
-    /// node on the belt lines V = ±v0)
+    /// nodes per axis: node (i, j) is at X = (i − nx/2 + ½) h and, for the `nb` rows j < nb
+    /// below belt speed, V/ω = w0 − (nb − 1 − j) h, for the rows above, V/ω = w0 + (j − nb) h.
+    /// Each side has its own row on the belt line V = v0: the friction (and so the flow) jumps
+    /// there, and an interpolation across it would move mass from one side's flow to the other's
+    /// (an error first order in h).
     pub nx: usize,
     pub nw: usize,
+    pub nb: usize,
     /// the belt line's nodes y_j = −c_s + j h_line, j = 0..=n_line: a flip during a stick at y
     /// leaves the mass at (−y, −v0) in the new frame
     pub h_line: f64,
@@ -60,27 +64,40 @@ pub(crate) struct Mesh {
 impl Mesh {
     /// The mesh of spacing h over the box |X|, |V/ω| ≤ `half`.
     pub fn new(frame: Frame, h: f64, half: f64) -> Mesh {
-        let n = |extent: f64| 2 * (extent / h).ceil() as usize;
         let n_line = ((2.0 * frame.cs / (h / 4.0)).ceil() as usize).max(2);
-        Mesh { frame, h, nx: n(half), nw: n(half + frame.w0), h_line: 2.0 * frame.cs / n_line as f64, n_line, horizon: 41.4 / frame.lambda }
+        let nb = ((half + frame.w0) / h).ceil() as usize + 2;
+        let na = ((half - frame.w0).max(0.0) / h).ceil() as usize + 2;
+        Mesh { frame, h, nx: 2 * (half / h).ceil() as usize, nw: nb + na, nb, h_line: 2.0 * frame.cs / n_line as f64, n_line, horizon: 41.4 / frame.lambda }
     }
 
-    fn node(&self, i: usize, j: usize) -> (f64, f64) {
+    /// The slip state of node (i, j).
+    fn node(&self, i: usize, j: usize) -> Slip {
+        let f = self.frame;
         let x = (i as f64 - (self.nx / 2) as f64 + 0.5) * self.h;
-        let w = self.frame.w0 + (j as f64 - (self.nw / 2) as f64 + 0.5) * self.h;
-        (x, w * self.frame.omega)
+        let below = j < self.nb;
+        let w = if below { f.w0 - (self.nb - 1 - j) as f64 * self.h } else { f.w0 + (j - self.nb) as f64 * self.h };
+        Slip { x, v: w * f.omega, below }
     }
 
-    /// Bilinear weights of (x, v) on the grid: the lower-left node and the fractions, or None
-    /// outside.
-    fn locate(&self, x: f64, v: f64) -> Option<(usize, usize, f64, f64)> {
+    /// Bilinear weights of (x, v) on its side's nodes: the column i and its fraction towards
+    /// i + 1, the rows j0 and j1 and the fraction towards j1; None outside.
+    fn locate(&self, x: f64, v: f64) -> Option<(usize, f64, usize, usize, f64)> {
+        let f = self.frame;
         let fx = x / self.h + (self.nx / 2) as f64 - 0.5;
-        let fw = (v / self.frame.omega - self.frame.w0) / self.h + (self.nw / 2) as f64 - 0.5;
-        if !(fx >= 0.0 && fw >= 0.0) {
+        let dw = (v / f.omega - f.w0) / self.h;
+        if !(fx >= 0.0) || !dw.is_finite() {
             return None;
         }
-        let (i, j) = (fx as usize, fw as usize);
-        (i + 1 < self.nx && j + 1 < self.nw).then_some((i, j, fx - i as f64, fw - j as f64))
+        let i = fx as usize;
+        let (k, frac) = (dw.abs().floor(), dw.abs().fract());
+        let k = k as usize;
+        let (j0, j1) = if dw <= 0.0 {
+            // below: rows nb − 1 (the line), nb − 2, … downwards
+            (self.nb.checked_sub(1 + k)?, self.nb.checked_sub(2 + k)?)
+        } else {
+            (self.nb + k, self.nb + k + 1)
+        };
+        (i + 1 < self.nx && j1 < self.nw).then_some((i, fx - i as f64, j0, j1, frac))
     }
 }
 
@@ -177,10 +194,10 @@ impl Deposit<'_> {
         }
         // the flip reverses the frame: (x, v) → (−x, −v)
         match self.mesh.locate(-x, -v) {
-            Some((i, j, fx, fw)) => {
+            Some((i, fx, j0, j1, fw)) => {
                 let nw = self.mesh.nw;
-                for (di, dj, w) in [(0, 0, (1.0 - fx) * (1.0 - fw)), (1, 0, fx * (1.0 - fw)), (0, 1, (1.0 - fx) * fw), (1, 1, fx * fw)] {
-                    let g = &mut self.out.grid[(i + di) * nw + j + dj];
+                for (ii, jj, w) in [(i, j0, (1.0 - fx) * (1.0 - fw)), (i + 1, j0, fx * (1.0 - fw)), (i, j1, (1.0 - fx) * fw), (i + 1, j1, fx * fw)] {
+                    let g = &mut self.out.grid[ii * nw + jj];
                     g[0] += w * mass;
                     g[1] += w * age_mass;
                 }
@@ -344,8 +361,7 @@ fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip, f64, f64)
         for j in 0..mesh.nw {
             let [m, a] = nu.grid[i * mesh.nw + j];
             if m.abs() > 1e-300 {
-                let (x, v) = mesh.node(i, j);
-                out.push((Slip::at(x, v, f.v0), a / m, m));
+                out.push((mesh.node(i, j), a / m, m));
             }
         }
     }

@@ -90,6 +90,16 @@ impl Frame {
             if t > horizon {
                 return;
             }
+            if z.v == self.v0 && (if z.below { z.x < self.ck } else { z.x > -self.ck }) {
+                // on the belt line and moving across it: arrives now
+                match self.arrive(z, t, age, visit) {
+                    Some(next) => {
+                        z = next;
+                        continue;
+                    }
+                    None => return,
+                }
+            }
             let c = self.centre(z.below);
             let (r, phi0) = self.polar(c, z.x, z.v);
             if z.below && r < self.w0 {
@@ -110,18 +120,28 @@ impl Frame {
             t += duration;
             let reach = (r * r - self.w0 * self.w0).max(0.0).sqrt();
             let xa = if z.below { c - reach } else { c + reach };
-            if (-self.cs..self.cs).contains(&xa) {
-                visit.stick(xa, t);
-                return;
+            match self.arrive(Slip { x: xa, v: self.v0, below: z.below }, t, age, visit) {
+                Some(next) => z = next,
+                None => return,
             }
-            if z.below && xa >= self.cs {
-                // (only c_k = c_s, r = w0: a touch at the breakaway point)
-                visit.breakaway_slip(t, age + t);
-                return;
-            }
-            // passes through belt speed: the friction reverses
-            z = Slip { x: xa, v: self.v0, below: !z.below };
         }
+    }
+
+    /// The arrival at belt speed of `z` (on the belt line) at time t: a stick, a touch at the
+    /// breakaway point (the walk ends in both), or the slip passing belt speed, whose state on
+    /// the other side is returned.
+    fn arrive(&self, z: Slip, t: f64, age: f64, visit: &mut impl Visitor) -> Option<Slip> {
+        if (-self.cs..self.cs).contains(&z.x) {
+            visit.stick(z.x, t);
+            return None;
+        }
+        if z.below && z.x >= self.cs {
+            // (only c_k = c_s, r = w0: a touch at the breakaway point)
+            visit.breakaway_slip(t, age + t);
+            return None;
+        }
+        // passes through belt speed: the friction reverses
+        Some(Slip { below: !z.below, ..z })
     }
 
     /// Samples of the arc of centre `c`, radius r from angle φ0 over [t0, t0 + duration).

@@ -1,5 +1,5 @@
-//! The `exact-law` stage: solve at three resolutions, write `stationary.parquet` (the finest
-//! values, each with the change from the previous resolution as its error estimate) and
+//! The `exact-law` stage: solve at three resolutions, write `stationary.parquet` (the values
+//! extrapolated from the finest two, each with an error estimate from all three) and
 //! `convergence.parquet` (every resolution), and the Markdown table the command prints.
 
 use std::path::{Path, PathBuf};
@@ -67,11 +67,24 @@ pub fn run(scenario: &Scenario, finest: u32, out: &Path, progress: &mut dyn FnMu
     Ok(levels)
 }
 
-/// (value, error) of each quantity: the finest value and its change from the one before.
+/// (value, error) of each quantity from solves at resolutions n/4, n/2, n (or fewer): the
+/// error is second order in 1/n (module docs of [`super`]), so the value is Richardson's
+/// R_n = v_n + (v_n − v_{n/2})/3, and its error estimate the change |R_n − R_{n/2}| (the error
+/// of R_{n/2} bounds it); with two levels, v_n and |v_n − v_{n/2}|; with one, v_n and NaN.
 pub fn estimates(levels: &[Level]) -> Vec<(f64, f64)> {
-    let last = &levels[levels.len() - 1];
-    let before = &levels[levels.len().saturating_sub(2)];
-    last.values.iter().zip(&before.values).map(|(&v, &b)| (v, (v - b).abs())).collect()
+    let k = levels.len();
+    (0..QUANTITIES.len())
+        .map(|q| {
+            let v = |i: usize| levels[i].values[q];
+            let richardson = |i: usize| v(i) + (v(i) - v(i - 1)) / 3.0;
+            match k {
+                0 => (f64::NAN, f64::NAN),
+                1 => (v(0), f64::NAN),
+                2 => (v(1), (v(1) - v(0)).abs()),
+                _ => (richardson(k - 1), (richardson(k - 1) - richardson(k - 2)).abs()),
+            }
+        })
+        .collect()
 }
 
 /// `stationary.parquet`: quantity, value, error.
