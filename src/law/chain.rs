@@ -354,7 +354,7 @@ pub(crate) fn continuation(mesh: &Mesh) -> Continuation {
 }
 
 /// The atoms of a measure: (start, age, mass).
-fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip, f64, f64)> {
+pub(crate) fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip, f64, f64)> {
     let f = mesh.frame;
     let mut out = Vec::new();
     for i in 0..mesh.nx {

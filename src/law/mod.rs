@@ -45,7 +45,7 @@
 //! ```text
 //!     stick fraction = λ T_stick,   sticks per second = λ N,   breakaway fraction = B / N
 //!     E[D] = T_stick / N,   E[D²] = Σ e^{−λt_e} (2/λ²)(1 − e^{−λd}(1 + λd)) / N   (D = min(Exp(λ), d))
-//!     E[H] = T_slip / N,    E[H²] = 2 A_slip / N
+//!     E[H] = T_slip / N,    E[H²] = 2 A_slip / N,   mean cycle E[D] + E[H] (the slope of E[T_k])
 //! ```
 //!
 //! **Accuracy.** The walks are exact (closed forms; the times of every sample integrated
@@ -63,6 +63,7 @@
 
 mod anderson;
 pub(crate) mod chain;
+pub mod density;
 pub(crate) mod flow;
 mod output;
 
@@ -85,8 +86,16 @@ pub(crate) fn one_minus_exp_poly(x: f64) -> f64 {
 }
 
 /// The long-run quantities, in the names of `stationary.parquet`.
-pub const QUANTITIES: [&str; 7] =
-    ["stick_fraction", "mean_stick_duration", "mean_slip_duration", "var_stick_duration", "var_slip_duration", "sticks_per_second", "breakaway_fraction"];
+pub const QUANTITIES: [&str; 8] = [
+    "stick_fraction",
+    "mean_stick_duration",
+    "mean_slip_duration",
+    "var_stick_duration",
+    "var_slip_duration",
+    "sticks_per_second",
+    "breakaway_fraction",
+    "mean_cycle",
+];
 
 /// The frame of a scene, or why the method does not hold for it.
 pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
@@ -122,12 +131,12 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
 /// One solve at one resolution.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Level {
-    /// nodes per c_s + w0 (the grid spacing is (c_s + w0)/n)
+    /// nodes per c_s + w0 (the grid spacing is about (c_s + w0)/n)
     pub n: u32,
-    /// the grid spacing [m, in the plane (X, V/ω)]
+    /// the grid spacing [m, in the plane (X, V/ω)]: w0 / ⌈n w0/(c_s + w0)⌉
     pub h: f64,
     /// the values, in the order of [`QUANTITIES`]
-    pub values: [f64; 7],
+    pub values: [f64; 8],
     /// power iterations to the fixed point
     pub iterations: u32,
     /// mass per flip leaving the grid's box (renormalised away)
@@ -147,8 +156,10 @@ const TOLERANCE: f64 = 1e-12;
 const MAX_ITERATIONS: u32 = 1000;
 
 /// Solve for the stationary law at resolution `n` (grid spacing (c_s + w0)/n).
-pub(crate) fn solve(frame: Frame, n: u32) -> Level {
-    let h = (frame.cs + frame.w0) / f64::from(n);
+pub(crate) fn solve(frame: Frame, n: u32, with_density: bool) -> (Level, Option<density::Density>) {
+    // w0 a whole number of rows: the rows of nodes are then at whole multiples of h, and the
+    // density's cells hold whole rows (`density`)
+    let h = frame.w0 / (f64::from(n) * frame.w0 / (frame.cs + frame.w0)).ceil().max(1.0);
     // the box: the post-flip states of the paper scene stay within |X| < 2(c_s + c_k) + w0 but
     // for a mass ~1e-12 pumped further by flips at the turning points
     let half = 3.0 * (frame.cs + frame.ck + frame.w0);
@@ -174,19 +185,21 @@ pub(crate) fn solve(frame: Frame, n: u32) -> Level {
         nu.set_flat(&mixed);
         nu.scale(1.0 / nu.total());
     }
-    Level { n, h, values: quantities(&tally, frame.lambda), iterations, lost, change, covered: frame.lambda * (tally.stick_time + tally.slip_time) }
+    let level =
+        Level { n, h, values: quantities(&tally, frame.lambda), iterations, lost, change, covered: frame.lambda * (tally.stick_time + tally.slip_time) };
+    (level, with_density.then(|| density::occupation(&mesh, &cont, &nu)))
 }
 
 /// The quantities from the tallies (module docs).
-fn quantities(t: &Tally, lambda: f64) -> [f64; 7] {
+fn quantities(t: &Tally, lambda: f64) -> [f64; 8] {
     let n = t.entries;
     let (d, h) = (t.d1 / n, t.slip_time / n);
-    [lambda * t.stick_time, d, h, t.d2 / n - d * d, 2.0 * t.slip_age_time / n - h * h, lambda * n, t.breakaways / n]
+    [lambda * t.stick_time, d, h, t.d2 / n - d * d, 2.0 * t.slip_age_time / n - h * h, lambda * n, t.breakaways / n, d + h]
 }
 
 /// The long-run law of a scene at the resolutions `levels` (increasing), or why it cannot be
 /// computed (module docs).
 pub fn stationary(scene: &Scene, levels: &[u32]) -> Result<Vec<Level>, String> {
     let frame = frame(scene)?;
-    Ok(levels.iter().map(|&n| solve(frame, n)).collect())
+    Ok(levels.iter().map(|&n| solve(frame, n, false).0).collect())
 }

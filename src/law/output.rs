@@ -4,7 +4,9 @@
 
 use std::path::{Path, PathBuf};
 
+use super::density::Density;
 use super::{Level, QUANTITIES};
+use crate::figures::chart::{Figure, Panel, Series};
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::table::{Col, Table};
@@ -53,30 +55,35 @@ pub fn run(scenario: &Scenario, finest: u32, out: &Path, progress: &mut dyn FnMu
     let scene = scenario.scene()?;
     let frame = super::frame(&scene).map_err(LawError::Refused)?;
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
-    let mut levels = Vec::new();
+    let (mut levels, mut density) = (Vec::new(), None);
     for n in resolutions(finest) {
         let start = std::time::Instant::now();
-        let level = super::solve(frame, n);
+        let (level, d) = super::solve(frame, n, n == finest);
         progress(&level, start.elapsed().as_secs_f64());
         levels.push(level);
+        density = d.or(density);
     }
+    let density = density.expect("the finest resolution computes the density");
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
     stationary_table(&levels).write_parquet(&staged.path().join("stationary.parquet")).map_err(|e| werr("stationary.parquet", &e))?;
     convergence_table(&levels).write_parquet(&staged.path().join("convergence.parquet")).map_err(|e| werr("convergence.parquet", &e))?;
+    density_table(&density).write_parquet(&staged.path().join("density.parquet")).map_err(|e| werr("density.parquet", &e))?;
+    crate::figures::render::save(&density_figure(&density), staged.path()).map_err(|e| werr("stationary_density.png", &e))?;
     staged.commit()?;
     Ok(levels)
 }
 
 /// (value, error) of each quantity from solves at resolutions n/4, n/2, n (or fewer): the
-/// error is second order in 1/n (module docs of [`super`]), so the value is Richardson's
-/// R_n = v_n + (v_n − v_{n/2})/3, and its error estimate the change |R_n − R_{n/2}| (the error
-/// of R_{n/2} bounds it); with two levels, v_n and |v_n − v_{n/2}|; with one, v_n and NaN.
+/// error is second order in the spacing h (module docs of [`super`]), so the value is
+/// Richardson's R = v_n + (v_n − v_{n/2}) / ((h_{n/2}/h_n)² − 1) (÷ 3 when h halves), and its
+/// error estimate the change of R from the coarser pair (whose error bounds it); with two
+/// levels, v_n and |v_n − v_{n/2}|; with one, v_n and NaN.
 pub fn estimates(levels: &[Level]) -> Vec<(f64, f64)> {
     let k = levels.len();
     (0..QUANTITIES.len())
         .map(|q| {
             let v = |i: usize| levels[i].values[q];
-            let richardson = |i: usize| v(i) + (v(i) - v(i - 1)) / 3.0;
+            let richardson = |i: usize| v(i) + (v(i) - v(i - 1)) / ((levels[i - 1].h / levels[i].h).powi(2) - 1.0);
             match k {
                 0 => (f64::NAN, f64::NAN),
                 1 => (v(0), f64::NAN),
@@ -109,6 +116,83 @@ fn convergence_table(levels: &[Level]) -> Table {
         .push("iterations", Col::Int(rows.iter().map(|(l, _)| Some(i64::from(l.iterations))).collect()))
         .push("lost", Col::Float(rows.iter().map(|(l, _)| Some(l.lost)).collect()));
     t
+}
+
+/// `density.parquet`: kind (`slip`: a cell of the plane, density in 1/(m · m/s); `stick`: a
+/// cell of a stick line ẋ = ±v0, density in 1/m), x and velocity (the cell's centre), density.
+fn density_table(d: &Density) -> Table {
+    let centres = |e: &[f64]| e.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect::<Vec<f64>>();
+    let (xs, vs, ss) = (centres(&d.x_edges), centres(&d.v_edges), centres(&d.stick_edges));
+    let mut rows: Vec<(&str, f64, f64, f64)> = Vec::new();
+    for (i, &x) in xs.iter().enumerate() {
+        for (j, &v) in vs.iter().enumerate() {
+            rows.push(("slip", x, v, d.slip[i * vs.len() + j]));
+        }
+    }
+    for (line, v) in d.stick.iter().zip([d.v0, -d.v0]) {
+        rows.extend(ss.iter().zip(line).map(|(&x, &p)| ("stick", x, v, p)));
+    }
+    let mut t = Table::default();
+    t.push("kind", Col::Str(rows.iter().map(|r| r.0.to_string()).collect()))
+        .push("x", Col::Float(rows.iter().map(|r| Some(r.1)).collect()))
+        .push("velocity", Col::Float(rows.iter().map(|r| Some(r.2)).collect()))
+        .push("density", Col::Float(rows.iter().map(|r| Some(r.3)).collect()));
+    t
+}
+
+/// `stationary_density.png`: the slip density over (x, ẋ) and the stick lines' densities.
+fn density_figure(d: &Density) -> Figure {
+    let n = d.x_edges.len() - 1;
+    let m = d.v_edges.len() - 1;
+    let heat = (0..n * m)
+        .map(|k| {
+            let (i, j) = (k / m, k % m);
+            [d.x_edges[i], d.x_edges[i + 1], d.v_edges[j], d.v_edges[j + 1], d.slip[k]]
+        })
+        .collect();
+    let centres: Vec<f64> = d.stick_edges.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
+    let line = |k: usize, label: String, color: usize| Series {
+        label,
+        color,
+        points: centres.iter().copied().zip(d.stick[k].iter().copied()).collect(),
+        errors: vec![],
+    };
+    // the axes over the cells above 1e-3 of the largest (the table has them all)
+    let top = d.slip.iter().copied().fold(0.0, f64::max);
+    let seen = |axis: usize| {
+        let edges = if axis == 0 { &d.x_edges } else { &d.v_edges };
+        let reach = (0..n * m)
+            .filter(|&k| d.slip[k] > 1e-3 * top)
+            .map(|k| if axis == 0 { k / m } else { k % m })
+            .map(|i| edges[i].abs().max(edges[i + 1].abs()))
+            .fold(0.0, f64::max);
+        Some((-reach, reach))
+    };
+    let plane = Panel {
+        title: "while slipping".into(),
+        x_range: seen(0),
+        y_range: seen(1),
+        x_label: "x [m]".into(),
+        y_label: "velocity [m/s]".into(),
+        heat,
+        heat_label: "density [1/(m m/s)]".into(),
+        ..Default::default()
+    };
+    let sticks = Panel {
+        title: "while stuck (on the belt)".into(),
+        x_label: "x [m]".into(),
+        y_label: "density [1/m]".into(),
+        lines: vec![line(0, format!("velocity = +{} m/s", d.v0), 0), line(1, format!("velocity = -{} m/s", d.v0), 1)],
+        ..Default::default()
+    };
+    Figure {
+        name: "stationary_density".into(),
+        title: "Stationary law of the state (x, velocity), without sampling".into(),
+        rows: 1,
+        cols: 2,
+        size: (1400, 620),
+        panels: vec![plane, sticks],
+    }
 }
 
 /// The table `exact-law` prints: each quantity at every resolution, the value and its error.

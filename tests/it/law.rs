@@ -101,6 +101,7 @@ fn long_run(sets: &[&str], realizations: u64, horizon: f64, burn: f64) -> LongRu
             (h2 - h * h, h2_se + 2.0 * h * h_se),
             ratio(&|a| a[2], &|a| a[0]),
             ratio(&|a| a[6], &|a| a[3]),
+            (d + h, d_se + h_se),
         ],
     }
 }

@@ -1,0 +1,160 @@
+//! The stationary joint density of the state (x, ẋ) in the lab frame: a density over the plane
+//! while the mass slips, and line densities on ẋ = ±v0 while it sticks (module docs of
+//! [`super`]). The time spent in each cell per unit time is λ E_ν ∫ e^{−λt} 1{state in the
+//! cell} dt over the walks from the stationary post-flip measure ν; the belt's sign s = ±1 is
+//! equally likely in the long run (symmetric belt), so with q the density in the belt's frame
+//! the lab density is p(x, ẋ) = ½ [q(x, ẋ) + q(−x, −ẋ)].
+
+use super::chain::{self, Continuation, Measure, Mesh};
+use super::flow::{decay, Frame, Slip, Visitor};
+
+/// The stationary density on a grid of cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Density {
+    /// cell edges in x [m], symmetric about 0
+    pub x_edges: Vec<f64>,
+    /// cell edges in ẋ [m/s]
+    pub v_edges: Vec<f64>,
+    /// density while slipping [1/(m · m/s)], cell (i, j) at `slip[i * (v_edges.len() − 1) + j]`
+    pub slip: Vec<f64>,
+    /// cell edges of the stick lines in x [m] (over [−c_s, c_s])
+    pub stick_edges: Vec<f64>,
+    /// line density [1/m] on ẋ = +v0 and on ẋ = −v0
+    pub stick: [Vec<f64>; 2],
+    /// the belt speed v0 [m/s]
+    pub v0: f64,
+    /// the share of the time outside the grid
+    pub outside: f64,
+}
+
+/// About this many cells per axis of the plane (and exactly this many on the stick lines).
+pub const CELLS: usize = 160;
+
+/// The cells of the plane: in (x, ẋ/ω), squares of K node spacings (K odd), x edges at whole
+/// multiples of K h and ẋ/ω edges at (m + ½) K h: the nodes' columns sit at (i + ½) h and their
+/// rows at whole multiples of h (w0 is a whole number of rows), so every cell holds K × K nodes
+/// (a cell holding one row more than its neighbour shows as a stripe: the walks start at the
+/// nodes) and the cells are symmetric about 0, as the lab frame's (x, ẋ) ↔ (−x, −ẋ) needs.
+/// Returns (K h, cells per half axis in x, in ẋ/ω), covering |x| ≤ c_s + c_k + 2 w0 and
+/// |ẋ/ω| ≤ c_s + c_k + w0.
+fn cells(f: &Frame, h: f64) -> (f64, usize, usize) {
+    let (xd, wd) = (f.cs + f.ck + 2.0 * f.w0, f.cs + f.ck + f.w0);
+    let k = ((2.0 * xd / (CELLS as f64 * h)).round() as usize).max(1) | 1;
+    let size = k as f64 * h;
+    (size, (xd / size).ceil() as usize, (wd / size - 0.5).ceil() as usize)
+}
+
+struct Occupy<'a> {
+    f: Frame,
+    spacing: f64,
+    /// cell size K h, and cells per half axis (`cells`)
+    size: f64,
+    half: (usize, usize),
+    slip: &'a mut [f64],
+    stick: &'a mut [f64],
+    outside: &'a mut f64,
+    m: f64,
+    /// Σ mass × e^{−λt} of the breakaways and touches (their continuation is added once)
+    follow: f64,
+}
+
+impl Occupy<'_> {
+    fn add(&mut self, x: f64, v: f64, w: f64) {
+        let (hx, hw) = self.half;
+        let i = (x / self.size).floor() + hx as f64;
+        let j = (v / self.f.omega / self.size + 0.5).floor() + hw as f64;
+        if (0.0..(2 * hx) as f64).contains(&i) && (0.0..(2 * hw + 1) as f64).contains(&j) {
+            self.slip[i as usize * (2 * hw + 1) + j as usize] += w;
+        } else {
+            *self.outside += w;
+        }
+    }
+}
+
+impl Visitor for Occupy<'_> {
+    fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, _age: f64) {
+        let lambda = self.f.lambda;
+        self.add(x, v, self.m * lambda * decay(lambda, t, t + dt));
+    }
+
+    fn periodic(&mut self, start: Slip, t: f64, _age: f64, period: f64) {
+        let f = self.f;
+        let lambda = f.lambda;
+        let one = 1.0 / -(-lambda * period).exp_m1();
+        let c = if start.below { f.ck } else { -f.ck };
+        let (r, phi0) = f.polar(c, start.x, start.v);
+        let n = ((f.omega * r * period / self.spacing).ceil() as usize).max(8);
+        let dt = period / n as f64;
+        for i in 0..n {
+            let s = t + i as f64 * dt;
+            let (x, v) = f.on_circle(c, r, phi0, (i as f64 + 0.5) * dt);
+            self.add(x, v, self.m * lambda * decay(lambda, s, s + dt) * one);
+        }
+    }
+
+    fn stick(&mut self, x_e: f64, t: f64) {
+        let f = self.f;
+        let n = self.stick.len();
+        let width = 2.0 * f.cs / n as f64;
+        let first = (((x_e + f.cs) / width).floor().max(0.0) as usize).min(n - 1);
+        for k in first..n {
+            let (a, b) = ((-f.cs + k as f64 * width).max(x_e), -f.cs + (k + 1) as f64 * width);
+            if b > a {
+                self.stick[k] += self.m * f.lambda * decay(f.lambda, t + (a - x_e) / f.v0, t + (b - x_e) / f.v0);
+            }
+        }
+        self.follow += self.m * (-f.lambda * (t + (f.cs - x_e) / f.v0)).exp();
+    }
+
+    fn breakaway_slip(&mut self, t: f64, _age: f64) {
+        self.follow += self.m * (-self.f.lambda * t).exp();
+    }
+}
+
+/// The stationary density from the stationary post-flip measure `nu` on `mesh`.
+pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Density {
+    let f = mesh.frame;
+    let (size, half) = {
+        let (size, hx, hw) = cells(&f, mesh.h);
+        (size, (hx, hw))
+    };
+    let (nx, nv) = (2 * half.0, 2 * half.1 + 1);
+    let (mut slip, mut stick, mut outside) = (vec![0.0; nx * nv], vec![0.0; CELLS], 0.0);
+    // the breakaway's continuation, once: one pass until the breakaway slip touches the belt
+    // line (μ_s = μ_k) or its stick breaks away again (μ_s > μ_k), after the period P; the
+    // passes repeat, each e^{−λP} later
+    let (mut b_slip, mut b_stick, mut b_out) = (vec![0.0; nx * nv], vec![0.0; CELLS], 0.0);
+    let mut pass = Occupy { f, spacing: mesh.h, size, half, slip: &mut b_slip, stick: &mut b_stick, outside: &mut b_out, m: 1.0, follow: 0.0 };
+    f.walk(f.breakaway(), 0.0, mesh.h, f64::INFINITY, &mut pass);
+    let repeat = 1.0 / (1.0 - pass.follow);
+    drop(pass);
+    let mut occ = Occupy { f, spacing: mesh.h, size, half, slip: &mut slip, stick: &mut stick, outside: &mut outside, m: 0.0, follow: 0.0 };
+    for (z, age, m) in chain::atoms(mesh, cont, nu) {
+        occ.m = m;
+        f.walk(z, age, mesh.h, mesh.horizon, &mut occ);
+    }
+    let w = occ.follow * repeat;
+    slip.iter_mut().zip(&b_slip).for_each(|(a, b)| *a += w * b);
+    stick.iter_mut().zip(&b_stick).for_each(|(a, b)| *a += w * b);
+    outside += w * b_out;
+    // densities, and the lab frame: (x, ẋ) and (−x, −ẋ) each half the time
+    let (dx, dv, ds) = (size, size * f.omega, 2.0 * f.cs / CELLS as f64);
+    let lab: Vec<f64> = (0..nx * nv)
+        .map(|k| {
+            let (i, j) = (k / nv, k % nv);
+            0.5 * (slip[k] + slip[(nx - 1 - i) * nv + nv - 1 - j]) / (dx * dv)
+        })
+        .collect();
+    let plus: Vec<f64> = stick.iter().map(|s| 0.5 * s / ds).collect();
+    let minus: Vec<f64> = plus.iter().rev().copied().collect();
+    let edges = |lo: f64, d: f64, n: usize| (0..=n).map(|k| lo + k as f64 * d).collect::<Vec<f64>>();
+    Density {
+        x_edges: edges(-(half.0 as f64) * dx, dx, nx),
+        v_edges: edges(-(half.1 as f64 + 0.5) * dv, dv, nv),
+        slip: lab,
+        stick_edges: edges(-f.cs, ds, CELLS),
+        stick: [plus, minus],
+        v0: f.v0,
+        outside,
+    }
+}
