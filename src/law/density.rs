@@ -127,7 +127,6 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
     let mut pass = Occupy { f, spacing: mesh.h, size, half, slip: &mut b_slip, stick: &mut b_stick, outside: &mut b_out, m: 1.0, follow: 0.0 };
     f.walk(f.breakaway(), 0.0, mesh.h, f64::INFINITY, &mut pass);
     let repeat = 1.0 / (1.0 - pass.follow);
-    drop(pass);
     let mut occ = Occupy { f, spacing: mesh.h, size, half, slip: &mut slip, stick: &mut stick, outside: &mut outside, m: 0.0, follow: 0.0 };
     for (z, age, m) in chain::atoms(mesh, cont, nu) {
         occ.m = m;
