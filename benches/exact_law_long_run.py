@@ -11,7 +11,7 @@ ones are the long ones). Prints one Markdown table per scene: the exact
 value ± its error, the Monte Carlo estimate and interval, and whether the exact value is inside.
 
 usage: python3 benches/exact_law_long_run.py [BINARY] [--realizations N] [--horizon T] [--burn B]
-       [--resolution R] [--keep DIR]
+       [--resolution R] [--seed S] [--keep DIR]
 (pinned: polars==2.1.0; the binary defaults to target/release/stickslip)
 """
 import argparse, math, os, shutil, subprocess, sys, tempfile, time
@@ -93,6 +93,7 @@ def main():
     ap.add_argument("--horizon", type=float, default=1000.0)
     ap.add_argument("--burn", type=float, default=50.0)
     ap.add_argument("--resolution", type=int, default=160)
+    ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--keep", help="keep the outputs in this directory")
     a = ap.parse_args()
     tmp = a.keep or tempfile.mkdtemp(prefix="exact_law_")
@@ -102,13 +103,13 @@ def main():
             law_dir, data_dir = os.path.join(tmp, f"law_{tag}"), os.path.join(tmp, f"mc_{tag}")
             t_law = run([a.binary, "exact-law", *sets, "--resolution", str(a.resolution), "--out", law_dir, "-q"])
             law = pl.read_parquet(os.path.join(law_dir, "stationary.parquet"))
-            t_mc = run([a.binary, "simulate", *sets, "--set", f"run.duration={a.horizon}", "--set", f"run.realizations={a.realizations}", "--out", data_dir, "-q"])
+            t_mc = run([a.binary, "simulate", *sets, "--set", f"run.duration={a.horizon}", "--set", f"run.realizations={a.realizations}", "--set", f"run.seed={a.seed}", "--out", data_dir, "-q"])
             t = time.perf_counter()
             mc, sticks = long_run(data_dir, a.burn, a.horizon)
             t_read = time.perf_counter() - t
             if not a.keep:
                 shutil.rmtree(data_dir)
-            print(f"\n### {name}: exact-law --resolution {a.resolution} in {t_law:.1f} s; Monte Carlo {a.realizations} realizations x {a.horizon:g} s "
+            print(f"\n### {name}: exact-law --resolution {a.resolution} in {t_law:.1f} s; Monte Carlo {a.realizations} realizations x {a.horizon:g} s, seed {a.seed} "
                   f"(after {a.burn:g} s: {sticks} sticks) simulated in {t_mc:.1f} s, read in {t_read:.1f} s\n")
             print("| quantity | exact | error | Monte Carlo | 95 % interval | inside |\n|---|---:|---:|---:|---|:---:|")
             for q in QUANTITIES:

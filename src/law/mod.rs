@@ -67,7 +67,7 @@ pub mod density;
 pub(crate) mod flow;
 mod output;
 
-pub use output::{estimates, markdown, resolutions, run, LawError};
+pub use output::{estimates, markdown, run, LawError, LEVELS};
 
 use crate::physics::Law;
 use crate::simulation::belt::Process;
@@ -133,7 +133,7 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
 pub struct Level {
     /// nodes per c_s + w0 (the grid spacing is about (c_s + w0)/n)
     pub n: u32,
-    /// the grid spacing [m, in the plane (X, V/ω)]: w0 / ⌈n w0/(c_s + w0)⌉
+    /// the grid spacing [m, in the plane (X, V/ω)] ([`ladder`])
     pub h: f64,
     /// the values, in the order of [`QUANTITIES`]
     pub values: [f64; 8],
@@ -155,14 +155,21 @@ const TOLERANCE: f64 = 1e-12;
 /// The iteration limit (the chain mixes in a few flips: ~40 iterations reach the tolerance).
 const MAX_ITERATIONS: u32 = 1000;
 
-/// Solve for the stationary law at resolution `n` (grid spacing (c_s + w0)/n).
-pub(crate) fn solve(frame: Frame, n: u32, with_density: bool) -> (Level, Option<density::Density>) {
-    // w0 a whole number of rows: the rows of nodes are then at whole multiples of h, and the
-    // density's cells hold whole rows (`density`)
-    let h = frame.w0 / (f64::from(n) * frame.w0 / (frame.cs + frame.w0)).ceil().max(1.0);
+/// The resolutions of a solve whose finest is `finest`, coarsest first, `count` of them, each
+/// half as fine as the next: (n, h) with h = w0 / rows, rows a whole number (the rows of nodes
+/// are then at whole multiples of h, and the density's cells hold whole rows) and the grids
+/// nested (h doubles exactly: Richardson's extrapolation needs the ratio), about (c_s + w0)/n.
+pub(crate) fn ladder(frame: Frame, finest: u32, count: u32) -> Vec<(u32, f64)> {
+    let step = 1u32 << (count - 1);
+    let rows = (f64::from(finest) * frame.w0 / (frame.cs + frame.w0) / f64::from(step)).ceil().max(1.0) * f64::from(step);
+    (0..count).rev().map(|k| (finest >> k, frame.w0 / rows * f64::from(1u32 << k))).collect()
+}
+
+/// Solve for the stationary law at resolution n, grid spacing h ([`ladder`]).
+pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool) -> (Level, Option<density::Density>) {
     // the box: the post-flip states of the paper scene stay within |X| < 2(c_s + c_k) + w0 but
     // for a mass ~1e-12 pumped further by flips at the turning points
-    let half = 3.0 * (frame.cs + frame.ck + frame.w0);
+    let half = 2.0 * (frame.cs + frame.ck + frame.w0);
     let mesh = Mesh::new(frame, h, half);
     let cont = chain::continuation(&mesh);
     let mut nu = chain::Measure::zero(&mesh, cont.samples.len());
@@ -197,9 +204,9 @@ fn quantities(t: &Tally, lambda: f64) -> [f64; 8] {
     [lambda * t.stick_time, d, h, t.d2 / n - d * d, 2.0 * t.slip_age_time / n - h * h, lambda * n, t.breakaways / n, d + h]
 }
 
-/// The long-run law of a scene at the resolutions `levels` (increasing), or why it cannot be
-/// computed (module docs).
-pub fn stationary(scene: &Scene, levels: &[u32]) -> Result<Vec<Level>, String> {
+/// The long-run law of a scene at `count` resolutions up to `finest` ([`ladder`]), or why it
+/// cannot be computed (module docs).
+pub fn stationary(scene: &Scene, finest: u32, count: u32) -> Result<Vec<Level>, String> {
     let frame = frame(scene)?;
-    Ok(levels.iter().map(|&n| solve(frame, n, false).0).collect())
+    Ok(ladder(frame, finest, count).into_iter().map(|r| solve(frame, r, false).0).collect())
 }

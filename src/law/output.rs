@@ -44,21 +44,19 @@ impl crate::blame::Blame for LawError {
     }
 }
 
-/// The resolutions of a run whose finest is `finest`: a quarter, a half and itself.
-pub fn resolutions(finest: u32) -> [u32; 3] {
-    [finest / 4, finest / 2, finest]
-}
+/// The resolutions `exact-law` solves at: a quarter of the finest, a half, itself.
+pub const LEVELS: u32 = 3;
 
-/// Solve the scenario's stationary law at [`resolutions`]`(finest)` and write `out` (replaced
+/// Solve the scenario's stationary law at [`LEVELS`] resolutions up to `finest` and write `out` (replaced
 /// when complete); `progress` hears each resolution's result as it is done.
 pub fn run(scenario: &Scenario, finest: u32, out: &Path, progress: &mut dyn FnMut(&Level, f64)) -> Result<Vec<Level>, LawError> {
     let scene = scenario.scene()?;
     let frame = super::frame(&scene).map_err(LawError::Refused)?;
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
     let (mut levels, mut density) = (Vec::new(), None);
-    for n in resolutions(finest) {
+    for (n, h) in super::ladder(frame, finest, LEVELS) {
         let start = std::time::Instant::now();
-        let (level, d) = super::solve(frame, n, n == finest);
+        let (level, d) = super::solve(frame, (n, h), n == finest);
         progress(&level, start.elapsed().as_secs_f64());
         levels.push(level);
         density = d.or(density);

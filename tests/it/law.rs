@@ -23,7 +23,7 @@ fn value(level: &Level, name: &str) -> f64 {
 #[test]
 fn rare_flips_leave_the_deterministic_cycle() {
     let sc = scenario(&["model.static_friction_coefficient=0.6", "belt.switch_rate=1e-4"]);
-    let levels = stationary(&sc.scene().unwrap(), &[16]).unwrap();
+    let levels = stationary(&sc.scene().unwrap(), 16, 1).unwrap();
     let l = &levels[0];
     let (omega, v0): (f64, f64) = (2.0, 1.0);
     let (ck, cs) = (0.51 * 9.8 / 4.0, 0.6 * 9.8 / 4.0);
@@ -112,7 +112,7 @@ fn long_run(sets: &[&str], realizations: u64, horizon: f64, burn: f64) -> LongRu
 /// errors widened by the law's own error estimate.
 fn agrees(sets: &[&str], realizations: u64, horizon: f64, finest: u32) -> Vec<Level> {
     let sc = scenario(sets);
-    let levels = stationary(&sc.scene().unwrap(), &stickslip::law::resolutions(finest)).unwrap();
+    let levels = stationary(&sc.scene().unwrap(), finest, stickslip::law::LEVELS).unwrap();
     let mc = long_run(sets, realizations, horizon, 20.0);
     for (q, (name, (exact, error))) in QUANTITIES.iter().zip(stickslip::law::estimates(&levels)).enumerate() {
         let (m, se) = mc.values[q];
@@ -147,7 +147,7 @@ fn scenes_outside_the_method_are_refused_with_the_reason() {
         (&["belt.switch_rate=0"][..], "no stationary law"),
         (&["model.stiffness=0"][..], "without a spring"),
     ] {
-        let e = stationary(&scenario(sets).scene().unwrap(), &[8]).expect_err("refused");
+        let e = stationary(&scenario(sets).scene().unwrap(), 8, 1).expect_err("refused");
         assert!(e.contains(reason), "{sets:?}: {e}");
     }
 }
