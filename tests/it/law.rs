@@ -173,3 +173,22 @@ fn the_command_writes_its_tables_and_refuses_a_damped_scene() {
     assert!(err.contains("damped") && err.lines().count() == 1, "{err}");
     assert!(!tmp.path().join("d").exists());
 }
+
+/// The chain's steps sum their atoms in fixed chunks, in order: the values do not depend on
+/// the number of threads, to the bit.
+#[test]
+fn the_values_do_not_depend_on_the_threads() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |threads: &str, out: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+            .args(["exact-law", "--out", out, "--resolution", "16", "-q"])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let t = stickslip::table::Table::read_parquet(&tmp.path().join(out).join("convergence.parquet")).unwrap();
+        t.floats("value").unwrap().iter().map(|v| v.unwrap().to_bits()).collect::<Vec<u64>>()
+    };
+    assert_eq!(run("1", "one"), run("3", "three"));
+}
