@@ -1,6 +1,6 @@
 # Top-level entry points; the pipelines live in pipelines/Makefile.
-.PHONY: paper test clean-paper
-paper clean-paper:
+.PHONY: paper law test clean-paper
+paper law clean-paper:
 	$(MAKE) -f pipelines/Makefile $@
 test:
 	cargo test --release

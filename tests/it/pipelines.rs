@@ -142,6 +142,31 @@ fn make_paper_is_incremental() {
 }
 
 #[test]
+fn make_law_is_incremental() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenario = tmp.path().join("law.toml");
+    std::fs::write(&scenario, "[belt]\nswitch_rate = 2.0\n").unwrap();
+    let out = tmp.path().join("law");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let target = Path::new(env!("CARGO_BIN_EXE_stickslip")).parent().and_then(Path::parent).expect("<target>/release/stickslip");
+    let make = || {
+        let o = Command::new("make")
+            .current_dir(root)
+            .env("CARGO_TARGET_DIR", target)
+            .args(["-f", "pipelines/Makefile", "law", "LAW_RESOLUTION=16"])
+            .arg(format!("SCENARIO={}", scenario.display()))
+            .arg(format!("LAW_OUT={}", out.display()))
+            .output()
+            .expect("make runs");
+        ok(&o);
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    assert!(make().contains(" exact-law "));
+    assert!(out.join("stationary.parquet").is_file() && out.join("density.parquet").is_file());
+    assert!(make().contains("Nothing to be done"));
+}
+
+#[test]
 fn a_reproduce_dataset_directory_reads_as_one_table_in_every_client() {
     // issue 20, item 13: the dataset directory of `reproduce` (trajectories sampled) holds part
     // files only, so directory readers take it whole; the trajectories sit beside it
