@@ -25,7 +25,13 @@ pub struct Density {
     pub v0: f64,
     /// the share of the time outside the grid
     pub outside: f64,
+    /// the stationary survival of the stick duration, (t, P(D > t)) for t from 0 to the longest
+    /// holding time 2 c_s/v0 in [`SURVIVAL_POINTS`] − 1 steps
+    pub stick_survival: Vec<(f64, f64)>,
 }
+
+/// Points of the stick duration's survival curve.
+pub const SURVIVAL_POINTS: usize = 1001;
 
 /// About this many cells per axis of the plane (and exactly this many on the stick lines).
 pub const CELLS: usize = 160;
@@ -56,6 +62,8 @@ struct Occupy<'a> {
     m: f64,
     /// Σ mass × e^{−λt} of the breakaways and touches (their continuation is added once)
     follow: f64,
+    /// the stick entries (x_e, mass × e^{−λ t_e})
+    entries: &'a mut Vec<(f64, f64)>,
 }
 
 impl Occupy<'_> {
@@ -104,6 +112,7 @@ impl Visitor for Occupy<'_> {
             }
         }
         self.follow += self.m * (-f.lambda * (t + (f.cs - x_e) / f.v0)).exp();
+        self.entries.push((x_e, self.m * (-f.lambda * t).exp()));
     }
 
     fn breakaway_slip(&mut self, t: f64, _age: f64) {
@@ -124,11 +133,16 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
     // line (μ_s = μ_k) or its stick breaks away again (μ_s > μ_k), after the period P; the
     // passes repeat, each e^{−λP} later
     let (mut b_slip, mut b_stick, mut b_out) = (vec![0.0; nx * nv], vec![0.0; CELLS], 0.0);
-    let mut pass = Occupy { f, spacing: mesh.h, size, half, slip: &mut b_slip, stick: &mut b_stick, outside: &mut b_out, m: 1.0, follow: 0.0 };
+    let (mut b_entries, mut entries) = (Vec::new(), Vec::new());
+    let mut pass =
+        Occupy { f, spacing: mesh.h, size, half, slip: &mut b_slip, stick: &mut b_stick, outside: &mut b_out, m: 1.0, follow: 0.0, entries: &mut b_entries };
     f.walk(f.breakaway(), 0.0, mesh.h, f64::INFINITY, &mut pass);
     let repeat = 1.0 / (1.0 - pass.follow);
-    let mut occ = Occupy { f, spacing: mesh.h, size, half, slip: &mut slip, stick: &mut stick, outside: &mut outside, m: 0.0, follow: 0.0 };
-    for (z, age, m) in chain::atoms(mesh, cont, nu) {
+    let mut occ =
+        Occupy { f, spacing: mesh.h, size, half, slip: &mut slip, stick: &mut stick, outside: &mut outside, m: 0.0, follow: 0.0, entries: &mut entries };
+    // (the Anderson mixing leaves masses of ~1e-60 below zero where the measure vanishes: a
+    // density is not negative, so those atoms are left out)
+    for (z, age, m) in chain::atoms(mesh, cont, nu).into_iter().filter(|a| a.2 > 0.0) {
         occ.m = m;
         f.walk(z, age, mesh.h, mesh.horizon, &mut occ);
     }
@@ -136,6 +150,8 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
     slip.iter_mut().zip(&b_slip).for_each(|(a, b)| *a += w * b);
     stick.iter_mut().zip(&b_stick).for_each(|(a, b)| *a += w * b);
     outside += w * b_out;
+    entries.extend(b_entries.iter().map(|&(x, e)| (x, w * e)));
+    let stick_survival = survival(&f, &entries);
     // densities, and the lab frame: (x, ẋ) and (−x, −ẋ) each half the time
     let (dx, dv, ds) = (size, size * f.omega, 2.0 * f.cs / CELLS as f64);
     let lab: Vec<f64> = (0..nx * nv)
@@ -155,5 +171,30 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
         stick: [plus, minus],
         v0: f.v0,
         outside,
+        stick_survival,
     }
+}
+
+/// P(D > t) = Σ w e^{−λt} 1{t < d(x_e)} / Σ w over the stick entries (x_e, w): a stick entered
+/// at x_e ends at the earlier of the next flip (memoryless: Exp(λ) from the entry) and the
+/// breakaway after d(x_e) = (c_s − x_e)/v0 — the conditional estimator of the tails analysis,
+/// here on the stationary entry law.
+fn survival(f: &Frame, entries: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let total: f64 = entries.iter().map(|e| e.1).sum();
+    let mut held: Vec<(f64, f64)> = entries.iter().map(|&(x, w)| ((f.cs - x) / f.v0, w)).collect();
+    held.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // the weight of the entries held past t, from the longest down
+    let top = 2.0 * f.cs / f.v0;
+    let mut out = Vec::with_capacity(SURVIVAL_POINTS);
+    let (mut k, mut beyond) = (held.len(), 0.0);
+    for j in (0..SURVIVAL_POINTS).rev() {
+        let t = top * j as f64 / (SURVIVAL_POINTS - 1) as f64;
+        while k > 0 && held[k - 1].0 > t {
+            k -= 1;
+            beyond += held[k].1;
+        }
+        out.push((t, (-f.lambda * t).exp() * beyond / total));
+    }
+    out.reverse();
+    out
 }

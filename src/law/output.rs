@@ -66,6 +66,11 @@ pub fn run(scenario: &Scenario, finest: u32, out: &Path, progress: &mut dyn FnMu
     stationary_table(&levels).write_parquet(&staged.path().join("stationary.parquet")).map_err(|e| werr("stationary.parquet", &e))?;
     convergence_table(&levels).write_parquet(&staged.path().join("convergence.parquet")).map_err(|e| werr("convergence.parquet", &e))?;
     density_table(&density).write_parquet(&staged.path().join("density.parquet")).map_err(|e| werr("density.parquet", &e))?;
+    let mut survival = Table::default();
+    survival
+        .push("t", Col::Float(density.stick_survival.iter().map(|p| Some(p.0)).collect()))
+        .push("survival", Col::Float(density.stick_survival.iter().map(|p| Some(p.1)).collect()));
+    survival.write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
     crate::figures::render::save(&density_figure(&density), staged.path()).map_err(|e| werr("stationary_density.png", &e))?;
     staged.commit()?;
     Ok(levels)

@@ -163,6 +163,32 @@ fn the_command_writes_its_tables_and_refuses_a_damped_scene() {
     let c =
         stickslip::table::Table::read_checked(&tmp.path().join("e/convergence.parquet"), &[("resolution", 'i'), ("quantity", 's'), ("value", 'f')]).unwrap();
     assert_eq!(c.height(), 3 * QUANTITIES.len());
+    let finest = |q: usize| c.floats("value").unwrap()[2 * QUANTITIES.len() + q].unwrap();
+    // the density: the time while slipping and while stuck adds up to 1, the stuck part to the
+    // finest level's stick fraction (cells of equal size: their widths from the centres)
+    let d = stickslip::table::Table::read_checked(&tmp.path().join("e/density.parquet"), &[("kind", 's'), ("x", 'f'), ("velocity", 'f'), ("density", 'f')])
+        .unwrap();
+    let (kind, x, v, p) = (d.strings("kind").unwrap(), d.floats("x").unwrap(), d.floats("velocity").unwrap(), d.floats("density").unwrap());
+    let step = |k: &str, col: &[Option<f64>]| {
+        let mut u: Vec<f64> = col.iter().zip(kind).filter(|(_, kk)| *kk == k).map(|(c, _)| c.unwrap()).collect();
+        u.sort_by(f64::total_cmp);
+        u.dedup();
+        u[1] - u[0]
+    };
+    let total = |k: &str, area: f64| p.iter().zip(kind).filter(|(_, kk)| *kk == k).map(|(d, _)| d.unwrap()).sum::<f64>() * area;
+    let (slip, stuck) = (total("slip", step("slip", x) * step("slip", v)), total("stick", step("stick", x)));
+    assert!((slip + stuck - 1.0).abs() < 1e-6 && (stuck - finest(0)).abs() < 1e-9, "slip {slip}, stuck {stuck}, stick fraction {}", finest(0));
+    assert!(p.iter().all(|d| d.is_some_and(|d| d >= 0.0 && d.is_finite())));
+    assert!(tmp.path().join("e/stationary_density.png").is_file());
+    // the stick duration's survival: 1 at 0, non-increasing, 0 past the longest holding time,
+    // and its integral — between the right and the left Riemann sums of a non-increasing
+    // curve — is the finest level's mean stick duration
+    let sv = stickslip::table::Table::read_checked(&tmp.path().join("e/stick_survival.parquet"), &[("t", 'f'), ("survival", 'f')]).unwrap();
+    let (times, s): (Vec<f64>, Vec<f64>) = sv.floats("t").unwrap().iter().zip(sv.floats("survival").unwrap()).map(|(t, p)| (t.unwrap(), p.unwrap())).unzip();
+    assert!((s[0] - 1.0).abs() < 1e-12 && s.windows(2).all(|w| w[1] <= w[0]) && *s.last().unwrap() == 0.0, "{s:?}");
+    let dt = times[1] - times[0];
+    let (right, left) = (s[1..].iter().sum::<f64>() * dt, s[..s.len() - 1].iter().sum::<f64>() * dt);
+    assert!(right <= finest(1) && finest(1) <= left, "E[D] = {} outside [{right}, {left}]", finest(1));
     // the table it prints carries the same values
     let printed = String::from_utf8_lossy(&o.stdout);
     let sticks = t.floats("value").unwrap()[5].unwrap();
