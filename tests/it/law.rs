@@ -124,8 +124,8 @@ fn agrees(sets: &[&str], realizations: u64, horizon: f64, finest: u32) -> Vec<Le
 #[test]
 fn the_paper_scene_agrees_with_a_long_monte_carlo_run() {
     let levels = agrees(&[], 4000, 400.0, 40);
-    // second order: each halving of h shrinks the change by about 4 (3.4 and 3.2 from n = 10 to
-    // 20 to 40; an interpolation across the belt line, where the flow jumps, made it first order)
+    // second order: each halving of h shrinks the change by about 4 (an interpolation across the
+    // belt line, where the flow jumps, made it first order: about 2)
     for name in ["stick_fraction", "sticks_per_second", "mean_slip_duration"] {
         let v: Vec<f64> = levels.iter().map(|l| value(l, name)).collect();
         let ratio = (v[1] - v[0]).abs() / (v[2] - v[1]).abs();
