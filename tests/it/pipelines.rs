@@ -98,21 +98,19 @@ fn sweep_maps_show_the_expected_trends() {
     assert_ne!(x0("switch_rate=2.5/friction_coefficient=0.3"), x0("switch_rate=10/friction_coefficient=0.3"));
 }
 
-/// `make paper` as a user runs it: the binary found through CARGO_TARGET_DIR (as `.ci/run` sets
-/// it), `scenario` in a fresh OUT; returns make's stdout.
-fn make_paper(jobs: &str, scenario: &Path, out: &Path) -> String {
+/// `make -f pipelines/Makefile ARGS` as a user runs it: the binary found through
+/// CARGO_TARGET_DIR (as `.ci/run` sets it); returns make's stdout.
+fn make(args: &[String]) -> String {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let target = Path::new(env!("CARGO_BIN_EXE_stickslip")).parent().and_then(Path::parent).expect("<target>/release/stickslip");
-    let o = Command::new("make")
-        .current_dir(root)
-        .env("CARGO_TARGET_DIR", target)
-        .args([jobs, "-f", "pipelines/Makefile", "paper"])
-        .arg(format!("SCENARIO={}", scenario.display()))
-        .arg(format!("OUT={}", out.display()))
-        .output()
-        .expect("make runs");
+    let o = Command::new("make").current_dir(root).env("CARGO_TARGET_DIR", target).args(["-f", "pipelines/Makefile"]).args(args).output().expect("make runs");
     ok(&o);
     String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// `make paper` on `scenario` in a fresh OUT.
+fn make_paper(jobs: &str, scenario: &Path, out: &Path) -> String {
+    make(&[jobs.into(), "paper".into(), format!("SCENARIO={}", scenario.display()), format!("OUT={}", out.display())])
 }
 
 #[test]
@@ -147,20 +145,7 @@ fn make_law_is_incremental() {
     let scenario = tmp.path().join("law.toml");
     std::fs::write(&scenario, "[belt]\nswitch_rate = 2.0\n").unwrap();
     let out = tmp.path().join("law");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let target = Path::new(env!("CARGO_BIN_EXE_stickslip")).parent().and_then(Path::parent).expect("<target>/release/stickslip");
-    let make = || {
-        let o = Command::new("make")
-            .current_dir(root)
-            .env("CARGO_TARGET_DIR", target)
-            .args(["-f", "pipelines/Makefile", "law", "LAW_RESOLUTION=16"])
-            .arg(format!("SCENARIO={}", scenario.display()))
-            .arg(format!("LAW_OUT={}", out.display()))
-            .output()
-            .expect("make runs");
-        ok(&o);
-        String::from_utf8_lossy(&o.stdout).into_owned()
-    };
+    let make = || make(&["law".into(), "LAW_RESOLUTION=16".into(), format!("SCENARIO={}", scenario.display()), format!("LAW_OUT={}", out.display())]);
     assert!(make().contains(" exact-law "));
     assert!(out.join("stationary.parquet").is_file() && out.join("density.parquet").is_file());
     assert!(make().contains("Nothing to be done"));
