@@ -126,6 +126,11 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
     if u.breakaway <= 0.0 {
         return Err("the static friction is 0: the mass never sticks".into());
     }
+    if u.kinetic < 1e-6 * u.breakaway {
+        // (a slip then hardly loses energy between belt speed crossings, and after a breakaway
+        // it returns to belt speed at the very edge of the stick region: −c_s + 2 c_k)
+        return Err("the kinetic friction is below 1e-6 of the static friction (mu_k / mu_s): not supported".into());
+    }
     Ok(Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate })
 }
 
@@ -160,14 +165,26 @@ const MAX_ITERATIONS: u32 = 1000;
 /// half as fine as the next: (n, h) with h = w0 / rows, rows a whole number (the rows of nodes
 /// are then at whole multiples of h, and the density's cells hold whole rows) and the grids
 /// nested (h doubles exactly: Richardson's extrapolation needs the ratio), about (c_s + w0)/n.
-pub(crate) fn ladder(frame: Frame, finest: u32, count: u32) -> Vec<(u32, f64)> {
+pub(crate) fn ladder(frame: Frame, finest: u32, count: u32) -> Result<Vec<(u32, f64)>, String> {
     let step = 1u32 << (count - 1);
     let rows = (f64::from(finest) * frame.w0 / (frame.cs + frame.w0) / f64::from(step)).ceil().max(1.0) * f64::from(step);
-    (0..count).rev().map(|k| (finest >> k, frame.w0 / rows * f64::from(1u32 << k))).collect()
+    let out: Vec<(u32, f64)> = (0..count).rev().map(|k| (finest >> k, frame.w0 / rows * f64::from(1u32 << k))).collect();
+    // the measure is held on nodes h apart: the flow between two flips must carry a state
+    // across a good part of that (a stick moves v0/λ on average), or the walks end about where
+    // they began and the measure stays on its nodes (λ = 10^6 on the paper scene did not
+    // converge in 1000 iterations)
+    let travel = frame.v0 / frame.lambda;
+    if out[0].1 > 4.0 * travel {
+        return Err(format!(
+            "the mass moves about v0/lambda = {travel:.2e} m between belt flips, less than a quarter of the coarsest grid spacing {:.2e} m: raise --resolution (up to 320) or simulate instead",
+            out[0].1
+        ));
+    }
+    Ok(out)
 }
 
 /// Solve for the stationary law at resolution n, grid spacing h ([`ladder`]).
-pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool) -> (Level, Option<density::Density>) {
+pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool) -> Result<(Level, Option<density::Density>), String> {
     // the box: the post-flip states of the paper scene stay within |X| < 2(c_s + c_k) + w0 but
     // for a mass ~1e-12 pumped further by flips at the turning points
     let half = 2.0 * (frame.cs + frame.ck + frame.w0);
@@ -193,9 +210,12 @@ pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool) -> (Le
         nu.set_flat(&mixed);
         nu.scale(1.0 / nu.total());
     }
+    if change > TOLERANCE {
+        return Err(format!("the stationary measure did not converge at resolution {n} ({iterations} iterations, last change {change:.1e})"));
+    }
     let level =
         Level { n, h, values: quantities(&tally, frame.lambda), iterations, lost, change, covered: frame.lambda * (tally.stick_time + tally.slip_time) };
-    (level, with_density.then(|| density::occupation(&mesh, &cont, &nu)))
+    Ok((level, with_density.then(|| density::occupation(&mesh, &cont, &nu))))
 }
 
 /// The quantities from the tallies (module docs).
@@ -209,5 +229,5 @@ fn quantities(t: &Tally, lambda: f64) -> [f64; 8] {
 /// cannot be computed (module docs).
 pub fn stationary(scene: &Scene, finest: u32, count: u32) -> Result<Vec<Level>, String> {
     let frame = frame(scene)?;
-    Ok(ladder(frame, finest, count).into_iter().map(|r| solve(frame, r, false).0).collect())
+    ladder(frame, finest, count)?.into_iter().map(|r| Ok(solve(frame, r, false)?.0)).collect()
 }

@@ -20,6 +20,9 @@ pub enum LawError {
     /// The method does not hold for the scene.
     #[error("{0}")]
     Refused(String),
+    /// The solve failed (it did not converge).
+    #[error("{0}")]
+    Failed(String),
     /// Writing an output file failed.
     #[error("writing {}: {message}", path.display())]
     Write {
@@ -38,6 +41,7 @@ impl crate::blame::Blame for LawError {
         match self {
             LawError::Scenario(e) => e.blames_input(),
             LawError::Refused(_) => true,
+            LawError::Failed(_) => false,
             LawError::Write { .. } => false,
             LawError::Out(e) => e.blames_input(),
         }
@@ -52,11 +56,12 @@ pub const LEVELS: u32 = 3;
 pub fn run(scenario: &Scenario, finest: u32, out: &Path, progress: &mut dyn FnMut(&Level, f64)) -> Result<Vec<Level>, LawError> {
     let scene = scenario.scene()?;
     let frame = super::frame(&scene).map_err(LawError::Refused)?;
+    let ladder = super::ladder(frame, finest, LEVELS).map_err(LawError::Refused)?;
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
     let (mut levels, mut density) = (Vec::new(), None);
-    for (n, h) in super::ladder(frame, finest, LEVELS) {
+    for (n, h) in ladder {
         let start = std::time::Instant::now();
-        let (level, d) = super::solve(frame, (n, h), n == finest);
+        let (level, d) = super::solve(frame, (n, h), n == finest).map_err(LawError::Failed)?;
         progress(&level, start.elapsed().as_secs_f64());
         levels.push(level);
         density = d.or(density);

@@ -146,6 +146,9 @@ fn scenes_outside_the_method_are_refused_with_the_reason() {
         (&["model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}"][..], "drawn per realization"),
         (&["belt.switch_rate=0"][..], "no stationary law"),
         (&["model.stiffness=0"][..], "without a spring"),
+        (&["model.friction_coefficient=0", "model.static_friction_coefficient=0.6"][..], "kinetic friction is below"),
+        // a flip every microsecond: the mass moves 1e-6 m between flips, far below the grid
+        (&["belt.switch_rate=1e6"][..], "between belt flips"),
     ] {
         let e = stationary(&scenario(sets).scene().unwrap(), 8, 1).expect_err("refused");
         assert!(e.contains(reason), "{sets:?}: {e}");
