@@ -131,7 +131,20 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
         // it returns to belt speed at the very edge of the stick region: −c_s + 2 c_k)
         return Err("the kinetic friction is below 1e-6 of the static friction (mu_k / mu_s): not supported".into());
     }
-    Ok(Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate })
+    let f = Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate };
+    // The grid must resolve both lengths of the plane, the belt's velocity scale w0 = v0/ω and
+    // the stick region's half-width c_s, and a walk crosses belt speed about w0/c_k times before
+    // it sticks (each crossing loses 2 c_k of amplitude): outside this range the grid or the
+    // walks grow past minutes (the paper scene: w0/c_s = w0/c_k = 0.40; w0/c_s = 0.02 ran past
+    // 2 minutes at resolution 16, w0/c_k = 4.1 took 50 s)
+    let (wide, crossings) = (f.w0 / f.cs, f.w0 / f.ck);
+    if !(wide >= 0.1 && crossings <= 5.0) {
+        return Err(format!(
+            "the belt's velocity scale v0/omega = {:.3e} m against mu_s n/k = {:.3e} m and mu_k n/k = {:.3e} m: the method is implemented for (v0/omega)/(mu_s n/k) >= 0.1 and (v0/omega)/(mu_k n/k) <= 5 (here {wide:.2e} and {crossings:.2e})",
+            f.w0, f.cs, f.ck
+        ));
+    }
+    Ok(f)
 }
 
 /// One solve at one resolution.

@@ -149,6 +149,8 @@ fn scenes_outside_the_method_are_refused_with_the_reason() {
         (&["model.friction_coefficient=0", "model.static_friction_coefficient=0.6"][..], "kinetic friction is below"),
         // a flip every microsecond: the mass moves 1e-6 m between flips, far below the grid
         (&["belt.switch_rate=1e6"][..], "between belt flips"),
+        (&["belt.speed=1e-9"][..], "velocity scale"),
+        (&["model.stiffness=1e9"][..], "velocity scale"),
     ] {
         let e = stationary(&scenario(sets).scene().unwrap(), 8, 1).expect_err("refused");
         assert!(e.contains(reason), "{sets:?}: {e}");
