@@ -165,12 +165,19 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     scenario.check()?;
     scenario.refuse_sweep("exact-law")?;
+    // on a terminal, each iteration overwrites one line; the finished resolution replaces it
+    let live = !quiet && std::io::stderr().is_terminal();
     let mut progress = |l: &crate::law::Level, seconds: f64| {
         if !quiet {
-            eprintln!("resolution {:>3}: {} iterations, {seconds:.1} s", l.n, l.iterations);
+            eprintln!("{}resolution {:>3}: {} iterations, {seconds:.1} s", if live { "\r\x1b[K" } else { "" }, l.n, l.iterations);
         }
     };
-    let levels = crate::law::run(&scenario, args.resolution, &args.out, &mut progress).context("exact-law")?;
+    let mut step = |n: u32, i: u32, change: f64| {
+        if live {
+            eprint!("\r\x1b[Kresolution {n:>3}: iteration {i}, change {change:.1e}");
+        }
+    };
+    let levels = crate::law::run(&scenario, args.resolution, &args.out, &mut progress, &mut step).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
     }

@@ -196,8 +196,9 @@ pub(crate) fn ladder(frame: Frame, finest: u32, count: u32) -> Result<Vec<(u32, 
     Ok(out)
 }
 
-/// Solve for the stationary law at resolution n, grid spacing h ([`ladder`]).
-pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool) -> Result<(Level, Option<density::Density>), String> {
+/// Solve for the stationary law at resolution n, grid spacing h ([`ladder`]); `step` hears
+/// each iteration's number and change.
+pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool, step: &mut dyn FnMut(u32, f64)) -> Result<(Level, Option<density::Density>), String> {
     // the box: the post-flip states of the paper scene stay within |X| < 2(c_s + c_k) + w0 but
     // for a mass ~1e-12 pumped further by flips at the turning points
     let half = 2.0 * (frame.cs + frame.ck + frame.w0);
@@ -219,6 +220,7 @@ pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool) -> Res
         next.scale(1.0 / next.total());
         change = next.distance(&nu);
         iterations += 1;
+        step(iterations, change);
         let mixed = anderson.mix(nu.flat(), next.flat());
         nu.set_flat(&mixed);
         nu.scale(1.0 / nu.total());
@@ -242,5 +244,5 @@ fn quantities(t: &Tally, lambda: f64) -> [f64; 8] {
 /// cannot be computed (module docs).
 pub fn stationary(scene: &Scene, finest: u32, count: u32) -> Result<Vec<Level>, String> {
     let frame = frame(scene)?;
-    ladder(frame, finest, count)?.into_iter().map(|r| Ok(solve(frame, r, false)?.0)).collect()
+    ladder(frame, finest, count)?.into_iter().map(|r| Ok(solve(frame, r, false, &mut |_, _| {})?.0)).collect()
 }

@@ -52,8 +52,15 @@ impl crate::blame::Blame for LawError {
 pub const LEVELS: u32 = 3;
 
 /// Solve the scenario's stationary law at [`LEVELS`] resolutions up to `finest` and write `out` (replaced
-/// when complete); `progress` hears each resolution's result as it is done.
-pub fn run(scenario: &Scenario, finest: u32, out: &Path, progress: &mut dyn FnMut(&Level, f64)) -> Result<Vec<Level>, LawError> {
+/// when complete); `progress` hears each resolution's result as it is done, `step` each
+/// iteration (resolution, iteration, change of the measure).
+pub fn run(
+    scenario: &Scenario,
+    finest: u32,
+    out: &Path,
+    progress: &mut dyn FnMut(&Level, f64),
+    step: &mut dyn FnMut(u32, u32, f64),
+) -> Result<Vec<Level>, LawError> {
     let scene = scenario.scene()?;
     let frame = super::frame(&scene).map_err(LawError::Refused)?;
     let ladder = super::ladder(frame, finest, LEVELS).map_err(LawError::Refused)?;
@@ -61,7 +68,7 @@ pub fn run(scenario: &Scenario, finest: u32, out: &Path, progress: &mut dyn FnMu
     let (mut levels, mut density) = (Vec::new(), None);
     for (n, h) in ladder {
         let start = std::time::Instant::now();
-        let (level, d) = super::solve(frame, (n, h), n == finest).map_err(LawError::Failed)?;
+        let (level, d) = super::solve(frame, (n, h), n == finest, &mut |i, change| step(n, i, change)).map_err(LawError::Failed)?;
         progress(&level, start.elapsed().as_secs_f64());
         levels.push(level);
         density = d.or(density);
