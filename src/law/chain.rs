@@ -223,15 +223,10 @@ impl Visitor for Deposit<'_> {
         let lambda = f.lambda;
         let q = (-lambda * period).exp();
         let (one, extra) = (1.0 / -(-lambda * period).exp_m1(), period * q / (1.0 - q).powi(2));
-        let c = if start.below { f.ck } else { -f.ck };
-        let (r, phi0) = f.polar(c, start.x, start.v);
-        let n = ((f.omega * r * period / self.mesh.h).ceil() as usize).max(8);
-        let dt = period / n as f64;
-        for i in 0..n {
-            let s = t + i as f64 * dt;
-            let (x, v) = f.on_circle(c, r, phi0, i as f64 * dt + centroid(lambda, dt));
+        for (offset, dt, (x, v)) in f.period_samples(start, period, self.mesh.h) {
+            let s = t + offset;
             let w = self.m * lambda * decay(lambda, s, s + dt);
-            let a = age + i as f64 * dt + centroid(lambda, dt);
+            let a = age + offset + centroid(lambda, dt);
             self.slip_at(x, v, w * one, w * (a * one + extra));
         }
         let e = (-lambda * t).exp();

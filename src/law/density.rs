@@ -89,13 +89,8 @@ impl Visitor for Occupy<'_> {
         let f = self.f;
         let lambda = f.lambda;
         let one = 1.0 / -(-lambda * period).exp_m1();
-        let c = if start.below { f.ck } else { -f.ck };
-        let (r, phi0) = f.polar(c, start.x, start.v);
-        let n = ((f.omega * r * period / self.spacing).ceil() as usize).max(8);
-        let dt = period / n as f64;
-        for i in 0..n {
-            let s = t + i as f64 * dt;
-            let (x, v) = f.on_circle(c, r, phi0, (i as f64 + 0.5) * dt);
+        for (offset, dt, (x, v)) in f.period_samples(start, period, self.spacing) {
+            let s = t + offset;
             self.add(x, v, self.m * lambda * decay(lambda, s, s + dt) * one);
         }
     }

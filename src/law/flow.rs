@@ -159,6 +159,19 @@ impl Frame {
         }
     }
 
+    /// One period of the periodic slip from `start` (a circle under the belt line), cut into
+    /// intervals at most `spacing` long in the plane: (the interval's start from `start`, its
+    /// length, the state at its e^{−λτ}-weighted centre) — the samples a visitor's
+    /// [`Visitor::periodic`] repeats.
+    pub fn period_samples(&self, start: Slip, period: f64, spacing: f64) -> impl Iterator<Item = (f64, f64, (f64, f64))> + '_ {
+        let c = self.centre(start.below);
+        let (r, phi0) = self.polar(c, start.x, start.v);
+        let n = ((self.omega * r * period / spacing).ceil() as usize).max(8);
+        let dt = period / n as f64;
+        let mid = centroid(self.lambda, dt);
+        (0..n).map(move |i| (i as f64 * dt, dt, self.on_circle(c, r, phi0, i as f64 * dt + mid)))
+    }
+
     /// The slip right after a breakaway at (c_s, v0), below belt speed.
     pub fn breakaway(&self) -> Slip {
         Slip { x: self.cs, v: self.v0, below: true }
