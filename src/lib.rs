@@ -21,6 +21,7 @@ pub(crate) mod metadata;
 pub mod observables;
 pub(crate) mod outdir;
 pub mod physics;
+pub mod predict;
 pub mod report;
 pub mod scenario;
 pub mod scenes;

@@ -57,6 +57,11 @@ pub enum Command {
     /// estimate; writes DIR/stationary.parquet and DIR/convergence.parquet. Scenes: Coulomb
     /// friction (mu_s >= mu_k) without damping, the symmetric belt, fixed parameters.
     ExactLaw(ExactLawArgs),
+    /// The next stick from a given state: the law (mean, standard deviation) of the time to its
+    /// start, its duration, the slip after it and whether it ends by breakaway — computed without
+    /// sampling where the scene allows (as `exact-law`), and by conditional Monte Carlo (futures
+    /// simulated from the same state) with --futures N or where it does not.
+    Predict(PredictArgs),
     /// List the scenario files shipped in the binary (the paper scenario and the example
     /// scenes), print one, or write it to a file to edit: `stickslip scenes damped --out my.toml`.
     Scenes(ScenesArgs),
@@ -131,6 +136,51 @@ pub struct ExactLawArgs {
     /// about 20 s, N = 160 about a minute, N = 320 about 5 minutes and 2 GB).
     #[arg(long, value_name = "N", default_value_t = 80)]
     pub resolution: u32,
+}
+
+/// Arguments of `predict`.
+#[derive(Debug, clap::Args)]
+pub struct PredictArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)] // (clap: a doc comment here would become help text)
+    pub input: ScenarioArgs,
+    /// The state now: position x [m], mass velocity [m/s], belt velocity [m/s] (one of the belt's
+    /// states: +v0 or -v0; +v_f or -v_r for a telegraph belt), e.g. --state=-0.5,0.2,1.
+    #[arg(long, value_name = "X,V,V_BELT", allow_hyphen_values = true, value_parser = parse_state)]
+    pub state: (f64, f64, f64),
+    /// The mass is stuck now (its velocity equals the belt's): the prediction adds the current
+    /// stick's remaining time, and the next stick is the one after it.
+    #[arg(long)]
+    pub stuck: bool,
+    /// Simulate N futures from the state (conditional Monte Carlo, beside the exact values; the
+    /// default where the exact method does not hold: 100,000).
+    #[arg(long, value_name = "N")]
+    pub futures: Option<u64>,
+    /// The futures' horizon [s] (default: 100 mean times between belt flips, at least 10 and
+    /// at most 10,000 spring periods 2π/ω); futures whose next slip is cut by it are counted, not used.
+    #[arg(long, value_name = "T")]
+    pub horizon: Option<f64>,
+    /// The exact method's finest resolution (it solves at N/4, N/2 and N and extrapolates; 8 to
+    /// 320).
+    #[arg(long, value_name = "N", default_value_t = 40)]
+    pub resolution: u32,
+    /// Random seed of the futures (overrides run.seed).
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
+    /// Also write DIR/prediction.parquet (variable, method, mean, variance, error, futures) and,
+    /// when exact, DIR/stick_survival.parquet (t, P(D > t) of the next stick).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `X,V,V_BELT`: three numbers.
+fn parse_state(s: &str) -> Result<(f64, f64, f64), String> {
+    let v: Vec<f64> = s.split(',').map(|p| p.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|e| format!("{s:?}: {e} (expected X,V,V_BELT)"))?;
+    match v[..] {
+        [x, v, b] if x.is_finite() && v.is_finite() && b.is_finite() => Ok((x, v, b)),
+        [_, _, _] => Err(format!("{s:?}: the three numbers must be finite")),
+        _ => Err(format!("{s:?}: expected three numbers X,V,V_BELT, got {}", v.len())),
+    }
 }
 
 /// Arguments of `scenes`.

@@ -44,6 +44,7 @@ pub fn main_from<I: IntoIterator<Item = T>, T: Into<std::ffi::OsString> + Clone>
         Command::Tradeoff(args) => tradeoff_command(args, quiet),
         Command::Sensitivity(args) => sensitivity_command(args, quiet),
         Command::ExactLaw(args) => exact_law_command(args, quiet),
+        Command::Predict(args) => predict_command(args, quiet),
         Command::Scenes(args) => scenes_command(&args),
         Command::Completions { shell } => {
             clap_complete::generate(shell, &mut <Cli as clap::CommandFactory>::command(), "stickslip", &mut std::io::stdout());
@@ -180,6 +181,41 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
     let levels = crate::law::run(&scenario, args.resolution, &args.out, &mut progress, &mut step).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
+    }
+    Ok(())
+}
+
+fn predict_command(args: PredictArgs, quiet: bool) -> anyhow::Result<()> {
+    if !(8..=320).contains(&args.resolution) {
+        return Err(usage(format!("--resolution {}: must be between 8 and 320", args.resolution)));
+    }
+    if args.futures == Some(0) {
+        return Err(usage("--futures must be at least 1"));
+    }
+    if let Some(out) = &args.out {
+        check_separate(out, "--out", &scenario_inputs(&args.input))?;
+    }
+    let mut scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
+    Overrides { realizations: None, seed: args.seed }.apply(&mut scenario);
+    scenario.check()?;
+    scenario.refuse_sweep("predict")?;
+    let (x, velocity, belt) = args.state;
+    let state = crate::predict::State { x, velocity, belt, stuck: args.stuck };
+    let opts = crate::predict::Options { resolution: args.resolution, futures: args.futures, horizon: args.horizon };
+    let mut progress = |what: &str| {
+        if !quiet {
+            eprintln!("{what}");
+        }
+    };
+    let p = crate::predict::run(&scenario, state, opts, args.out.as_deref(), &mut progress).context("predict")?;
+    if !quiet {
+        if let Some(why) = &p.exact_refused {
+            eprintln!("exact: not available here ({why})");
+        }
+        if p.censored > 0 {
+            eprintln!("warning: {} futures had not finished the slip after the next stick by the horizon {} s (raise --horizon)", p.censored, p.horizon);
+        }
+        print!("{}", crate::predict::markdown(&p));
     }
     Ok(())
 }

@@ -71,7 +71,7 @@ impl Mesh {
     }
 
     /// The slip state of node (i, j).
-    fn node(&self, i: usize, j: usize) -> Slip {
+    pub(super) fn node(&self, i: usize, j: usize) -> Slip {
         let f = self.frame;
         let x = (i as f64 - (self.nx / 2) as f64 + 0.5) * self.h;
         let below = j < self.nb;
@@ -98,6 +98,30 @@ impl Mesh {
             (self.nb + k, self.nb + k + 1)
         };
         (i + 1 < self.nx && j1 < self.nw).then_some((i, fx - i as f64, j0, j1, frac))
+    }
+
+    /// The grid indices and bilinear weights of (x, v) on its side's nodes; None outside.
+    pub(super) fn corners(&self, x: f64, v: f64) -> Option<[(usize, f64); 4]> {
+        let (i, fx, j0, j1, fw) = self.locate(x, v)?;
+        let nw = self.nw;
+        Some([(i * nw + j0, (1.0 - fx) * (1.0 - fw)), ((i + 1) * nw + j0, fx * (1.0 - fw)), (i * nw + j1, (1.0 - fx) * fw), ((i + 1) * nw + j1, fx * fw)])
+    }
+
+    /// A stick entered at x_e, cut into the intervals where a flip can end it: (the interval's
+    /// start from the entry, its length dt, the position y at its e^{−λτ}-weighted centre, the
+    /// belt-line node k below y and the fraction towards k + 1). A flip at y leaves (−y, −v0).
+    pub(super) fn stick_intervals(&self, x_e: f64) -> impl Iterator<Item = (f64, f64, f64, usize, f64)> + '_ {
+        let f = self.frame;
+        let n = ((f.cs - x_e) / (self.h_line / 2.0)).ceil().max(1.0) as usize;
+        let dy = (f.cs - x_e) / n as f64;
+        let dt = dy / f.v0;
+        let mid = f.v0 * centroid(f.lambda, dt);
+        (0..n).map(move |i| {
+            let y = x_e + i as f64 * dy + mid;
+            let fy = ((y + f.cs) / self.h_line).clamp(0.0, self.n_line as f64);
+            let k = (fy as usize).min(self.n_line - 1);
+            (i as f64 * dt, dt, y, k, fy - k as f64)
+        })
     }
 }
 
@@ -193,11 +217,10 @@ impl Deposit<'_> {
             return;
         }
         // the flip reverses the frame: (x, v) → (−x, −v)
-        match self.mesh.locate(-x, -v) {
-            Some((i, fx, j0, j1, fw)) => {
-                let nw = self.mesh.nw;
-                for (ii, jj, w) in [(i, j0, (1.0 - fx) * (1.0 - fw)), (i + 1, j0, fx * (1.0 - fw)), (i, j1, (1.0 - fx) * fw), (i + 1, j1, fx * fw)] {
-                    let g = &mut self.out.grid[ii * nw + jj];
+        match self.mesh.corners(-x, -v) {
+            Some(corners) => {
+                for (k, w) in corners {
+                    let g = &mut self.out.grid[k];
                     g[0] += w * mass;
                     g[1] += w * age_mass;
                 }
@@ -245,16 +268,9 @@ impl Visitor for Deposit<'_> {
         self.tally.d1 += self.m * e * -(-x).exp_m1() / lambda;
         self.tally.d2 += self.m * e * 2.0 * super::one_minus_exp_poly(x) / (lambda * lambda);
         // a flip at y ∈ [x_e, c_s) leaves (−y, −v0): the belt line's nodes, linearly
-        let n = ((f.cs - x_e) / (mesh.h_line / 2.0)).ceil().max(1.0) as usize;
-        let dy = (f.cs - x_e) / n as f64;
-        let dt = dy / f.v0;
-        for i in 0..n {
-            let s = t + i as f64 * dt;
-            let y = x_e + i as f64 * dy + f.v0 * centroid(lambda, dt);
+        for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
+            let s = t + offset;
             let w = self.m * lambda * decay(lambda, s, s + dt);
-            let fy = ((y + f.cs) / mesh.h_line).clamp(0.0, mesh.n_line as f64);
-            let k = (fy as usize).min(mesh.n_line - 1);
-            let frac = fy - k as f64;
             self.out.line[k] += w * (1.0 - frac);
             self.out.line[k + 1] += w * frac;
         }
@@ -375,7 +391,7 @@ pub(crate) fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip
 }
 
 /// Chunks of a step's atoms, fixed in number so that the sums do not depend on the threads.
-const CHUNKS: usize = 16;
+pub(super) const CHUNKS: usize = 16;
 
 /// One step of the chain: the measure of the next post-flip state, and the tallies of the walks
 /// from `nu` (per unit of its mass).

@@ -174,7 +174,7 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
 /// at x_e ends at the earlier of the next flip (memoryless: Exp(λ) from the entry) and the
 /// breakaway after d(x_e) = (c_s − x_e)/v0 — the conditional estimator of the tails analysis,
 /// here on the stationary entry law.
-fn survival(f: &Frame, entries: &[(f64, f64)]) -> Vec<(f64, f64)> {
+pub(super) fn survival(f: &Frame, entries: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let total: f64 = entries.iter().map(|e| e.1).sum();
     let mut held: Vec<(f64, f64)> = entries.iter().map(|&(x, w)| ((f.cs - x) / f.v0, w)).collect();
     held.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -67,7 +67,9 @@ pub(crate) mod chain;
 pub mod density;
 pub(crate) mod flow;
 mod output;
+pub(crate) mod passage;
 
+pub(crate) use output::extrapolate;
 pub use output::{estimates, markdown, run, LawError, LEVELS};
 
 use crate::physics::Law;
@@ -168,7 +170,7 @@ pub struct Level {
 }
 
 /// Steps remembered by the Anderson mixing of [`solve`].
-const DEPTH: usize = 8;
+pub(crate) const DEPTH: usize = 8;
 /// The change of the measure (L1) at which the power iteration stops.
 const TOLERANCE: f64 = 1e-12;
 /// The iteration limit (the chain mixes in a few flips: ~40 iterations reach the tolerance).

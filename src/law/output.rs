@@ -94,19 +94,20 @@ pub fn run(
 /// error estimate the change of R from the coarser pair (whose error bounds it); with two
 /// levels, v_n and |v_n − v_{n/2}|; with one, v_n and NaN.
 pub fn estimates(levels: &[Level]) -> Vec<(f64, f64)> {
-    let k = levels.len();
-    (0..QUANTITIES.len())
-        .map(|q| {
-            let v = |i: usize| levels[i].values[q];
-            let richardson = |i: usize| v(i) + (v(i) - v(i - 1)) / ((levels[i - 1].h / levels[i].h).powi(2) - 1.0);
-            match k {
-                0 => (f64::NAN, f64::NAN),
-                1 => (v(0), f64::NAN),
-                2 => (v(1), (v(1) - v(0)).abs()),
-                _ => (richardson(k - 1), (richardson(k - 1) - richardson(k - 2)).abs()),
-            }
-        })
-        .collect()
+    (0..QUANTITIES.len()).map(|q| extrapolate(&levels.iter().map(|l| (l.h, l.values[q])).collect::<Vec<_>>())).collect()
+}
+
+/// (value, error) from the values at spacings h (coarsest first), as [`estimates`].
+pub(crate) fn extrapolate(points: &[(f64, f64)]) -> (f64, f64) {
+    let k = points.len();
+    let v = |i: usize| points[i].1;
+    let richardson = |i: usize| v(i) + (v(i) - v(i - 1)) / ((points[i - 1].0 / points[i].0).powi(2) - 1.0);
+    match k {
+        0 => (f64::NAN, f64::NAN),
+        1 => (v(0), f64::NAN),
+        2 => (v(1), (v(1) - v(0)).abs()),
+        _ => (richardson(k - 1), (richardson(k - 1) - richardson(k - 2)).abs()),
+    }
 }
 
 /// `stationary.parquet`: quantity, value, error.

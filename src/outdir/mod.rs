@@ -56,6 +56,7 @@ pub enum Kind {
     Reproduce,
     Sensitivity,
     ExactLaw,
+    Predict,
 }
 
 impl Kind {
@@ -68,6 +69,7 @@ impl Kind {
             Kind::Reproduce => "reproduce",
             Kind::Sensitivity => "sensitivity",
             Kind::ExactLaw => "exact-law",
+            Kind::Predict => "predict",
         }
     }
 }

@@ -18,6 +18,7 @@ mod observables;
 mod pinned;
 mod pipelines;
 mod precision;
+mod predict;
 mod readme;
 mod reference;
 mod safety;

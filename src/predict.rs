@@ -1,0 +1,406 @@
+//! `stickslip predict`: the next stick from a given state — the time to its start, its duration,
+//! the slip after it and whether it ends by breakaway — computed without sampling where the
+//! scene allows ([`crate::law::passage`]: Coulomb friction without damping, the symmetric belt,
+//! fixed parameters) and by conditional Monte Carlo everywhere: futures simulated from the same
+//! state with the scenario's solver (the same realizations, seeds and generator as `simulate`,
+//! from the point initial condition and the belt in the given state).
+
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::law::flow::{Frame, Slip};
+use crate::law::passage::{self, Start};
+use crate::outdir::{Kind, StagedDir};
+use crate::scenario::{Scenario, ScenarioError};
+use crate::simulation::belt::{InitialSign, Process};
+use crate::simulation::ensemble::{Ensemble, Outcome};
+use crate::simulation::events::StickEnd;
+use crate::table::{Col, Table};
+
+/// The state a prediction starts from, in the lab frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct State {
+    /// x, m
+    pub x: f64,
+    /// ẋ, m/s
+    pub velocity: f64,
+    /// the belt's velocity, m/s: one of its states' (±v0; +v_f or −v_r for a telegraph belt)
+    pub belt: f64,
+    /// the mass is stuck (ẋ equals the belt's velocity and the spring holds)
+    pub stuck: bool,
+}
+
+/// The predicted variables, in the names of `prediction.parquet`.
+pub const VARIABLES: [&str; 5] = ["remaining_stick", "time_to_stick", "stick_duration", "slip_duration", "breakaway"];
+
+/// One row of the prediction: a variable's mean and variance by one method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// one of [`VARIABLES`]: `remaining_stick` R (stuck starts), `time_to_stick` τ (to the next
+    /// stick's start), `stick_duration` D (of that stick), `slip_duration` H (of the slip after
+    /// it, to the stick after that), `breakaway` (1 if that stick ends by breakaway, else 0: its
+    /// mean is the probability)
+    pub variable: &'static str,
+    /// `exact` or `monte_carlo`
+    pub method: &'static str,
+    /// the mean (s; for `breakaway` the probability)
+    pub mean: f64,
+    /// the variance (s²)
+    pub variance: f64,
+    /// exact: the estimated discretisation error of the mean; Monte Carlo: its standard error
+    pub error: f64,
+    /// Monte Carlo: the futures that reached this variable (the others were cut by the horizon)
+    pub futures: Option<u64>,
+}
+
+/// Why `predict` failed.
+#[derive(Debug, thiserror::Error)]
+pub enum PredictError {
+    /// The scenario is invalid.
+    #[error(transparent)]
+    Scenario(#[from] ScenarioError),
+    /// The state or the options do not fit the scene.
+    #[error("{0}")]
+    Refused(String),
+    /// A future could not be simulated, or the exact solve failed.
+    #[error("{0}")]
+    Failed(String),
+    /// Writing an output file failed.
+    #[error("writing {}: {message}", path.display())]
+    Write {
+        /// the file
+        path: std::path::PathBuf,
+        /// what went wrong
+        message: String,
+    },
+    /// The output directory could not be staged or replaced.
+    #[error(transparent)]
+    Out(#[from] crate::outdir::OutDirError),
+}
+
+impl crate::blame::Blame for PredictError {
+    fn blames_input(&self) -> bool {
+        match self {
+            PredictError::Scenario(e) => e.blames_input(),
+            PredictError::Refused(_) => true,
+            PredictError::Failed(_) | PredictError::Write { .. } => false,
+            PredictError::Out(e) => e.blames_input(),
+        }
+    }
+}
+
+/// What to compute.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// the exact method's finest resolution (three resolutions, as `exact-law`)
+    pub resolution: u32,
+    /// conditional Monte Carlo futures (None: only when the exact method does not hold, then
+    /// [`DEFAULT_FUTURES`])
+    pub futures: Option<u64>,
+    /// the futures' horizon, s (None: [`default_horizon`])
+    pub horizon: Option<f64>,
+}
+
+/// Futures simulated when the exact method does not hold and `--futures` is not given.
+pub const DEFAULT_FUTURES: u64 = 100_000;
+
+/// What `predict` found: the rows, why the exact method was not used (if it was not), the
+/// futures cut by the horizon before their slip ended, and the horizon.
+#[derive(Debug, Clone)]
+pub struct Prediction {
+    /// exact rows first, then Monte Carlo's
+    pub rows: Vec<Row>,
+    /// why the exact method does not hold (None: it ran)
+    pub exact_refused: Option<String>,
+    /// futures whose slip after the next stick had not ended at the horizon
+    pub censored: u64,
+    /// the futures' horizon, s
+    pub horizon: f64,
+}
+
+/// The belt state of velocity `v` (+1 forward, −1 reverse), or why there is none.
+fn belt_state(process: &Process, v: f64) -> Result<i32, String> {
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+    let (forward, reverse) = match process {
+        Process::Symmetric(s) => (s.speed, s.speed),
+        Process::Telegraph(t) => (t.forward_speed, t.reverse_speed),
+        other => {
+            return Err(format!(
+                "the belt is \"{}\": predict needs a two-state belt (symmetric or telegraph), whose state the belt velocity names",
+                other.name()
+            ))
+        }
+    };
+    if same(v, forward) {
+        Ok(1)
+    } else if same(v, -reverse) {
+        Ok(-1)
+    } else {
+        Err(format!("the belt velocity {v} m/s is not a state of this belt (+{forward} or -{reverse} m/s)"))
+    }
+}
+
+/// The futures' default horizon: 100 mean times between flips (of the slower belt state),
+/// between 10 and 10,000 periods 2π/ω of the spring (10,000 s without a spring or flips).
+pub fn default_horizon(scenario: &Scenario) -> Result<f64, ScenarioError> {
+    let scene = scenario.scene()?;
+    let u = scene.params.per_unit_mass();
+    let period = if u.omega2 > 0.0 { std::f64::consts::TAU / u.omega2.sqrt() } else { f64::INFINITY };
+    let rate = match &scene.belt.process {
+        Process::Symmetric(s) => s.switch_rate,
+        Process::Telegraph(t) => t.forward_rate.min(t.reverse_rate),
+        _ => 0.0,
+    };
+    let flips = if rate > 0.0 { 100.0 / rate } else { f64::INFINITY };
+    Ok(if period.is_finite() {
+        flips.clamp(10.0 * period, 1e4 * period)
+    } else if flips.is_finite() {
+        flips.min(1e6)
+    } else {
+        1e4
+    })
+}
+
+/// Predict from `state`; `out` (if given) gets `prediction.parquet` (and the exact
+/// `stick_survival.parquet`). `progress` hears what is being done.
+pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>, progress: &mut dyn FnMut(&str)) -> Result<Prediction, PredictError> {
+    let scene = scenario.scene()?;
+    if !(state.x.is_finite() && state.velocity.is_finite() && state.belt.is_finite()) {
+        return Err(PredictError::Refused(format!("--state {},{},{}: must be three finite numbers", state.x, state.velocity, state.belt)));
+    }
+    use crate::simulation::keys::Key;
+    if let Some((key, _)) = scene.random.iter().find(|(k, _)| matches!(k, Key::Speed | Key::ReverseSpeed)) {
+        return Err(PredictError::Refused(format!("{} is drawn per realization: a belt velocity names no state", key.dotted())));
+    }
+    let sign = belt_state(&scene.belt.process, state.belt).map_err(PredictError::Refused)?;
+    if state.stuck && state.velocity != state.belt {
+        return Err(PredictError::Refused(format!(
+            "--stuck: the mass velocity {} must equal the belt velocity {} (a stuck mass moves with the belt)",
+            state.velocity, state.belt
+        )));
+    }
+    stuck_or_not(&scene, state, sign).map_err(PredictError::Refused)?;
+    let staged = out.map(|o| StagedDir::new(o, Kind::Predict, "--out", &[])).transpose()?;
+    let mut rows = Vec::new();
+    let mut survival = None;
+    // exact, where the scene allows
+    let exact = crate::law::frame(&scene).and_then(|f| exact_start(f, state, sign).map(|s| (f, s)));
+    let exact_refused = exact.as_ref().err().cloned();
+    if let Ok((frame, start)) = exact {
+        progress("exact: three resolutions");
+        let (r, s) = exact_rows(frame, start, opts.resolution).map_err(PredictError::Refused)?;
+        rows.extend(r);
+        survival = Some(s);
+    }
+    let futures = opts.futures.or(if exact_refused.is_some() { Some(DEFAULT_FUTURES) } else { None });
+    let horizon = match opts.horizon {
+        Some(h) => h,
+        None => default_horizon(scenario)?,
+    };
+    let mut censored = 0;
+    if let Some(n) = futures {
+        progress(&format!("conditional Monte Carlo: {n} futures over {horizon:.4} s"));
+        let (r, c) = monte_carlo(scenario, state, sign, n, horizon)?;
+        rows.extend(r);
+        censored = c;
+    }
+    if let Some(staged) = staged {
+        let werr = |name: &str, e: &dyn std::fmt::Display| PredictError::Write { path: staged.path().join(name), message: e.to_string() };
+        table(&rows).write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
+        if let Some(s) = &survival {
+            let mut t = Table::default();
+            t.push("t", Col::Float(s.iter().map(|p| Some(p.0)).collect())).push("survival", Col::Float(s.iter().map(|p| Some(p.1)).collect()));
+            t.write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
+        }
+        staged.commit()?;
+    }
+    Ok(Prediction { rows, exact_refused, censored, horizon })
+}
+
+/// Whether --stuck agrees with the state: a stuck mass moves with the belt and the spring (and
+/// damper) force k x + c v stays within the holding limit μ_s n (in the belt's frame, as the
+/// solvers: −μ_s n ≤ s (k x + c v) < μ_s n). Scenes with drawn parameters are checked per
+/// future instead.
+fn stuck_or_not(scene: &crate::simulation::keys::Scene, state: State, sign: i32) -> Result<(), String> {
+    if !scene.random.is_empty() {
+        return Ok(());
+    }
+    let u = scene.params.per_unit_mass();
+    let force = f64::from(sign) * (u.omega2 * state.x + u.gamma * state.belt);
+    let held = (-u.breakaway..u.breakaway).contains(&force);
+    let m = scene.params.mass;
+    match (state.stuck, held && state.velocity == state.belt) {
+        (true, _) if !held => Err(format!(
+            "--stuck at x = {}: the spring and damper force {:.6e} N exceeds the holding limit mu_s n = {:.6e} N: the mass slips at once",
+            state.x,
+            force.abs() * m,
+            u.breakaway * m
+        )),
+        (false, true) => Err(format!("the mass moves with the belt at x = {} within the holding limit: it is stuck (add --stuck)", state.x)),
+        _ => Ok(()),
+    }
+}
+
+/// The start in the belt's frame (the belt at +v0: X = s x, V = s ẋ for the belt state s), or
+/// why the exact method cannot start from it.
+fn exact_start(frame: Frame, state: State, sign: i32) -> Result<Start, String> {
+    let s = f64::from(sign);
+    let (x, v) = (s * state.x, s * state.velocity);
+    let start = if state.stuck { Start::Stuck(x) } else { Start::Slip(Slip::at(x, v, frame.v0)) };
+    // the grid's box grows with the start's amplitude; far out, the grid would be huge
+    let (half, base) = (passage::half_width(frame, start), passage::half_width(frame, Start::Stuck(0.0)));
+    if half > 10.0 * base {
+        return Err(format!("the state lies {:.1} times further out than the motion settles (the exact method's grid would not hold it)", half / base));
+    }
+    Ok(start)
+}
+
+/// The exact rows from three resolutions (extrapolated, with the error estimate), and the stick
+/// duration's survival curve at the finest.
+fn exact_rows(frame: Frame, start: Start, finest: u32) -> Result<(Vec<Row>, Vec<(f64, f64)>), String> {
+    let half = passage::half_width(frame, start);
+    let mut solved = Vec::new();
+    for (_, h) in crate::law::ladder(frame, finest, crate::law::LEVELS)? {
+        solved.push((h, passage::solve(frame, h, half, start)?));
+    }
+    // Richardson's value; its error the larger of the extrapolation's change and the finest
+    // change: the next stick's duration and breakaway probability come from the law of its
+    // entry, whose convergence is irregular on coarse grids (from rest at x = 0.5 on the paper
+    // scene, the breakaway probability's changes from h = 0.17 to 0.01 are +4.9e-4, +1.2e-4,
+    // +6.0e-5, +9.8e-6; stuck at 0.3: +5.4e-4, −4.9e-4, −1.4e-5, +1.7e-6), where the change of
+    // the extrapolation alone understated the error eightfold
+    let pick = |f: &dyn Fn(&passage::Solved) -> f64| {
+        let points: Vec<(f64, f64)> = solved.iter().map(|(h, s)| (*h, f(s))).collect();
+        let (value, error) = crate::law::extrapolate(&points);
+        let finest = points.windows(2).last().map_or(0.0, |w| (w[1].1 - w[0].1).abs());
+        (value, error.max(finest))
+    };
+    let mut rows = Vec::new();
+    let mut row = |variable: &'static str, mean: &dyn Fn(&passage::Solved) -> f64, variance: &dyn Fn(&passage::Solved) -> f64| {
+        let (m, e) = pick(mean);
+        rows.push(Row { variable, method: "exact", mean: m, variance: pick(variance).0.max(0.0), error: e, futures: None });
+    };
+    if matches!(start, Start::Stuck(_)) {
+        row("remaining_stick", &|s| s.remaining.unwrap().0, &|s| s.remaining.unwrap().1);
+    }
+    row("time_to_stick", &|s| s.to_stick.0, &|s| s.to_stick.1);
+    row("stick_duration", &|s| s.stick.0, &|s| s.stick.1);
+    row("slip_duration", &|s| s.slip.0, &|s| s.slip.1);
+    row("breakaway", &|s| s.breakaway, &|s| s.breakaway * (1.0 - s.breakaway));
+    let survival = solved.pop().map(|s| s.1.stick_survival).unwrap_or_default();
+    Ok((rows, survival))
+}
+
+/// One future's values (None: not reached within the horizon).
+#[derive(Debug, Clone, Copy, Default)]
+struct Future {
+    remaining: Option<f64>,
+    to_stick: Option<f64>,
+    stick: Option<f64>,
+    slip: Option<f64>,
+    breakaway: Option<f64>,
+}
+
+/// Futures per parallel chunk (fixed: the rows do not depend on the threads).
+const CHUNK: u64 = 1024;
+
+/// The conditional Monte Carlo rows from `n` futures, and how many were cut by the horizon.
+fn monte_carlo(scenario: &Scenario, state: State, sign: i32, n: u64, horizon: f64) -> Result<(Vec<Row>, u64), PredictError> {
+    let mut s = scenario.clone();
+    s.initial_conditions.position = [state.x; 2];
+    s.initial_conditions.velocity = [state.velocity; 2];
+    s.belt.initial_sign = crate::scenario::Sign(if sign > 0 { InitialSign::Positive } else { InitialSign::Negative });
+    s.run.duration = horizon;
+    s.run.realizations = n;
+    s.check().map_err(|e| PredictError::Refused(format!("the futures' scenario: {e}")))?;
+    let ensemble = Ensemble::new(&s)?;
+    let stuck = state.stuck;
+    let chunks: Vec<Result<Vec<Future>, PredictError>> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut out = Outcome::default();
+            (c * CHUNK..((c + 1) * CHUNK).min(n))
+                .map(|i| {
+                    ensemble.realization(i, &mut out).map_err(|e| PredictError::Failed(e.to_string()))?;
+                    future(&out, stuck)
+                })
+                .collect()
+        })
+        .collect();
+    let mut all = Vec::with_capacity(n as usize);
+    for c in chunks {
+        all.extend(c?);
+    }
+    let censored = all.iter().filter(|f| f.slip.is_none()).count() as u64;
+    let mut rows = Vec::new();
+    let mut row = |variable: &'static str, get: &dyn Fn(&Future) -> Option<f64>| {
+        let xs: Vec<f64> = all.iter().filter_map(get).collect();
+        let k = xs.len() as f64;
+        let mean = xs.iter().sum::<f64>() / k;
+        let variance = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k - 1.0);
+        if xs.len() >= 2 {
+            rows.push(Row { variable, method: "monte_carlo", mean, variance, error: (variance / k).sqrt(), futures: Some(xs.len() as u64) });
+        }
+    };
+    if stuck {
+        row("remaining_stick", &|f| f.remaining);
+    }
+    row("time_to_stick", &|f| f.to_stick);
+    row("stick_duration", &|f| f.stick);
+    row("slip_duration", &|f| f.slip);
+    row("breakaway", &|f| f.breakaway);
+    Ok((rows, censored))
+}
+
+/// A future's values from its record; an error if the simulated start disagrees with --stuck.
+fn future(out: &Outcome, stuck: bool) -> Result<Future, PredictError> {
+    let r = &out.record;
+    let started_stuck = r.stick_start.first() == Some(&0.0);
+    if started_stuck != stuck {
+        // (the scene's parameters are drawn: the state sticks for some of them and not others)
+        return Err(PredictError::Refused(if stuck {
+            "--stuck: with the parameters drawn for a future the force exceeds the holding limit (the mass slips at once)".into()
+        } else {
+            "the mass moves with the belt within the holding limit of the parameters drawn for a future: it is stuck (add --stuck)".into()
+        }));
+    }
+    // the index of the next stick: the first, or the one after the current
+    let k = usize::from(stuck);
+    let done = |i: usize| r.stick_end.get(i).filter(|e| **e != StickEnd::Horizon);
+    let mut f = Future { remaining: if stuck { done(0).map(|_| r.stick_duration[0]) } else { None }, ..Future::default() };
+    f.to_stick = r.stick_start.get(k).copied();
+    f.stick = done(k).map(|_| r.stick_duration[k]);
+    f.breakaway = done(k).map(|e| if *e == StickEnd::Breakaway { 1.0 } else { 0.0 });
+    // the slip after stick k ended in stick k + 1
+    f.slip = r.stick_start.get(k + 1).map(|_| r.slip_duration[k]);
+    Ok(f)
+}
+
+/// `prediction.parquet`: variable, method, mean, variance, error, futures.
+fn table(rows: &[Row]) -> Table {
+    let mut t = Table::default();
+    t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
+        .push("method", Col::Str(rows.iter().map(|r| r.method.to_string()).collect()))
+        .push("mean", Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
+        .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
+        .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
+        .push("futures", Col::Int(rows.iter().map(|r| r.futures.map(|n| n as i64)).collect()));
+    t
+}
+
+/// The table `predict` prints: per variable, the exact mean and standard deviation with the
+/// discretisation error, and the Monte Carlo mean ± 1.96 standard errors.
+pub fn markdown(p: &Prediction) -> String {
+    let mut m = String::from("| variable | method | mean | sd | error of the mean | futures |\n|---|---|---:|---:|---:|---:|\n");
+    for v in VARIABLES {
+        for r in p.rows.iter().filter(|r| r.variable == v) {
+            let (error, n) = match r.futures {
+                Some(n) => (format!("± {:.2e} (95 %)", 1.96 * r.error), n.to_string()),
+                None => (format!("{:.1e}", r.error), String::new()),
+            };
+            m += &format!("| {} | {} | {:.6} | {:.6} | {error} | {n} |\n", r.variable, r.method.replace('_', " "), r.mean, r.variance.sqrt());
+        }
+    }
+    m
+}
