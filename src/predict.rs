@@ -262,7 +262,7 @@ fn exact_rows(frame: Frame, start: Start, finest: u32) -> Result<(Vec<Row>, Vec<
     let half = passage::half_width(frame, start);
     let mut solved = Vec::new();
     for (_, h) in crate::law::ladder(frame, finest, crate::law::LEVELS)? {
-        solved.push((h, passage::solve(frame, h, half, start)?));
+        solved.push((h, passage::sequence(frame, h, half, &[(start, 1.0)], 1)?));
     }
     // Richardson's value; its error the larger of the extrapolation's change and the finest
     // change: the next stick's duration and breakaway probability come from the law of its
@@ -270,25 +270,25 @@ fn exact_rows(frame: Frame, start: Start, finest: u32) -> Result<(Vec<Row>, Vec<
     // scene, the breakaway probability's changes from h = 0.17 to 0.01 are +4.9e-4, +1.2e-4,
     // +6.0e-5, +9.8e-6; stuck at 0.3: +5.4e-4, −4.9e-4, −1.4e-5, +1.7e-6), where the change of
     // the extrapolation alone understated the error eightfold
-    let pick = |f: &dyn Fn(&passage::Solved) -> f64| {
+    let pick = |f: &dyn Fn(&passage::Sequence) -> f64| {
         let points: Vec<(f64, f64)> = solved.iter().map(|(h, s)| (*h, f(s))).collect();
         let (value, error) = crate::law::extrapolate(&points);
         let finest = points.windows(2).last().map_or(0.0, |w| (w[1].1 - w[0].1).abs());
         (value, error.max(finest))
     };
     let mut rows = Vec::new();
-    let mut row = |variable: &'static str, mean: &dyn Fn(&passage::Solved) -> f64, variance: &dyn Fn(&passage::Solved) -> f64| {
+    let mut row = |variable: &'static str, mean: &dyn Fn(&passage::Sequence) -> f64, variance: &dyn Fn(&passage::Sequence) -> f64| {
         let (m, e) = pick(mean);
         rows.push(Row { variable, method: "exact", mean: m, variance: pick(variance).0.max(0.0), error: e, futures: None });
     };
     if matches!(start, Start::Stuck(_)) {
-        row("remaining_stick", &|s| s.remaining.unwrap().0, &|s| s.remaining.unwrap().1);
+        row("remaining_stick", &|s| s.current.unwrap().0, &|s| s.current.unwrap().1);
     }
-    row("time_to_stick", &|s| s.to_stick.0, &|s| s.to_stick.1);
-    row("stick_duration", &|s| s.stick.0, &|s| s.stick.1);
-    row("slip_duration", &|s| s.slip.0, &|s| s.slip.1);
-    row("breakaway", &|s| s.breakaway, &|s| s.breakaway * (1.0 - s.breakaway));
-    let survival = solved.pop().map(|s| s.1.stick_survival).unwrap_or_default();
+    row("time_to_stick", &|s| s.sticks[0].start.0, &|s| s.sticks[0].start.1);
+    row("stick_duration", &|s| s.sticks[0].duration.0, &|s| s.sticks[0].duration.1);
+    row("slip_duration", &|s| s.sticks[0].slip.0, &|s| s.sticks[0].slip.1);
+    row("breakaway", &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
+    let survival = solved.pop().map(|s| s.1.first_survival).unwrap_or_default();
     Ok((rows, survival))
 }
 

@@ -47,14 +47,26 @@ use super::chain::{Mesh, CHUNKS};
 use super::flow::{centroid, decay, second_moment, Frame, Slip, Visitor};
 use super::one_minus_exp_poly;
 
-/// An atom's clock: its mass, ∫ t dμ and ∫ t² dμ, t the time since the clock's origin [1, s, s²].
-pub(crate) type Clock = [f64; 3];
+/// An atom's clocks: its mass; ∫ t dμ and ∫ t² dμ, t the time since the origin; ∫ a dμ and
+/// ∫ a² dμ, a the time since the last stick ended (since the origin before the first) [1, s,
+/// s², s, s²].
+pub(crate) type Clock = [f64; 5];
 
-/// The clock `m` later by s + u (u on [0, dt) ∝ e^{−λu}, mean c, second moment q), weight w
+/// The clocks `m` moved later by a random delay δ (independent of them), given its total
+/// weight k0, k0 E[δ] and k0 E[δ²]: E(A + δ)² = E A² + 2 E δ E A + E δ².
+fn shift(m: Clock, k0: f64, k1: f64, k2: f64) -> Clock {
+    [k0 * m[0], k0 * m[1] + k1 * m[0], k0 * m[2] + 2.0 * k1 * m[1] + k2 * m[0], k0 * m[3] + k1 * m[0], k0 * m[4] + 2.0 * k1 * m[3] + k2 * m[0]]
+}
+
+/// The clocks `m` later by s + u (u on [0, dt) ∝ e^{−λu}, mean c, second moment q), weight w
 /// (module docs).
 fn later(m: Clock, w: f64, s: f64, c: f64, q: f64) -> Clock {
-    let a = s + c;
-    [w * m[0], w * (m[1] + a * m[0]), w * (m[2] + 2.0 * a * m[1] + (s * s + 2.0 * s * c + q) * m[0])]
+    shift(m, w, w * (s + c), w * (s * s + 2.0 * s * c + q))
+}
+
+/// The clocks with a restarted: a stick has just ended.
+fn restart(m: Clock) -> Clock {
+    [m[0], m[1], m[2], 0.0, 0.0]
 }
 
 fn add(a: &mut Clock, b: Clock, f: f64) {
@@ -68,18 +80,18 @@ struct Cloud {
     grid: Vec<Clock>,
     line: Vec<Clock>,
     breakaway: Clock,
-    start: Option<(Slip, Clock)>,
+    starts: Vec<(Slip, Clock)>,
 }
 
 impl Cloud {
     fn zero(mesh: &Mesh) -> Cloud {
-        Cloud { grid: vec![[0.0; 3]; mesh.nx * mesh.nw], line: vec![[0.0; 3]; mesh.n_line + 1], breakaway: [0.0; 3], start: None }
+        Cloud { grid: vec![[0.0; 5]; mesh.nx * mesh.nw], line: vec![[0.0; 5]; mesh.n_line + 1], breakaway: [0.0; 5], starts: Vec::new() }
     }
 
     /// Every atom: its slip state and clock.
     fn atoms(&self, mesh: &Mesh) -> Vec<(Slip, Clock)> {
         let f = mesh.frame;
-        let mut out: Vec<(Slip, Clock)> = self.start.into_iter().collect();
+        let mut out: Vec<(Slip, Clock)> = self.starts.clone();
         for i in 0..mesh.nx {
             for j in 0..mesh.nw {
                 let c = self.grid[i * mesh.nw + j];
@@ -142,7 +154,7 @@ impl Visitor for Pass<'_> {
             // Σ_j q^j × (the clock later by s + jP + u)
             let first = a0 * (s + c) + period * a1;
             let second = a0 * (s * s + 2.0 * s * c + u2) + 2.0 * period * a1 * (s + c) + period * period * a2;
-            self.put(x, v, [w * a0 * m[0], w * (a0 * m[1] + first * m[0]), w * (a0 * m[2] + 2.0 * first * m[1] + second * m[0])]);
+            self.put(x, v, shift(m, w * a0, w * first, w * second));
         }
     }
 
@@ -178,8 +190,8 @@ fn walk_all(mesh: &Mesh, atoms: &[(Slip, Clock)]) -> (Vec<Clock>, Vec<Clock>, f6
         .par_chunks(size)
         .map(|chunk| {
             let mut next = Cloud::zero(mesh);
-            let mut got = vec![[0.0; 3]; mesh.n_line + 1];
-            let mut pass = Pass { mesh, next: &mut next, entries: &mut got, clock: [0.0; 3], lost: 0.0 };
+            let mut got = vec![[0.0; 5]; mesh.n_line + 1];
+            let mut pass = Pass { mesh, next: &mut next, entries: &mut got, clock: [0.0; 5], lost: 0.0 };
             for &(z, clock) in chunk {
                 pass.clock = clock;
                 mesh.frame.walk(z, 0.0, mesh.h, mesh.horizon, &mut pass);
@@ -188,7 +200,7 @@ fn walk_all(mesh: &Mesh, atoms: &[(Slip, Clock)]) -> (Vec<Clock>, Vec<Clock>, f6
             (next, got, lost)
         })
         .collect();
-    let (mut grid, mut entries, mut lost) = (vec![[0.0; 3]; mesh.nx * mesh.nw], vec![[0.0; 3]; mesh.n_line + 1], 0.0);
+    let (mut grid, mut entries, mut lost) = (vec![[0.0; 5]; mesh.nx * mesh.nw], vec![[0.0; 5]; mesh.n_line + 1], 0.0);
     for (next, got, l) in &parts {
         grid.iter_mut().zip(&next.grid).for_each(|(a, &b)| add(a, b, 1.0));
         entries.iter_mut().zip(got).for_each(|(a, &b)| add(a, b, 1.0));
@@ -210,7 +222,7 @@ fn passage(mesh: &Mesh, first: Cloud, entries: &mut [Clock]) -> Result<f64, Stri
     // the mixing's unit of time: the first walks' mean time (the moments then weigh alike)
     let (m0, m1) = k0.iter().chain(&a0).fold((0.0, 0.0), |(a, b), c| (a + c[0], b + c[1]));
     let unit = if m0 > 0.0 && m1 > 0.0 { m1 / m0 } else { 1.0 };
-    let flat = |x: &[Clock]| x.iter().flat_map(|c| [c[0], c[1] / unit, c[2] / (unit * unit)]).collect::<Vec<f64>>();
+    let flat = |x: &[Clock]| x.iter().flat_map(|c| [c[0], c[1] / unit, c[2] / (unit * unit), c[3] / unit, c[4] / (unit * unit)]).collect::<Vec<f64>>();
     let mut x = k0.clone();
     let mut anderson = super::anderson::Anderson::new(super::DEPTH);
     let mut change = f64::INFINITY;
@@ -223,8 +235,16 @@ fn passage(mesh: &Mesh, first: Cloud, entries: &mut [Clock]) -> Result<f64, Stri
             })
             .collect();
         let (kx, ax, lost) = walk_all(mesh, &atoms);
-        let g: Vec<Clock> = k0.iter().zip(&kx).map(|(a, b)| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]).collect();
-        change = (0..3)
+        let g: Vec<Clock> = k0
+            .iter()
+            .zip(&kx)
+            .map(|(a, b)| {
+                let mut c = *a;
+                add(&mut c, *b, 1.0);
+                c
+            })
+            .collect();
+        change = (0..5)
             .map(|c| {
                 let size: f64 = g.iter().map(|v| v[c].abs()).sum();
                 let diff: f64 = g.iter().zip(&x).map(|(a, b)| (a[c] - b[c]).abs()).sum();
@@ -243,35 +263,47 @@ fn passage(mesh: &Mesh, first: Cloud, entries: &mut [Clock]) -> Result<f64, Stri
             return Ok(lost0 + lost);
         }
         let mixed = anderson.mix(flat(&x), flat(&g));
-        x = mixed.chunks(3).map(|c| [c[0], c[1] * unit, c[2] * unit * unit]).collect();
+        x = mixed.chunks(5).map(|c| [c[0], c[1] * unit, c[2] * unit * unit, c[3] * unit, c[4] * unit * unit]).collect();
     }
     Err(format!("the passage to the next stick did not converge in {MAX_ITERATIONS} iterations (last change {change:.1e})"))
 }
 
-/// Sticks entered at (x_e, clock) end: returns (Σ mass, Σ mass E[D], Σ mass E[D²], Σ mass
-/// P(breakaway)) and adds the exits to `out`, their clocks running on (`carry`) or started at
-/// the stick's end.
-fn leave(mesh: &Mesh, entries: impl Iterator<Item = (f64, Clock)>, carry: bool, out: &mut Cloud) -> [f64; 4] {
+/// What sticks entered with clocks (a measure of the entries) do: Σ mass, Σ mass E[D],
+/// Σ mass E[D²], Σ mass P(breakaway), and the clocks at their ends (their t the stick's end L).
+struct Held {
+    mass: f64,
+    d1: f64,
+    d2: f64,
+    breakaway: f64,
+    ends: Clock,
+}
+
+/// Sticks entered at (x_e, clocks) end (module docs): their exits are added to `out`, t running
+/// on and a restarted.
+fn leave(mesh: &Mesh, entries: impl Iterator<Item = (f64, Clock)>, out: &mut Cloud) -> Held {
     let f = mesh.frame;
     let lambda = f.lambda;
-    let mut sums = [0.0; 4];
+    let mut held = Held { mass: 0.0, d1: 0.0, d2: 0.0, breakaway: 0.0, ends: [0.0; 5] };
     for (x_e, m) in entries {
         let d = (f.cs - x_e).max(0.0) / f.v0;
         let x = lambda * d;
-        sums[0] += m[0];
-        sums[1] += m[0] * -(-x).exp_m1() / lambda;
-        sums[2] += m[0] * 2.0 * one_minus_exp_poly(x) / (lambda * lambda);
+        held.mass += m[0];
+        held.d1 += m[0] * -(-x).exp_m1() / lambda;
+        held.d2 += m[0] * 2.0 * one_minus_exp_poly(x) / (lambda * lambda);
         for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
             let w = lambda * decay(lambda, offset, offset + dt);
-            let clock = if carry { later(m, w, offset, centroid(lambda, dt), second_moment(lambda, dt)) } else { [w * m[0], 0.0, 0.0] };
+            let clock = restart(later(m, w, offset, centroid(lambda, dt), second_moment(lambda, dt)));
             add(&mut out.line[k], clock, 1.0 - frac);
             add(&mut out.line[k + 1], clock, frac);
+            add(&mut held.ends, clock, 1.0);
         }
         let e = (-x).exp();
-        sums[3] += m[0] * e;
-        add(&mut out.breakaway, if carry { later(m, e, d, 0.0, 0.0) } else { [e * m[0], 0.0, 0.0] }, 1.0);
+        held.breakaway += m[0] * e;
+        let clock = restart(later(m, e, d, 0.0, 0.0));
+        add(&mut out.breakaway, clock, 1.0);
+        add(&mut held.ends, clock, 1.0);
     }
-    sums
+    held
 }
 
 /// Where a prediction starts, in the belt's frame (the belt at +v0).
@@ -283,23 +315,35 @@ pub(crate) enum Start {
     Stuck(f64),
 }
 
-/// One solve at grid spacing h.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Solved {
-    /// (mean, variance) of R (the current stick's remaining time; stuck starts only), τ, D, H
-    pub remaining: Option<(f64, f64)>,
-    pub to_stick: (f64, f64),
-    pub stick: (f64, f64),
-    pub slip: (f64, f64),
-    /// P(the next stick ends by breakaway)
+/// (mean, variance) of a variable.
+pub(crate) type Moments = (f64, f64);
+
+/// The k-th stick of a sequence: when it starts (T_k), how long it lasts (D_k), when it ends
+/// (L_k = T_k + D_k), the slip after it (H_k, to the start of stick k + 1) and the probability
+/// that it ends by breakaway.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Stick {
+    pub start: Moments,
+    pub duration: Moments,
+    pub end: Moments,
+    pub slip: Moments,
     pub breakaway: f64,
-    /// the mass lost off the grid (of 1)
-    pub lost: f64,
-    /// P(D > t) at points t from 0 to 2c_s/v0
-    pub stick_survival: Vec<(f64, f64)>,
 }
 
-/// The box the grid covers for a start at (X, V): the stationary chain's, widened to hold the
+/// The laws of the sticks that follow a start.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Sequence {
+    /// the current stick's remaining time (a stuck start)
+    pub current: Option<Moments>,
+    /// sticks 1, 2, … after the start
+    pub sticks: Vec<Stick>,
+    /// the mass lost off the grid (of 1)
+    pub lost: f64,
+    /// P(D_1 > t) at points t from 0 to 2c_s/v0
+    pub first_survival: Vec<(f64, f64)>,
+}
+
+/// The box the grid covers for starts out to (X, V): the stationary chain's, widened to hold the
 /// start's circle about the farther slip centre (the flips move a state by at most 2 c_k of
 /// amplitude per half-turn).
 pub(crate) fn half_width(frame: Frame, start: Start) -> f64 {
@@ -311,53 +355,64 @@ pub(crate) fn half_width(frame: Frame, start: Start) -> f64 {
     base.max((x.abs() + frame.ck).hypot(w) + frame.ck + frame.w0)
 }
 
-/// Mean and variance from the clock sums.
-fn moments(c: Clock) -> (f64, f64) {
-    let mean = c[1] / c[0];
-    (mean, (c[2] / c[0] - mean * mean).max(0.0))
+/// Mean and variance of t (`at` = 1) or a (`at` = 3) from the clock sums.
+fn moments(c: Clock, at: usize) -> Moments {
+    let mean = c[at] / c[0];
+    (mean, (c[at + 1] / c[0] - mean * mean).max(0.0))
 }
 
-/// Predict from `start` on a grid of spacing h over the box `half` ([`half_width`]).
-pub(crate) fn solve(frame: Frame, h: f64, half: f64, start: Start) -> Result<Solved, String> {
-    let mesh = Mesh::new(frame, h, half);
-    let mut first = Cloud::zero(&mesh);
-    let remaining = match start {
-        Start::Slip(z) => {
-            first.start = Some((z, [1.0, 0.0, 0.0]));
-            None
-        }
-        Start::Stuck(x) => {
-            let s = leave(&mesh, std::iter::once((x, [1.0, 0.0, 0.0])), true, &mut first);
-            Some((s[1], s[2] - s[1] * s[1]))
-        }
-    };
-    let mut entries = vec![[0.0; 3]; mesh.n_line + 1];
-    let mut lost = passage(&mesh, first, &mut entries)?;
-    let total = entries.iter().fold([0.0; 3], |mut a, &c| {
+fn total(v: &[Clock]) -> Clock {
+    v.iter().fold([0.0; 5], |mut a, &c| {
         add(&mut a, c, 1.0);
         a
+    })
+}
+
+/// The first `count` sticks after the weighted `starts` (weights summing to 1; stuck starts
+/// have a current stick first), on a grid of spacing h over the box `half` ([`half_width`]):
+/// count + 1 first passages, each from the exits of the sticks before.
+pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)], count: usize) -> Result<Sequence, String> {
+    let mesh = Mesh::new(frame, h, half);
+    let mut cloud = Cloud::zero(&mesh);
+    let mut stuck = Vec::new();
+    for &(start, w) in starts {
+        match start {
+            Start::Slip(z) => cloud.starts.push((z, [w, 0.0, 0.0, 0.0, 0.0])),
+            Start::Stuck(x) => stuck.push((x, [w, 0.0, 0.0, 0.0, 0.0])),
+        }
+    }
+    let current = (!stuck.is_empty()).then(|| {
+        let held = leave(&mesh, stuck.into_iter(), &mut cloud);
+        let mean = held.d1 / held.mass;
+        (mean, held.d2 / held.mass - mean * mean)
     });
     let node = |k: usize| -frame.cs + k as f64 * mesh.h_line;
-    // the stick: from the entry law alone (its clock restarts)
-    let mut exits = Cloud::zero(&mesh);
-    let s = leave(&mesh, entries.iter().enumerate().map(|(k, c)| (node(k), [c[0], 0.0, 0.0])), false, &mut exits);
-    let stick = (s[1] / s[0], s[2] / s[0] - (s[1] / s[0]).powi(2));
-    let law: Vec<(f64, f64)> = entries.iter().enumerate().map(|(k, c)| (node(k), c[0])).collect();
-    let mut after = vec![[0.0; 3]; mesh.n_line + 1];
-    lost += passage(&mesh, exits, &mut after)?;
-    let slip = after.iter().fold([0.0; 3], |mut a, &c| {
-        add(&mut a, c, 1.0);
-        a
-    });
-    Ok(Solved {
-        remaining,
-        to_stick: moments(total),
-        stick,
-        slip: moments(slip),
-        breakaway: s[3] / s[0],
-        lost,
-        stick_survival: super::density::survival(&frame, &law),
-    })
+    let (mut sticks, mut lost, mut first_survival) = (Vec::<Stick>::new(), 0.0, Vec::new());
+    for k in 0..=count {
+        let mut entries = vec![[0.0; 5]; mesh.n_line + 1];
+        lost += passage(&mesh, cloud, &mut entries)?;
+        let all = total(&entries);
+        if let Some(before) = sticks.last_mut() {
+            before.slip = moments(all, 3);
+        }
+        if k == count {
+            break;
+        }
+        if k == 0 {
+            first_survival = super::density::survival(&frame, &entries.iter().enumerate().map(|(k, c)| (node(k), c[0])).collect::<Vec<_>>());
+        }
+        cloud = Cloud::zero(&mesh);
+        let held = leave(&mesh, entries.iter().enumerate().map(|(k, &c)| (node(k), c)), &mut cloud);
+        let mean = held.d1 / held.mass;
+        sticks.push(Stick {
+            start: moments(all, 1),
+            duration: (mean, held.d2 / held.mass - mean * mean),
+            end: moments(held.ends, 1),
+            slip: (f64::NAN, f64::NAN),
+            breakaway: held.breakaway / held.mass,
+        });
+    }
+    Ok(Sequence { current, sticks, lost, first_survival })
 }
 
 #[cfg(test)]
@@ -369,8 +424,8 @@ mod tests {
     #[test]
     fn a_clock_moved_later_keeps_its_moments() {
         // a clock A ∈ {1, 3} (equal masses) moved later by s = 2 with no spread: A + 2 ∈ {3, 5}
-        let c = later([2.0, 4.0, 10.0], 0.5, 2.0, 0.0, 0.0);
-        assert_eq!(c, [1.0, 4.0, 17.0]);
+        let c = later([2.0, 4.0, 10.0, 0.0, 0.0], 0.5, 2.0, 0.0, 0.0);
+        assert_eq!(c, [1.0, 4.0, 17.0, 2.0, 4.0]);
     }
 
     /// (μ_s = 0.6: c_s = 1.47) λ → 0: the walks are the deterministic motion
@@ -388,20 +443,29 @@ mod tests {
         let r = f.ck - 0.5;
         let (tau, x_a) = ((f.w0 / r).asin() / f.omega, f.ck - (r * r - f.w0 * f.w0).sqrt());
         let start = Start::Slip(Slip::at(0.5, 0.0, f.v0));
-        let got = solve(f, 0.05, half_width(f, start), start).unwrap();
-        close(got.to_stick.0, tau, "E tau");
-        close(got.stick.0, held(x_a), "E D");
-        close(got.slip.0, after_breakaway, "E H");
-        close(got.breakaway, 1.0, "P(breakaway)");
+        let got = sequence(f, 0.05, half_width(f, start), &[(start, 1.0)], 2).unwrap();
+        let s = got.sticks[0];
+        close(s.start.0, tau, "E T_1");
+        close(s.duration.0, held(x_a), "E D_1");
+        close(s.end.0, tau + held(x_a), "E L_1");
+        close(s.slip.0, after_breakaway, "E H_1");
+        close(s.breakaway, 1.0, "P(breakaway)");
+        // then the cycle: a stick at 2c_k − c_s, the same slip
+        let s = got.sticks[1];
+        let cycle = held(2.0 * f.ck - f.cs) + after_breakaway;
+        close(s.start.0, tau + held(x_a) + after_breakaway, "E T_2");
+        close(s.end.0, tau + held(x_a) + cycle, "E L_2");
+        close(s.slip.0, after_breakaway, "E H_2");
         // (the variances are not small: a flip, rare as it is, can leave the mass on a circle
         // under the belt line, where it slips until the next flip, ~1/λ later)
-        assert!(got.remaining.is_none() && got.lost == 0.0);
+        assert!(got.current.is_none() && got.lost == 0.0);
         // stuck at 0: the stick holds for c_s/v0, the breakaway slip, a stick at 2c_k − c_s
         let start = Start::Stuck(0.0);
-        let got = solve(f, 0.05, half_width(f, start), start).unwrap();
-        close(got.remaining.unwrap().0, held(0.0), "E R");
-        close(got.to_stick.0, held(0.0) + after_breakaway, "E tau (stuck)");
-        close(got.stick.0, held(2.0 * f.ck - f.cs), "E D (stuck)");
-        close(got.slip.0, after_breakaway, "E H (stuck)");
+        let got = sequence(f, 0.05, half_width(f, start), &[(start, 1.0)], 1).unwrap();
+        let s = got.sticks[0];
+        close(got.current.unwrap().0, held(0.0), "E R");
+        close(s.start.0, held(0.0) + after_breakaway, "E T_1 (stuck)");
+        close(s.duration.0, held(2.0 * f.ck - f.cs), "E D_1 (stuck)");
+        close(s.slip.0, after_breakaway, "E H_1 (stuck)");
     }
 }
