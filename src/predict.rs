@@ -264,18 +264,7 @@ fn exact_rows(frame: Frame, start: Start, finest: u32) -> Result<(Vec<Row>, Vec<
     for (_, h) in crate::law::ladder(frame, finest, crate::law::LEVELS)? {
         solved.push((h, passage::sequence(frame, h, half, &[(start, 1.0)], 1)?));
     }
-    // Richardson's value; its error the larger of the extrapolation's change and the finest
-    // change: the next stick's duration and breakaway probability come from the law of its
-    // entry, whose convergence is irregular on coarse grids (from rest at x = 0.5 on the paper
-    // scene, the breakaway probability's changes from h = 0.17 to 0.01 are +4.9e-4, +1.2e-4,
-    // +6.0e-5, +9.8e-6; stuck at 0.3: +5.4e-4, −4.9e-4, −1.4e-5, +1.7e-6), where the change of
-    // the extrapolation alone understated the error eightfold
-    let pick = |f: &dyn Fn(&passage::Sequence) -> f64| {
-        let points: Vec<(f64, f64)> = solved.iter().map(|(h, s)| (*h, f(s))).collect();
-        let (value, error) = crate::law::extrapolate(&points);
-        let finest = points.windows(2).last().map_or(0.0, |w| (w[1].1 - w[0].1).abs());
-        (value, error.max(finest))
-    };
+    let pick = |f: &dyn Fn(&passage::Sequence) -> f64| crate::law::guarded(&solved.iter().map(|(h, s)| (*h, f(s))).collect::<Vec<_>>());
     let mut rows = Vec::new();
     let mut row = |variable: &'static str, mean: &dyn Fn(&passage::Sequence) -> f64, variance: &dyn Fn(&passage::Sequence) -> f64| {
         let (m, e) = pick(mean);

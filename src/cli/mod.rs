@@ -178,9 +178,16 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
             eprint!("\r\x1b[Kresolution {n:>3}: iteration {i}, change {change:.1e}");
         }
     };
-    let levels = crate::law::run(&scenario, args.resolution, &args.out, &mut progress, &mut step).context("exact-law")?;
+    let mut sticks = |n: u32, seconds: f64| {
+        if !quiet {
+            eprintln!("sticks 1-{} from the initial conditions, resolution {n:>3}: {seconds:.1} s", crate::law::sticks::STICKS);
+        }
+    };
+    let (levels, rows) = crate::law::run(&scenario, args.resolution, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
+        println!();
+        print!("{}", crate::law::sticks::markdown(&rows));
     }
     Ok(())
 }

@@ -68,8 +68,9 @@ pub mod density;
 pub(crate) mod flow;
 mod output;
 pub(crate) mod passage;
+pub mod sticks;
 
-pub(crate) use output::extrapolate;
+pub(crate) use output::guarded;
 pub use output::{estimates, markdown, run, LawError, LEVELS};
 
 use crate::physics::Law;
