@@ -109,6 +109,10 @@ struct Content {
     tests: Vec<[String; 8]>,
     /// (quantity, estimate [95 %], from how many) of the tails, empty without them
     tails: Vec<[String; 3]>,
+    /// Table 1's means and variances without sampling (`exact-law`'s `moments.parquet`) beside
+    /// ours: (variable, exact mean ± error, ours [95 %], inside?, the same for the variance);
+    /// empty without `--exact`
+    exact: Vec<[String; 7]>,
     figures: Vec<(String, PathBuf)>,
 }
 
@@ -188,6 +192,31 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
         };
         let of = if stat[r] == "breakaway_fraction" { "sticks" } else { "realizations" };
         out.push([label, shown(value[r], lo[r], hi[r]), format!("{} {of}", n[r].unwrap_or(0))]);
+    }
+    Ok(out)
+}
+
+/// The exact rows beside Table 1 (`Content::exact`): every T_k, L_k, D_k, H_k that both have.
+/// A cell is inside when the exact value's error bar meets our 95 % interval.
+fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>, ReportError> {
+    let path = law.join("moments.parquet");
+    let t = Table::read_checked(&path, &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')])
+        .map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
+    let (vars, idx) = (t.strings("variable").unwrap_or_default(), t.ints("index").unwrap_or_default());
+    let col = |c: &str| t.floats(c).unwrap_or_default();
+    let (mean, var, me, ve) = (col("mean"), col("variance"), col("error"), col("variance_error"));
+    let mut out = Vec::new();
+    for r in table1 {
+        let Some(k) = (0..vars.len()).find(|&k| idx[k].is_some_and(|i| format!("{}_{i}", vars[k]) == r.label)) else { continue };
+        let side = |x: Option<f64>, e: Option<f64>, cell: usize| -> [String; 3] {
+            let (x, e) = (x.unwrap_or(f64::NAN), e.unwrap_or(f64::NAN));
+            let c = &r.cells[cell];
+            let inside = c.interval.map(|(lo, hi)| x + e >= lo && x - e <= hi);
+            [format!("{x:.5} ± {e:.1e}"), c.text(4), inside.map_or(String::new(), |i| if i { "✓".into() } else { "✗".into() })]
+        };
+        let [a, b, c] = side(mean[k], me[k], 0);
+        let [d, e, f] = side(var[k], ve[k], 1);
+        out.push([r.label.clone(), a, b, c, d, e, f]);
     }
     Ok(out)
 }
@@ -291,11 +320,13 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         .collect();
     figures.sort();
     let paper = sc.is_paper_scene();
+    let table1 = table1(&moments, paper);
     Ok(Content {
         provenance,
         scenario: sc.to_toml(),
         paper,
-        table1: table1(&moments, paper),
+        exact: Vec::new(),
+        table1,
         growth,
         renewal,
         tests,
@@ -328,6 +359,9 @@ fn solver_settings(sc: &crate::scenario::Scenario) -> String {
     };
     format!("{} ({settings})", kind.name())
 }
+
+const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];
+const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it).";
 
 const TABLE1_HEAD: [&str; 7] = ["variable", "n", "mean", "variance", "mode", "skewness", "kurtosis"];
 
@@ -406,7 +440,20 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
             cell(4, 2)
         );
     }
-    h += "</table>\n<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope [95 %]</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
+    h += "</table>\n";
+    if !c.exact.is_empty() {
+        let _ = write!(
+            h,
+            "<h2>Table 1 without sampling</h2>\n<p>{EXACT_LEGEND}</p>\n<table>\n<tr>{}</tr>\n",
+            EXACT_HEAD.iter().map(|x| format!("<th>{x}</th>")).collect::<String>()
+        );
+        for r in &c.exact {
+            let _ =
+                writeln!(h, "<tr><td class=\"l\">{}</td>{}</tr>", escape(&r[0]), r[1..].iter().map(|x| format!("<td>{}</td>", escape(x))).collect::<String>());
+        }
+        h += "</table>\n";
+    }
+    h += "<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope [95 %]</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
     for g in &c.growth {
         let [a, b, c2, d, e] = g.clone().map(|x| escape(&x));
         let _ = writeln!(h, "<tr><td class=\"l\">{a}</td><td>{b}</td><td>{c2}</td><td>{d}</td><td>{e}</td></tr>");
@@ -462,6 +509,12 @@ fn markdown(c: &Content, figdir: &Path) -> String {
         let c = |i: usize, digits: usize| r.shown(i, digits).0;
         let _ = writeln!(m, "| {} | {} | {} | {} | {} | {} | {} |", r.label, r.n, c(0, 3), c(1, 3), c(2, 3), c(3, 2), c(4, 2));
     }
+    if !c.exact.is_empty() {
+        let _ = write!(m, "\n## Table 1 without sampling\n\n{EXACT_LEGEND}\n\n| {} |\n|{}\n", EXACT_HEAD.join(" | "), "---|".repeat(EXACT_HEAD.len()));
+        for r in &c.exact {
+            let _ = writeln!(m, "| {} |", r.join(" | "));
+        }
+    }
     m += "\n## Growth and renewal check\n\n| fit | slope | slope se | intercept | R² |\n|---|---|---|---|---|\n";
     for g in &c.growth {
         let _ = writeln!(m, "| {} |", g.join(" | "));
@@ -489,16 +542,20 @@ fn markdown(c: &Content, figdir: &Path) -> String {
 
 /// Write `out` (HTML, a name ending in `.html`) and its Markdown twin (same path, `.md`);
 /// returns both paths. Neither may lie inside an input, nor replace a file the tool did not write.
-pub fn run(dataset: &Path, adir: &Path, figdir: &Path, out: &Path) -> Result<[PathBuf; 2], ReportError> {
+/// `exact` (if given) is an `exact-law` output directory: its Table 1 goes beside ours.
+pub fn run(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>, out: &Path) -> Result<[PathBuf; 2], ReportError> {
     use crate::outdir::{check_separate, write_file, OutDirError};
     if out.extension().is_none_or(|x| x != "html") {
         return Err(OutDirError { path: out.to_owned(), message: "--out must name an .html file (its Markdown twin gets .md)".into(), refused: true }.into());
     }
     let md_path = out.with_extension("md");
     for p in [out, md_path.as_path()] {
-        check_separate(p, "--out", &[dataset, adir, figdir])?;
+        check_separate(p, "--out", &[dataset, adir, figdir].into_iter().chain(exact).collect::<Vec<_>>())?;
     }
-    let c = content(dataset, adir, figdir)?;
+    let mut c = content(dataset, adir, figdir)?;
+    if let Some(law) = exact {
+        c.exact = exact_rows(law, &c.table1)?;
+    }
     let (h, m) = (html(&c, figdir)?, markdown(&c, figdir));
     let created = match out.parent().filter(|p| !p.as_os_str().is_empty()) {
         Some(dir) => crate::outdir::Created::dir_all(dir)?,

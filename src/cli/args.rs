@@ -215,6 +215,10 @@ pub struct ReportArgs {
     /// The HTML file to write; the Markdown twin goes next to it with the extension .md.
     #[arg(long, value_name = "FILE", default_value = "report.html")]
     pub out: PathBuf,
+    /// An `exact-law` output directory of the same scenario: its means and variances of T_k, L_k,
+    /// D_k, H_k (no sampling) go beside Table 1's intervals.
+    #[arg(long, value_name = "LAWDIR")]
+    pub exact: Option<PathBuf>,
 }
 
 /// Arguments of `analyze`.

@@ -83,7 +83,7 @@ fn figures_command(adir: &Path, out: &Path, quiet: bool) -> anyhow::Result<()> {
 }
 
 fn report_command(args: &ReportArgs, quiet: bool) -> anyhow::Result<()> {
-    let [html, md] = crate::report::run(&args.dataset, &args.analysis, &args.figures, &args.out).context("report")?;
+    let [html, md] = crate::report::run(&args.dataset, &args.analysis, &args.figures, args.exact.as_deref(), &args.out).context("report")?;
     if !quiet {
         eprintln!("wrote {} and {}", html.display(), md.display());
     }
@@ -274,6 +274,7 @@ fn reproduce_command(args: ReproduceArgs, quiet: bool) -> anyhow::Result<()> {
             analysis: layout.analysis.join(&cell),
             figures: layout.figures.join(&cell),
             out: ReproduceLayout::report(&dir, &cell),
+            exact: None,
         };
         report_command(&args, quiet)?;
     }

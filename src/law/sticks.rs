@@ -74,7 +74,10 @@ pub(crate) fn starts(scenario: &Scenario, frame: Frame, h: f64) -> Vec<(Start, f
 /// --stuck` answers that question).
 pub(crate) fn check_starts(starts: &[(Start, f64)], frame: Frame) -> Result<(), String> {
     match starts.iter().find(|(s, _)| matches!(s, Start::Slip(z) if z.v == frame.v0 && (-frame.cs..frame.cs).contains(&z.x))) {
-        Some(_) => Err("the initial condition moves with the belt within the holding limit (it starts stuck): the table follows the sticks after a slipping start".into()),
+        Some(_) => {
+            Err("the initial condition moves with the belt within the holding limit (it starts stuck): the table follows the sticks after a slipping start"
+                .into())
+        }
         None => Ok(()),
     }
 }
@@ -117,4 +120,58 @@ pub fn markdown(rows: &[Row]) -> String {
         m += &format!("| {} | {} | {:.6} | {:.1e} | {:.6} | {:.1e} |\n", r.variable, r.index, r.mean, r.error, r.variance, r.variance_error);
     }
     m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// λ → 0 from a point at rest (μ_s = 0.6): the deterministic motion — the first stick after
+    /// asin(w0/r)/ω, held to the breakaway, then the cycle of a slip back to 2c_k − c_s and a
+    /// stick from there (module docs of [`super::super::flow`]).
+    #[test]
+    fn rare_flips_from_a_point_follow_the_deterministic_sticks() {
+        let sc = Scenario::resolve(
+            None,
+            &[
+                "model.static_friction_coefficient=0.6",
+                "belt.switch_rate=1e-6",
+                "initial_conditions.position=[0.5, 0.5]",
+                "initial_conditions.velocity=[0.0, 0.0]",
+            ]
+            .map(String::from),
+        )
+        .unwrap();
+        let frame = super::super::frame(&sc.scene().unwrap()).unwrap();
+        let ladder = super::super::ladder(frame, 16, 3).unwrap();
+        let rows = rows(&solve(&sc, frame, &ladder, &mut |_, _| {}).unwrap());
+        let (omega, v0, w0) = (2.0f64, 1.0, 0.5);
+        let (ck, cs) = (0.51 * 9.8 / 4.0, 0.6 * 9.8 / 4.0);
+        let r: f64 = ck - 0.5;
+        let (t1, x1) = ((w0 / r).asin() / omega, ck - (r * r - w0 * w0).sqrt());
+        let slip = (std::f64::consts::TAU - 2.0 * (cs - ck).atan2(w0)) / omega;
+        let (d1, d) = ((cs - x1) / v0, 2.0 * (cs - ck) / v0);
+        let mut t = t1;
+        for k in 1..=STICKS as u32 {
+            let held = if k == 1 { d1 } else { d };
+            let want = [("T", t), ("L", t + held), ("D", held), ("H", slip)];
+            for (v, x) in want {
+                let got = rows.iter().find(|r| r.variable == v && r.index == k).unwrap();
+                assert!((got.mean - x).abs() < 1e-3 * x, "{v}_{k}: {} against {x}", got.mean);
+            }
+            t += held + slip;
+        }
+    }
+
+    #[test]
+    fn the_box_is_held_on_midpoints_of_equal_weight_and_a_random_sign_takes_both_halves() {
+        let sc = Scenario::resolve(None, &["belt.initial_sign=\"random\"".to_string()]).unwrap();
+        let frame = super::super::frame(&sc.scene().unwrap()).unwrap();
+        let s = starts(&sc, frame, 0.1);
+        // [−1, 1] × [−1, 1] m, m/s at spacings 0.05 m and ω h/2 = 0.1 m/s: 40 × 20, twice
+        assert_eq!(s.len(), 2 * 40 * 20);
+        assert!((s.iter().map(|p| p.1).sum::<f64>() - 1.0).abs() < 1e-12);
+        let mean_x: f64 = s.iter().map(|(p, w)| if let Start::Slip(z) = p { z.x * w } else { f64::NAN }).sum();
+        assert!(mean_x.abs() < 1e-12);
+    }
 }

@@ -223,3 +223,70 @@ fn the_values_do_not_depend_on_the_threads() {
     };
     assert_eq!(run("1", "one"), run("3", "three"));
 }
+
+/// The paper's Table 1 without sampling: the means and variances of T_k, L_k, D_k and H_k
+/// (k ≤ 6) from `exact-law` against 20,000 realizations of the paper scenario read here (a
+/// duration counts if it ended before t_a), each within 4.5 standard errors plus its own error
+/// estimate (the variance's standard error from the fourth central moment), and the table in
+/// `moments.parquet` with analyze's column names.
+#[test]
+fn the_table_from_the_initial_conditions_agrees_with_monte_carlo() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sc = scenario(&[]);
+    let (_, rows) = stickslip::law::run(&sc, 20, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _| {}).unwrap();
+    let t = stickslip::table::Table::read_checked(
+        &tmp.path().join("e/moments.parquet"),
+        &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')],
+    )
+    .unwrap();
+    assert_eq!(t.height(), 24);
+    let runs = outcomes(&sc, 20_000);
+    for r in &rows {
+        let k = r.index as usize - 1;
+        let xs: Vec<f64> = runs
+            .iter()
+            .filter_map(|o| {
+                let e = &o.record;
+                match r.variable {
+                    "T" => e.stick_start.get(k).copied(),
+                    "L" => e.slip_start.get(k).copied(),
+                    "D" => e.stick_end.get(k).filter(|end| **end != StickEnd::Horizon).map(|_| e.stick_duration[k]),
+                    _ => e.stick_start.get(k + 1).map(|_| e.slip_duration[k]),
+                }
+            })
+            .collect();
+        let n = xs.len() as f64;
+        let mean = xs.iter().sum::<f64>() / n;
+        let m2 = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
+        let m4 = xs.iter().map(|x| (x - mean).powi(4)).sum::<f64>() / n;
+        let (se, se_var) = ((m2 / n).sqrt(), ((m4 - m2 * m2) / n).sqrt());
+        let what = format!("{}_{}", r.variable, r.index);
+        assert!((r.mean - mean).abs() <= 4.5 * se + r.error, "{what}: exact {} ± {}, Monte Carlo {mean} ± {se}", r.mean, r.error);
+        assert!(
+            (r.variance - m2).abs() <= 4.5 * se_var + r.variance_error,
+            "{what}: exact variance {} ± {}, Monte Carlo {m2} ± {se_var}",
+            r.variance,
+            r.variance_error
+        );
+    }
+}
+
+/// `report --exact LAWDIR` puts the exact means and variances beside Table 1's intervals: one
+/// row per T_k, L_k, D_k, H_k, each judged against our interval.
+#[test]
+fn the_report_shows_the_exact_values_beside_the_intervals() {
+    let tmp = tempfile::tempdir().unwrap();
+    for args in [vec!["reproduce", "--out", "r", "--realizations", "3000", "-q"], vec!["exact-law", "--out", "law", "--resolution", "16", "-q"]] {
+        let o = crate::common::stickslip(&args, tmp.path());
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let o = crate::common::stickslip(&["report", "r/dataset", "r/analysis", "r/figures", "--exact", "law", "--out", "x.html", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(tmp.path().join("x.md")).unwrap();
+    let section = &md[md.find("## Table 1 without sampling").expect("the section")..];
+    let rows: Vec<&str> =
+        section.lines().filter(|l| l.starts_with("| T_") || l.starts_with("| L_") || l.starts_with("| D_") || l.starts_with("| H_")).collect();
+    assert_eq!(rows.len(), 24, "{section}");
+    assert!(rows.iter().all(|r| r.matches('✓').count() + r.matches('✗').count() == 2), "{rows:?}");
+    assert!(std::fs::read_to_string(tmp.path().join("x.html")).unwrap().contains("<h2>Table 1 without sampling</h2>"));
+}

@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""The paper's Table 1 without sampling (`stickslip exact-law`, moments.parquet) against Monte Carlo.
+
+Runs `exact-law` on the paper scenario (timed) and `simulate` of REALIZATIONS realizations of it
+(timed), then compares every mean and variance of T_k, L_k, D_k, H_k (k = 1..6): Monte Carlo over
+the realizations that reached the k-th stick (a duration only if it ended before t_a), its
+standard error (the variance's from the fourth central moment), and z = (exact − MC) /
+sqrt(SE² + error²). Prints a Markdown table and the largest |z|.
+
+usage: python3 benches/exact_table1.py [BINARY] [--realizations N] [--seed S] [--resolution R] [--keep DIR]
+(pinned: polars==2.1.0; the binary defaults to target/release/stickslip)
+"""
+import argparse, math, subprocess, sys, tempfile, time
+
+import polars as pl
+
+p = argparse.ArgumentParser()
+p.add_argument("binary", nargs="?", default="target/release/stickslip")
+p.add_argument("--realizations", type=int, default=10_000_000)
+p.add_argument("--seed", type=int, default=1)
+p.add_argument("--resolution", type=int, default=80)
+p.add_argument("--keep", help="keep the exact-law output and the dataset in this new directory")
+a = p.parse_args()
+
+with tempfile.TemporaryDirectory() as scratch:
+    tmp = a.keep or scratch
+    t0 = time.time()
+    subprocess.run([a.binary, "exact-law", "--out", f"{tmp}/law", "--resolution", str(a.resolution), "-q"], check=True)
+    t_exact = time.time() - t0
+    t0 = time.time()
+    subprocess.run([a.binary, "simulate", "--out", f"{tmp}/mc", "--realizations", str(a.realizations), "--seed", str(a.seed), "-q"], check=True)
+    t_mc = time.time() - t0
+    ex = pl.read_parquet(f"{tmp}/law/moments.parquet")
+    df = pl.scan_parquet(f"{tmp}/mc/*.parquet")
+    cols = {"T": "stick_start", "L": "slip_start", "D": "stick_duration", "H": "slip_duration"}
+    print(f"exact-law --resolution {a.resolution}: {t_exact:.1f} s; simulate {a.realizations} realizations (seed {a.seed}): {t_mc:.1f} s\n")
+    print("| variable | mean, exact | Monte Carlo | z | variance, exact | Monte Carlo | z |\n|---|---:|---:|---:|---:|---:|---:|")
+    worst = 0.0
+    for v, c in cols.items():
+        for k in range(1, 7):
+            x = pl.col(c).list.get(k - 1, null_on_oob=True)
+            q = df.select(x.alias("x"), pl.col("n_stick" if v == "D" else "n_slip").alias("n"), pl.col("n_stick").alias("s"), pl.col("last_truncated").alias("cut"))
+            if v == "D":  # the k-th stick ended before t_a
+                q = q.filter(~((pl.col("n") == k) & pl.col("cut")))
+            if v == "H":  # the k-th slip ended in stick k + 1
+                q = q.filter(pl.col("s") > k)
+            n, m, var, m4 = q.select(pl.col("x").drop_nulls()).select(
+                pl.len().alias("n"), pl.col("x").mean().alias("m"), pl.col("x").var().alias("v"),
+                ((pl.col("x") - pl.col("x").mean()) ** 4).mean().alias("m4")).collect().row(0)
+            se_m, se_v = math.sqrt(var / n), math.sqrt(max(m4 - var * var, 0.0) / n)
+            e = ex.filter((pl.col("variable") == v) & (pl.col("index") == k)).row(0, named=True)
+            zm = (e["mean"] - m) / math.hypot(se_m, e["error"])
+            zv = (e["variance"] - var) / math.hypot(se_v, e["variance_error"])
+            worst = max(worst, abs(zm), abs(zv))
+            print(f"| {v}_{k} | {e['mean']:.6f} ± {e['error']:.1e} | {m:.6f} ± {se_m:.1e} | {zm:+.2f} | {e['variance']:.6f} ± {e['variance_error']:.1e} | {var:.6f} ± {se_v:.1e} | {zv:+.2f} |")
+    print(f"\nlargest |z|: {worst:.2f}")
