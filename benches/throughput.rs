@@ -151,7 +151,7 @@ fn main() {
         let start = Instant::now();
         let figures = stickslip::figures::run(&top.join("analysis"), &top.join("figures")).unwrap();
         let drawn = start.elapsed().as_secs_f64();
-        stickslip::report::run(&data, &top.join("analysis"), &top.join("figures"), &top.join("report.html")).unwrap();
+        stickslip::report::run(&data, &top.join("analysis"), &top.join("figures"), None, &top.join("report.html")).unwrap();
         println!(
             "figures + report, paper scenario: {:.2} s ({} figures as PNG + SVG in {drawn:.2} s, report in {:.2} s)",
             start.elapsed().as_secs_f64(),
