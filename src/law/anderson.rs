@@ -8,23 +8,45 @@ pub(super) struct Anderson {
     last: Option<(Vec<f64>, Vec<f64>)>,
     /// (ΔG, Δf) of the remembered steps
     history: std::collections::VecDeque<(Vec<f64>, Vec<f64>)>,
+    /// Δf_i · Δf_j of the remembered steps (kept as steps come and go: one new row per step)
+    gram: std::collections::VecDeque<std::collections::VecDeque<f64>>,
+}
+
+/// Values per parallel chunk of a dot product (fixed: the sum's order, and so its bits, do not
+/// depend on the threads).
+const DOT_CHUNK: usize = 1 << 15;
+
+/// a · b, in fixed chunks summed in order.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    use rayon::prelude::*;
+    let parts: Vec<f64> = a.par_chunks(DOT_CHUNK).zip(b.par_chunks(DOT_CHUNK)).map(|(x, y)| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>()).collect();
+    parts.iter().sum()
 }
 
 impl Anderson {
     pub(super) fn new(depth: usize) -> Anderson {
-        Anderson { depth, last: None, history: std::collections::VecDeque::new() }
+        Anderson { depth, last: None, history: std::collections::VecDeque::new(), gram: std::collections::VecDeque::new() }
     }
 
     /// The next iterate from x_k and G(x_k).
     pub(super) fn mix(&mut self, x: Vec<f64>, g: Vec<f64>) -> Vec<f64> {
         let f: Vec<f64> = g.iter().zip(&x).map(|(a, b)| a - b).collect();
         if let Some((g0, f0)) = self.last.take() {
-            let dg = g.iter().zip(&g0).map(|(a, b)| a - b).collect();
-            let df = f.iter().zip(&f0).map(|(a, b)| a - b).collect();
-            self.history.push_back((dg, df));
-            if self.history.len() > self.depth {
+            let dg: Vec<f64> = g.iter().zip(&g0).map(|(a, b)| a - b).collect();
+            let df: Vec<f64> = f.iter().zip(&f0).map(|(a, b)| a - b).collect();
+            if self.history.len() == self.depth {
                 self.history.pop_front();
+                self.gram.pop_front();
+                self.gram.iter_mut().for_each(|row| {
+                    row.pop_front();
+                });
             }
+            let row: std::collections::VecDeque<f64> = self.history.iter().map(|(_, d)| dot(d, &df)).chain([dot(&df, &df)]).collect();
+            for (r, &v) in self.gram.iter_mut().zip(&row) {
+                r.push_back(v);
+            }
+            self.gram.push_back(row);
+            self.history.push_back((dg, df));
         }
         self.last = Some((g.clone(), f.clone()));
         let m = self.history.len();
@@ -32,17 +54,17 @@ impl Anderson {
             return g;
         }
         // normal equations (DfᵀDf + εI) γ = Dfᵀ f, by Gaussian elimination with pivoting
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let mut a = vec![vec![0.0; m + 1]; m];
         for i in 0..m {
             for j in 0..m {
-                a[i][j] = dot(&self.history[i].1, &self.history[j].1);
+                a[i][j] = self.gram[i][j];
             }
             a[i][i] *= 1.0 + 1e-10;
             a[i][m] = dot(&self.history[i].1, &f);
         }
         let Some(gamma) = solve_dense(a) else {
             self.history.clear();
+            self.gram.clear();
             return g;
         };
         let mut out = g;
