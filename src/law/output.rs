@@ -80,7 +80,7 @@ pub fn run(
     let rows = sticks::rows(&after);
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
     stationary_table(&levels).write_parquet(&staged.path().join("stationary.parquet")).map_err(|e| werr("stationary.parquet", &e))?;
-    convergence_table(&levels).write_parquet(&staged.path().join("convergence.parquet")).map_err(|e| werr("convergence.parquet", &e))?;
+    convergence_table(&levels, &ladder, &after).write_parquet(&staged.path().join("convergence.parquet")).map_err(|e| werr("convergence.parquet", &e))?;
     density_table(&density).write_parquet(&staged.path().join("density.parquet")).map_err(|e| werr("density.parquet", &e))?;
     let mut survival = Table::default();
     survival
@@ -149,17 +149,28 @@ fn stationary_table(levels: &[Level]) -> Table {
     t
 }
 
-/// `convergence.parquet`: resolution, h, quantity, value, iterations, lost (one row per
-/// resolution and quantity).
-fn convergence_table(levels: &[Level]) -> Table {
-    let rows: Vec<(&Level, usize)> = levels.iter().flat_map(|l| (0..QUANTITIES.len()).map(move |q| (l, q))).collect();
+/// `convergence.parquet`: resolution, h, quantity, value, iterations, lost — one row per
+/// resolution and long-run quantity, then per resolution and Table 1 statistic (`mean_T_1`,
+/// `variance_T_1`, …; iterations null).
+fn convergence_table(levels: &[Level], ladder: &[(u32, f64)], sticks: &[(f64, super::passage::Sequence)]) -> Table {
+    // (resolution, h, quantity, value, iterations, lost)
+    let mut rows: Vec<(u32, f64, String, f64, Option<i64>, f64)> = levels
+        .iter()
+        .flat_map(|l| QUANTITIES.iter().zip(l.values).map(move |(q, v)| (l.n, l.h, q.to_string(), v, Some(i64::from(l.iterations)), l.lost)))
+        .collect();
+    for (&(n, _), (h, s)) in ladder.iter().zip(sticks) {
+        for (v, k, (mean, variance)) in sticks::values(s) {
+            rows.push((n, *h, format!("mean_{v}_{k}"), mean, None, s.lost));
+            rows.push((n, *h, format!("variance_{v}_{k}"), variance, None, s.lost));
+        }
+    }
     let mut t = Table::default();
-    t.push("resolution", Col::Int(rows.iter().map(|(l, _)| Some(i64::from(l.n))).collect()))
-        .push("h", Col::Float(rows.iter().map(|(l, _)| Some(l.h)).collect()))
-        .push("quantity", Col::Str(rows.iter().map(|&(_, q)| QUANTITIES[q].to_string()).collect()))
-        .push("value", Col::Float(rows.iter().map(|&(l, q)| Some(l.values[q])).collect()))
-        .push("iterations", Col::Int(rows.iter().map(|(l, _)| Some(i64::from(l.iterations))).collect()))
-        .push("lost", Col::Float(rows.iter().map(|(l, _)| Some(l.lost)).collect()));
+    t.push("resolution", Col::Int(rows.iter().map(|r| Some(i64::from(r.0))).collect()))
+        .push("h", Col::Float(rows.iter().map(|r| Some(r.1)).collect()))
+        .push("quantity", Col::Str(rows.iter().map(|r| r.2.clone()).collect()))
+        .push("value", Col::Float(rows.iter().map(|r| Some(r.3)).collect()))
+        .push("iterations", Col::Int(rows.iter().map(|r| r.4).collect()))
+        .push("lost", Col::Float(rows.iter().map(|r| Some(r.5)).collect()));
     t
 }
 

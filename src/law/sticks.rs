@@ -82,21 +82,28 @@ pub(crate) fn check_starts(starts: &[(Start, f64)], frame: Frame) -> Result<(), 
     }
 }
 
+/// One sequence's (variable, k, mean, variance), in the order of the rows.
+pub(crate) fn values(s: &Sequence) -> Vec<(&'static str, u32, Moments)> {
+    VARIABLES
+        .iter()
+        .enumerate()
+        .flat_map(|(v, variable)| {
+            s.sticks.iter().take(STICKS).enumerate().map(move |(k, st)| (*variable, k as u32 + 1, [st.start, st.end, st.duration, st.slip][v]))
+        })
+        .collect()
+}
+
 /// The rows from sequences at the ladder's spacings (coarsest first).
 pub(crate) fn rows(levels: &[(f64, Sequence)]) -> Vec<Row> {
-    let mut out = Vec::new();
-    for (v, variable) in VARIABLES.iter().enumerate() {
-        for k in 0..STICKS {
-            let of = |s: &Sequence| -> Moments {
-                let st = &s.sticks[k];
-                [st.start, st.end, st.duration, st.slip][v]
-            };
-            let mean = super::guarded(&levels.iter().map(|(h, s)| (*h, of(s).0)).collect::<Vec<_>>());
-            let variance = super::guarded(&levels.iter().map(|(h, s)| (*h, of(s).1)).collect::<Vec<_>>());
-            out.push(Row { variable, index: k as u32 + 1, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1 });
-        }
-    }
-    out
+    let per: Vec<(f64, Vec<(&'static str, u32, Moments)>)> = levels.iter().map(|(h, s)| (*h, values(s))).collect();
+    (0..per.first().map_or(0, |p| p.1.len()))
+        .map(|i| {
+            let (variable, index, _) = per[0].1[i];
+            let mean = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .0)).collect::<Vec<_>>());
+            let variance = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .1)).collect::<Vec<_>>());
+            Row { variable, index, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1 }
+        })
+        .collect()
 }
 
 /// The sequences of the scenario's initial law at the ladder's spacings.

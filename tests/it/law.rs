@@ -167,7 +167,8 @@ fn the_command_writes_its_tables_and_refuses_a_damped_scene() {
     assert!(t.floats("error").unwrap().iter().all(|e| e.is_some_and(|e| e.is_finite() && e >= 0.0)));
     let c =
         stickslip::table::Table::read_checked(&tmp.path().join("e/convergence.parquet"), &[("resolution", 'i'), ("quantity", 's'), ("value", 'f')]).unwrap();
-    assert_eq!(c.height(), 3 * QUANTITIES.len());
+    // (the long-run quantities at each resolution, then Table 1's 24 means and 24 variances at each)
+    assert_eq!(c.height(), 3 * (QUANTITIES.len() + 48));
     let finest = |q: usize| c.floats("value").unwrap()[2 * QUANTITIES.len() + q].unwrap();
     // the density: the time while slipping and while stuck adds up to 1, the stuck part to the
     // finest level's stick fraction (cells of equal size: their widths from the centres)
