@@ -11,6 +11,7 @@ use rayon::prelude::*;
 
 use crate::law::flow::{Frame, Slip};
 use crate::law::passage::{self, Start};
+pub use crate::law::LawError;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::belt::{InitialSign, Process};
@@ -52,42 +53,6 @@ pub struct Row {
     pub error: f64,
     /// Monte Carlo: the futures that reached this variable (the others were cut by the horizon)
     pub futures: Option<u64>,
-}
-
-/// Why `predict` failed.
-#[derive(Debug, thiserror::Error)]
-pub enum PredictError {
-    /// The scenario is invalid.
-    #[error(transparent)]
-    Scenario(#[from] ScenarioError),
-    /// The state or the options do not fit the scene.
-    #[error("{0}")]
-    Refused(String),
-    /// A future could not be simulated, or the exact solve failed.
-    #[error("{0}")]
-    Failed(String),
-    /// Writing an output file failed.
-    #[error("writing {}: {message}", path.display())]
-    Write {
-        /// the file
-        path: std::path::PathBuf,
-        /// what went wrong
-        message: String,
-    },
-    /// The output directory could not be staged or replaced.
-    #[error(transparent)]
-    Out(#[from] crate::outdir::OutDirError),
-}
-
-impl crate::blame::Blame for PredictError {
-    fn blames_input(&self) -> bool {
-        match self {
-            PredictError::Scenario(e) => e.blames_input(),
-            PredictError::Refused(_) => true,
-            PredictError::Failed(_) | PredictError::Write { .. } => false,
-            PredictError::Out(e) => e.blames_input(),
-        }
-    }
 }
 
 /// What to compute.
@@ -164,23 +129,23 @@ pub fn default_horizon(scenario: &Scenario) -> Result<f64, ScenarioError> {
 
 /// Predict from `state`; `out` (if given) gets `prediction.parquet` (and the exact
 /// `stick_survival.parquet`). `progress` hears what is being done.
-pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>, progress: &mut dyn FnMut(&str)) -> Result<Prediction, PredictError> {
+pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>, progress: &mut dyn FnMut(&str)) -> Result<Prediction, LawError> {
     let scene = scenario.scene()?;
     if !(state.x.is_finite() && state.velocity.is_finite() && state.belt.is_finite()) {
-        return Err(PredictError::Refused(format!("--state {},{},{}: must be three finite numbers", state.x, state.velocity, state.belt)));
+        return Err(LawError::Refused(format!("--state {},{},{}: must be three finite numbers", state.x, state.velocity, state.belt)));
     }
     use crate::simulation::keys::Key;
     if let Some((key, _)) = scene.random.iter().find(|(k, _)| matches!(k, Key::Speed | Key::ReverseSpeed)) {
-        return Err(PredictError::Refused(format!("{} is drawn per realization: a belt velocity names no state", key.dotted())));
+        return Err(LawError::Refused(format!("{} is drawn per realization: a belt velocity names no state", key.dotted())));
     }
-    let sign = belt_state(&scene.belt.process, state.belt).map_err(PredictError::Refused)?;
+    let sign = belt_state(&scene.belt.process, state.belt).map_err(LawError::Refused)?;
     if state.stuck && state.velocity != state.belt {
-        return Err(PredictError::Refused(format!(
+        return Err(LawError::Refused(format!(
             "--stuck: the mass velocity {} must equal the belt velocity {} (a stuck mass moves with the belt)",
             state.velocity, state.belt
         )));
     }
-    stuck_or_not(&scene, state, sign).map_err(PredictError::Refused)?;
+    stuck_or_not(&scene, state, sign).map_err(LawError::Refused)?;
     let staged = out.map(|o| StagedDir::new(o, Kind::Predict, "--out", &[])).transpose()?;
     let mut rows = Vec::new();
     let mut survival = None;
@@ -189,7 +154,7 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     let exact_refused = exact.as_ref().err().cloned();
     if let Ok((frame, start)) = exact {
         progress("exact: three resolutions");
-        let (r, s) = exact_rows(frame, start, opts.resolution).map_err(PredictError::Refused)?;
+        let (r, s) = exact_rows(frame, start, opts.resolution).map_err(LawError::Refused)?;
         rows.extend(r);
         survival = Some(s);
     }
@@ -206,7 +171,7 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         censored = c;
     }
     if let Some(staged) = staged {
-        let werr = |name: &str, e: &dyn std::fmt::Display| PredictError::Write { path: staged.path().join(name), message: e.to_string() };
+        let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: staged.path().join(name), message: e.to_string() };
         table(&rows).write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
         if let Some(s) = &survival {
             let mut t = Table::default();
@@ -295,23 +260,23 @@ struct Future {
 const CHUNK: u64 = 1024;
 
 /// The conditional Monte Carlo rows from `n` futures, and how many were cut by the horizon.
-fn monte_carlo(scenario: &Scenario, state: State, sign: i32, n: u64, horizon: f64) -> Result<(Vec<Row>, u64), PredictError> {
+fn monte_carlo(scenario: &Scenario, state: State, sign: i32, n: u64, horizon: f64) -> Result<(Vec<Row>, u64), LawError> {
     let mut s = scenario.clone();
     s.initial_conditions.position = [state.x; 2];
     s.initial_conditions.velocity = [state.velocity; 2];
     s.belt.initial_sign = crate::scenario::Sign(if sign > 0 { InitialSign::Positive } else { InitialSign::Negative });
     s.run.duration = horizon;
     s.run.realizations = n;
-    s.check().map_err(|e| PredictError::Refused(format!("the futures' scenario: {e}")))?;
+    s.check().map_err(|e| LawError::Refused(format!("the futures' scenario: {e}")))?;
     let ensemble = Ensemble::new(&s)?;
     let stuck = state.stuck;
-    let chunks: Vec<Result<Vec<Future>, PredictError>> = (0..n.div_ceil(CHUNK))
+    let chunks: Vec<Result<Vec<Future>, LawError>> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             let mut out = Outcome::default();
             (c * CHUNK..((c + 1) * CHUNK).min(n))
                 .map(|i| {
-                    ensemble.realization(i, &mut out).map_err(|e| PredictError::Failed(e.to_string()))?;
+                    ensemble.realization(i, &mut out).map_err(|e| LawError::Failed(e.to_string()))?;
                     future(&out, stuck)
                 })
                 .collect()
@@ -343,12 +308,12 @@ fn monte_carlo(scenario: &Scenario, state: State, sign: i32, n: u64, horizon: f6
 }
 
 /// A future's values from its record; an error if the simulated start disagrees with --stuck.
-fn future(out: &Outcome, stuck: bool) -> Result<Future, PredictError> {
+fn future(out: &Outcome, stuck: bool) -> Result<Future, LawError> {
     let r = &out.record;
     let started_stuck = r.stick_start.first() == Some(&0.0);
     if started_stuck != stuck {
         // (the scene's parameters are drawn: the state sticks for some of them and not others)
-        return Err(PredictError::Refused(if stuck {
+        return Err(LawError::Refused(if stuck {
             "--stuck: with the parameters drawn for a future the force exceeds the holding limit (the mass slips at once)".into()
         } else {
             "the mass moves with the belt within the holding limit of the parameters drawn for a future: it is stuck (add --stuck)".into()

@@ -52,10 +52,12 @@ pub enum Command {
     /// randomness (pick-freeze, N·(d+3) realizations); writes DIR/sobol.parquet, sobol.png, sobol.md.
     Sensitivity(SensitivityArgs),
     /// The law without sampling: the long-run stick fraction, the mean and variance of the stick
-    /// and slip durations, sticks per second and the breakaway fraction, computed from the
-    /// process' equations (no Monte Carlo) at three resolutions, extrapolated, with an error
-    /// estimate; writes DIR/stationary.parquet and DIR/convergence.parquet. Scenes: Coulomb
-    /// friction (mu_s >= mu_k) without damping, the symmetric belt, fixed parameters.
+    /// and slip durations, sticks per second and the breakaway fraction, and the paper's Table 1
+    /// (means and variances of T_k, L_k, D_k, H_k, k <= 6, from the initial conditions), computed
+    /// from the process' equations (no Monte Carlo) at three resolutions, extrapolated, with an
+    /// error estimate; writes DIR/stationary.parquet, DIR/moments.parquet, DIR/convergence.parquet,
+    /// the stationary density and its figure. Scenes: Coulomb friction (mu_s >= mu_k) without
+    /// damping, the symmetric belt, fixed parameters.
     ExactLaw(ExactLawArgs),
     /// The next stick from a given state: the law (mean, standard deviation) of the time to its
     /// start, its duration, the slip after it and whether it ends by breakaway — computed without
@@ -133,7 +135,8 @@ pub struct ExactLawArgs {
     pub out: PathBuf,
     /// The finest resolution N: grid nodes per c_s + v0/omega of the phase plane (the solve runs
     /// at N/4, N/2 and N; the error is second order in 1/N; 8 to 320; on 2 cores N = 80 takes
-    /// about 20 s, N = 160 about a minute, N = 320 about 5 minutes and 2 GB).
+    /// about 55 s and 0.6 GB, N = 160 about 5 minutes and 2.4 GB, N = 320 about four times that
+    /// memory and 8 to 16 times that time).
     #[arg(long, value_name = "N", default_value_t = 80)]
     pub resolution: u32,
 }

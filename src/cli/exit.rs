@@ -47,7 +47,6 @@ fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
         crate::tradeoff::TradeoffError,
         crate::sensitivity::SensitivityError,
         crate::law::LawError,
-        crate::predict::PredictError,
     );
     false
 }

@@ -12,16 +12,16 @@ use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::table::{Col, Table};
 
-/// Why `exact-law` failed.
+/// Why `exact-law` or `predict` failed.
 #[derive(Debug, thiserror::Error)]
 pub enum LawError {
     /// The scenario is invalid.
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
-    /// The method does not hold for the scene.
+    /// The method does not hold for the scene, or the state or options do not fit it.
     #[error("{0}")]
     Refused(String),
-    /// The solve failed (it did not converge).
+    /// The solve failed (it did not converge), or a future could not be simulated.
     #[error("{0}")]
     Failed(String),
     /// Writing an output file failed.
