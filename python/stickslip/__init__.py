@@ -6,6 +6,8 @@ A thin layer over the Rust library (the same code as the ``stickslip`` command l
   ``pyarrow.table`` and pandas take it without a copy), or writes a dataset directory (``out=``);
 - :func:`analyze` analyses a dataset directory and returns its tidy tables and summary;
 - :func:`tradeoff`, :func:`sensitivity` run those stages into a directory and return their tables;
+- :func:`exact_law` computes the long-run law and Table 1 without sampling, :func:`predict` the next
+  stick from a given state (exact, and by conditional Monte Carlo futures);
 - :func:`scenes` lists the shipped scenarios.
 
 Units are SI throughout: seconds, metres, kilograms, newtons. Bad input raises ``ValueError`` with
@@ -27,7 +29,7 @@ from typing import Any, Dict, List, Mapping, Optional, Union
 from . import _stickslip
 from ._stickslip import Table
 
-__all__ = ["Table", "Analysis", "simulate", "analyze", "tradeoff", "sensitivity", "scenes", "__version__"]
+__all__ = ["Table", "Analysis", "simulate", "analyze", "tradeoff", "sensitivity", "exact_law", "predict", "scenes", "__version__"]
 __version__: str = _stickslip.__version__
 
 Scenario = Union[str, "os.PathLike[str]", Mapping[str, Any], None]
@@ -219,6 +221,46 @@ def sensitivity(
 ) -> Table:
     """Sobol indices (``stickslip sensitivity``) written into ``out``; returns ``sobol.parquet``."""
     return _stage_table("sensitivity", "sobol.parquet", scenario, out, realizations, set, progress)
+
+
+def exact_law(
+    scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], resolution: int = 80, set: Optional[Mapping[str, Any]] = None, progress: bool = False
+) -> Dict[str, Table]:
+    """The law without sampling (``stickslip exact-law``) written into ``out``; returns its tables
+    by name: ``stationary`` (the long run), ``moments`` (Table 1's means and variances of T_k,
+    L_k, D_k, H_k), ``convergence``, ``density``, ``stick_survival``."""
+    with tempfile.TemporaryDirectory() as tmp:
+        quiet = [] if progress else ["--quiet"]
+        _run_stage(["stickslip", *quiet, "exact-law", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--resolution", str(resolution)], progress)
+    return {p.stem: _stickslip.read_parquet(str(p)) for p in sorted(Path(out).glob("*.parquet"))}
+
+
+def predict(
+    state: "tuple[float, float, float]",
+    scenario: Scenario = None,
+    *,
+    stuck: bool = False,
+    futures: Optional[int] = None,
+    horizon: Optional[float] = None,
+    resolution: int = 40,
+    seed: Optional[int] = None,
+    set: Optional[Mapping[str, Any]] = None,
+) -> Table:
+    """The next stick from ``state`` = (x [m], mass velocity [m/s], belt velocity [m/s])
+    (``stickslip predict``): the mean and variance of the time to its start, its duration, the
+    slip after it and whether it ends by breakaway (with ``stuck``: first the current stick's
+    remaining time) — exact where the scene allows, and from ``futures`` conditional Monte Carlo
+    futures. Returns ``prediction.parquet`` (``variable``, ``method``, ``mean``, ``variance``,
+    ``error``, ``futures``)."""
+    x, v, belt = (float(s) for s in state)
+    with tempfile.TemporaryDirectory() as tmp:
+        args = ["stickslip", "--quiet", "predict", *_cli_scenario_args(scenario, set, tmp), f"--state={x!r},{v!r},{belt!r}", "--resolution", str(resolution), "--out", os.path.join(tmp, "p")]
+        args += ["--stuck"] if stuck else []
+        args += ["--futures", str(futures)] if futures is not None else []
+        args += ["--horizon", repr(float(horizon))] if horizon is not None else []
+        args += ["--seed", str(seed)] if seed is not None else []
+        _run_stage(args)
+        return _stickslip.read_parquet(os.path.join(tmp, "p", "prediction.parquet"))
 
 
 def scenes() -> Dict[str, str]:

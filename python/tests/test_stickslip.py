@@ -165,3 +165,14 @@ def test_tradeoff_and_sensitivity_return_the_cli_tables(tmp_path: Path) -> None:
     assert s.equals(pl.read_parquet(tmp_path / "s" / "sobol.parquet")) and s.height > 0
     with pytest.raises(ValueError, match="no random key"):
         stickslip.sensitivity(out=tmp_path / "s2", realizations=20)
+
+
+def test_exact_law_and_predict_return_the_cli_tables(tmp_path: Path) -> None:
+    law = stickslip.exact_law(out=tmp_path / "law", resolution=16)
+    m = pl.DataFrame(law["moments"])
+    assert m.equals(pl.read_parquet(tmp_path / "law" / "moments.parquet")) and m.height == 24
+    assert set(law) >= {"stationary", "moments", "convergence", "density", "stick_survival"}
+    p = pl.DataFrame(stickslip.predict((0.5, 0.0, 1.0), resolution=16, futures=2000))
+    assert set(p["method"]) == {"exact", "monte_carlo"} and "time_to_stick" in set(p["variable"])
+    with pytest.raises(ValueError, match="not a state of this belt"):
+        stickslip.predict((0.5, 0.0, 2.0))
