@@ -188,6 +188,9 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
         print!("{}", crate::law::markdown(&levels));
         println!();
         print!("{}", crate::law::sticks::markdown(&rows));
+        if let Some(w) = crate::law::sticks::window_warning(&rows, scenario.run.duration) {
+            eprintln!("{w}");
+        }
     }
     Ok(())
 }
