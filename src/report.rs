@@ -448,8 +448,12 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
             EXACT_HEAD.iter().map(|x| format!("<th>{x}</th>")).collect::<String>()
         );
         for r in &c.exact {
-            let _ =
-                writeln!(h, "<tr><td class=\"l\">{}</td>{}</tr>", escape(&r[0]), r[1..].iter().map(|x| format!("<td>{}</td>", escape(x))).collect::<String>());
+            let td = |x: &String| match x.as_str() {
+                "✓" => "<td class=\"ok\">✓</td>".to_string(),
+                "✗" => "<td class=\"off\">✗</td>".to_string(),
+                _ => format!("<td>{}</td>", escape(x)),
+            };
+            let _ = writeln!(h, "<tr><td class=\"l\">{}</td>{}</tr>", escape(&r[0]), r[1..].iter().map(td).collect::<String>());
         }
         h += "</table>\n";
     }
