@@ -17,6 +17,7 @@ use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::belt::{InitialSign, Process};
 use crate::simulation::ensemble::{Ensemble, Outcome};
 use crate::simulation::events::StickEnd;
+use crate::stats::Moments;
 use crate::table::{Col, Table};
 
 /// The state a prediction starts from, in the lab frame.
@@ -51,6 +52,8 @@ pub struct Row {
     pub variance: f64,
     /// exact: the estimated discretisation error of the mean; Monte Carlo: its standard error
     pub error: f64,
+    /// the same for the variance (Monte Carlo: from the fourth central moment; NaN below 4 futures)
+    pub variance_error: f64,
     /// Monte Carlo: the futures that reached this variable (the others were cut by the horizon)
     pub futures: Option<u64>,
 }
@@ -84,8 +87,9 @@ pub struct Prediction {
     pub horizon: f64,
 }
 
-/// The belt state of velocity `v` (+1 forward, −1 reverse), or why there is none.
-fn belt_state(process: &Process, v: f64) -> Result<i32, String> {
+/// The belt state of velocity `v` (+1 forward, −1 reverse) and that state's exact velocity (`v`
+/// matches it within 1e-9 relative), or why there is none.
+fn belt_state(process: &Process, v: f64) -> Result<(i32, f64), String> {
     let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
     let (forward, reverse) = match process {
         Process::Symmetric(s) => (s.speed, s.speed),
@@ -98,9 +102,9 @@ fn belt_state(process: &Process, v: f64) -> Result<i32, String> {
         }
     };
     if same(v, forward) {
-        Ok(1)
+        Ok((1, forward))
     } else if same(v, -reverse) {
-        Ok(-1)
+        Ok((-1, -reverse))
     } else {
         Err(format!("the belt velocity {v} m/s is not a state of this belt (+{forward} or -{reverse} m/s)"))
     }
@@ -138,7 +142,10 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     if let Some((key, _)) = scene.random.iter().find(|(k, _)| matches!(k, Key::Speed | Key::ReverseSpeed)) {
         return Err(LawError::Refused(format!("{} is drawn per realization: a belt velocity names no state", key.dotted())));
     }
-    let sign = belt_state(&scene.belt.process, state.belt).map_err(LawError::Refused)?;
+    let (sign, belt) = belt_state(&scene.belt.process, state.belt).map_err(LawError::Refused)?;
+    // the state on the belt's exact velocity (and a mass velocity that matches it, on it too)
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+    let state = State { belt, velocity: if close(state.velocity, belt) { belt } else { state.velocity }, ..state };
     if state.stuck && state.velocity != state.belt {
         return Err(LawError::Refused(format!(
             "--stuck: the mass velocity {} must equal the belt velocity {} (a stuck mass moves with the belt)",
@@ -150,11 +157,14 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     let mut rows = Vec::new();
     let mut survival = None;
     // exact, where the scene allows
-    let exact = crate::law::frame(&scene).and_then(|f| exact_start(f, state, sign).map(|s| (f, s)));
+    let exact = crate::law::frame(&scene).and_then(|f| {
+        crate::law::ladder(f, opts.resolution, crate::law::LEVELS)?;
+        exact_start(f, state, sign).map(|s| (f, s))
+    });
     let exact_refused = exact.as_ref().err().cloned();
     if let Ok((frame, start)) = exact {
         progress("exact: three resolutions");
-        let (r, s) = exact_rows(frame, start, opts.resolution).map_err(LawError::Refused)?;
+        let (r, s) = exact_rows(frame, start, opts.resolution).map_err(LawError::Failed)?;
         rows.extend(r);
         survival = Some(s);
     }
@@ -232,8 +242,8 @@ fn exact_rows(frame: Frame, start: Start, finest: u32) -> Result<(Vec<Row>, Vec<
     let pick = |f: &dyn Fn(&passage::Sequence) -> f64| crate::law::guarded(&solved.iter().map(|(h, s)| (*h, f(s))).collect::<Vec<_>>());
     let mut rows = Vec::new();
     let mut row = |variable: &'static str, mean: &dyn Fn(&passage::Sequence) -> f64, variance: &dyn Fn(&passage::Sequence) -> f64| {
-        let (m, e) = pick(mean);
-        rows.push(Row { variable, method: "exact", mean: m, variance: pick(variance).0.max(0.0), error: e, futures: None });
+        let ((m, e), (v, ve)) = (pick(mean), pick(variance));
+        rows.push(Row { variable, method: "exact", mean: m, variance: v.max(0.0), error: e, variance_error: ve, futures: None });
     };
     if matches!(start, Start::Stuck(_)) {
         row("remaining_stick", &|s| s.current.unwrap().0, &|s| s.current.unwrap().1);
@@ -270,41 +280,51 @@ fn monte_carlo(scenario: &Scenario, state: State, sign: i32, n: u64, horizon: f6
     s.check().map_err(|e| LawError::Refused(format!("the futures' scenario: {e}")))?;
     let ensemble = Ensemble::new(&s)?;
     let stuck = state.stuck;
-    let chunks: Vec<Result<Vec<Future>, LawError>> = (0..n.div_ceil(CHUNK))
+    // per chunk, the moments of each variable (in the order of VARIABLES) and the futures cut by
+    // the horizon; merged in chunk order (the same for any number of threads), nothing per future
+    // kept
+    type Sums = ([Moments; 5], u64);
+    let chunks: Vec<Result<Sums, LawError>> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             let mut out = Outcome::default();
-            (c * CHUNK..((c + 1) * CHUNK).min(n))
-                .map(|i| {
-                    ensemble.realization(i, &mut out).map_err(|e| LawError::Failed(e.to_string()))?;
-                    future(&out, stuck)
-                })
-                .collect()
+            let mut sums: Sums = Default::default();
+            for i in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                ensemble.realization(i, &mut out).map_err(|e| LawError::Failed(e.to_string()))?;
+                let f = future(&out, stuck)?;
+                for (m, x) in sums.0.iter_mut().zip([f.remaining, f.to_stick, f.stick, f.slip, f.breakaway]) {
+                    if let Some(x) = x {
+                        m.add(x);
+                    }
+                }
+                sums.1 += u64::from(f.slip.is_none());
+            }
+            Ok(sums)
         })
         .collect();
-    let mut all = Vec::with_capacity(n as usize);
+    let mut all: Sums = Default::default();
     for c in chunks {
-        all.extend(c?);
+        let c = c?;
+        all.0.iter_mut().zip(&c.0).for_each(|(a, b)| *a = a.merge(b));
+        all.1 += c.1;
     }
-    let censored = all.iter().filter(|f| f.slip.is_none()).count() as u64;
-    let mut rows = Vec::new();
-    let mut row = |variable: &'static str, get: &dyn Fn(&Future) -> Option<f64>| {
-        let xs: Vec<f64> = all.iter().filter_map(get).collect();
-        let k = xs.len() as f64;
-        let mean = xs.iter().sum::<f64>() / k;
-        let variance = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (k - 1.0);
-        if xs.len() >= 2 {
-            rows.push(Row { variable, method: "monte_carlo", mean, variance, error: (variance / k).sqrt(), futures: Some(xs.len() as u64) });
-        }
-    };
-    if stuck {
-        row("remaining_stick", &|f| f.remaining);
-    }
-    row("time_to_stick", &|f| f.to_stick);
-    row("stick_duration", &|f| f.stick);
-    row("slip_duration", &|f| f.slip);
-    row("breakaway", &|f| f.breakaway);
-    Ok((rows, censored))
+    let rows = VARIABLES
+        .iter()
+        .zip(&all.0)
+        .filter_map(|(&variable, m)| {
+            let (variance, error) = (m.variance()?, m.mean_se()?);
+            Some(Row {
+                variable,
+                method: "monte_carlo",
+                mean: m.mean,
+                variance,
+                error,
+                variance_error: m.variance_se().unwrap_or(f64::NAN),
+                futures: Some(m.n),
+            })
+        })
+        .collect();
+    Ok((rows, all.1))
 }
 
 /// A future's values from its record; an error if the simulated start disagrees with --stuck.
@@ -331,7 +351,8 @@ fn future(out: &Outcome, stuck: bool) -> Result<Future, LawError> {
     Ok(f)
 }
 
-/// `prediction.parquet`: variable, method, mean, variance, error, futures.
+/// `prediction.parquet`: variable, method, mean, variance, error, variance_error (null where
+/// undefined), futures.
 fn table(rows: &[Row]) -> Table {
     let mut t = Table::default();
     t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
@@ -339,6 +360,7 @@ fn table(rows: &[Row]) -> Table {
         .push("mean", Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
         .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
         .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
+        .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error).filter(|e| e.is_finite())).collect()))
         .push("futures", Col::Int(rows.iter().map(|r| r.futures.map(|n| n as i64)).collect()));
     t
 }

@@ -170,7 +170,7 @@ pub struct PredictArgs {
     /// Random seed of the futures (overrides run.seed).
     #[arg(long, value_name = "S")]
     pub seed: Option<u64>,
-    /// Also write DIR/prediction.parquet (variable, method, mean, variance, error, futures) and,
+    /// Also write DIR/prediction.parquet (variable, method, mean, variance, error, variance_error, futures) and,
     /// when exact, DIR/stick_survival.parquet (t, P(D > t) of the next stick).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,

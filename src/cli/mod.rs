@@ -183,12 +183,12 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
             eprintln!("sticks 1-{} from the initial conditions, resolution {n:>3}: {seconds:.1} s", crate::law::sticks::STICKS);
         }
     };
-    let (levels, rows) = crate::law::run(&scenario, args.resolution, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
+    let (levels, rows, warning) = crate::law::run(&scenario, args.resolution, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
         println!();
         print!("{}", crate::law::sticks::markdown(&rows));
-        if let Some(w) = crate::law::sticks::window_warning(&rows, scenario.run.duration) {
+        if let Some(w) = warning {
             eprintln!("{w}");
         }
     }
@@ -201,6 +201,9 @@ fn predict_command(args: PredictArgs, quiet: bool) -> anyhow::Result<()> {
     }
     if args.futures == Some(0) {
         return Err(usage("--futures must be at least 1"));
+    }
+    if let Some(h) = args.horizon.filter(|h| !(h.is_finite() && *h > 0.0)) {
+        return Err(usage(format!("--horizon {h}: must be a positive number of seconds")));
     }
     if let Some(out) = &args.out {
         check_separate(out, "--out", &scenario_inputs(&args.input))?;

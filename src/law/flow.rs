@@ -334,7 +334,7 @@ mod tests {
         assert!((centroid(lambda, dt) - num / den).abs() < 1e-14);
         assert!((centroid(1e-9, 0.3) - 0.15).abs() < 1e-9);
         // the second moment ∫_0^dt τ² e^{−λτ} dτ / ∫_0^dt e^{−λτ} dτ, by quadrature, on both
-        // sides of the switch between the series and the closed form (x = 2)
+        // sides of the switch between the series and the closed form (x = 0.1)
         for (lambda, dt) in [(5.0, 0.3), (5.0, 0.021), (5.0, 0.019), (1e-6, 0.3), (30.0, 1.0), (1.0, 0.099)] {
             let n = 200_000;
             let h = dt / n as f64;

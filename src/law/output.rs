@@ -62,10 +62,11 @@ pub fn run(
     progress: &mut dyn FnMut(&Level, f64),
     step: &mut dyn FnMut(u32, u32, f64),
     sticks_progress: &mut dyn FnMut(u32, f64),
-) -> Result<(Vec<Level>, Vec<sticks::Row>), LawError> {
+) -> Result<(Vec<Level>, Vec<sticks::Row>, Option<String>), LawError> {
     let scene = scenario.scene()?;
     let frame = super::frame(&scene).map_err(LawError::Refused)?;
     let ladder = super::ladder(frame, finest, LEVELS).map_err(LawError::Refused)?;
+    sticks::check(scenario, frame, &ladder).map_err(LawError::Refused)?;
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
     let (mut levels, mut density) = (Vec::new(), None);
     for &(n, h) in &ladder {
@@ -78,6 +79,7 @@ pub fn run(
     let density = density.expect("the finest resolution computes the density");
     let after = sticks::solve(scenario, frame, &ladder, sticks_progress).map_err(LawError::Failed)?;
     let rows = sticks::rows(&after);
+    let warning = after.last().and_then(|(_, s)| sticks::window_warning(s.next_start, scenario.run.duration));
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
     stationary_table(&levels).write_parquet(&staged.path().join("stationary.parquet")).map_err(|e| werr("stationary.parquet", &e))?;
     convergence_table(&levels, &ladder, &after).write_parquet(&staged.path().join("convergence.parquet")).map_err(|e| werr("convergence.parquet", &e))?;
@@ -90,7 +92,7 @@ pub fn run(
     crate::figures::render::save(&density_figure(&density), staged.path()).map_err(|e| werr("stationary_density.png", &e))?;
     moments_table(&rows).write_parquet(&staged.path().join("moments.parquet")).map_err(|e| werr("moments.parquet", &e))?;
     staged.commit()?;
-    Ok((levels, rows))
+    Ok((levels, rows, warning))
 }
 
 /// `moments.parquet`: variable, index, mean, variance, error (of the mean), variance_error.

@@ -1,14 +1,15 @@
 //! The next stick from a given state (`stickslip predict`), without sampling: the law of the
 //! time τ to the next stick start, of that stick's duration D and of the slip H after it, as
 //! means and variances (and D's survival curve), from the same closed-form flow as the
-//! stationary chain of [`super`].
+//! stationary chain of [`super`]; and the sequence of sticks after a start (Table 1).
 //!
 //! **First passage.** From a slip state z the flow ([`Frame::walk`]) reaches a stick at a time
 //! t_e before the next flip with probability e^{−λ t_e} — then τ = t_e and the stick is entered
 //! at x_e — or the belt flips first, at t < t_e (density λ e^{−λt}), and the walk starts again
 //! from the reflected state, t later. So the measure of the post-flip states that have not yet
 //! stuck is pushed through the chain's kernel with the stick absorbing, each atom carrying its
-//! clock's moments (mass, ∫ t dμ, ∫ t² dμ; t the time since the origin), and the absorbed
+//! clocks' moments (mass; ∫ t, ∫ t² with t the time since the origin; ∫ a, ∫ a² with a the time
+//! since the last stick ended, [`Clock`]), and the absorbed
 //! entries accumulate the joint law of (τ, x_e). The mass left decays geometrically (from every
 //! state a stick comes before the next flip with a probability bounded below); the sum stops
 //! when less than 1e-13 is left.
@@ -62,6 +63,13 @@ fn shift(m: Clock, k0: f64, k1: f64, k2: f64) -> Clock {
 /// (module docs).
 fn later(m: Clock, w: f64, s: f64, c: f64, q: f64) -> Clock {
     shift(m, w, w * (s + c), w * (s * s + 2.0 * s * c + q))
+}
+
+/// Σ_{j≥0} q^j, Σ j q^j, Σ j² q^j for q = e^{−x} (x = λP > 0): 1/(1 − q), q/(1 − q)²,
+/// q(1 + q)/(1 − q)³, with 1 − q = −expm1(−x) (no cancellation for small x).
+fn repeats(x: f64) -> (f64, f64, f64) {
+    let (q, one_minus_q) = ((-x).exp(), -(-x).exp_m1());
+    (1.0 / one_minus_q, q / one_minus_q.powi(2), q * (1.0 + q) / one_minus_q.powi(3))
 }
 
 /// The clocks with a restarted: a stick has just ended.
@@ -144,9 +152,7 @@ impl Visitor for Pass<'_> {
     fn periodic(&mut self, start: Slip, t: f64, _age: f64, period: f64) {
         let f = self.mesh.frame;
         let lambda = f.lambda;
-        let (q, one_minus_q) = ((-lambda * period).exp(), -(-lambda * period).exp_m1());
-        // Σ q^j, Σ j q^j, Σ j² q^j
-        let (a0, a1, a2) = (1.0 / one_minus_q, q / one_minus_q.powi(2), q * (1.0 + q) / one_minus_q.powi(3));
+        let (a0, a1, a2) = repeats(lambda * period);
         let m = self.clock;
         for (offset, dt, (x, v)) in f.period_samples(start, period, self.mesh.h) {
             let s = t + offset;
@@ -352,6 +358,8 @@ pub(crate) struct Sequence {
     pub current: Option<Moments>,
     /// sticks 1, 2, … after the start
     pub sticks: Vec<Stick>,
+    /// the start of the stick after the last (where the last slip ends)
+    pub next_start: Moments,
     /// the mass lost off the grid (of 1)
     pub lost: f64,
     /// P(D_1 > t) at points t from 0 to 2c_s/v0
@@ -402,7 +410,7 @@ pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)],
         (mean, held.d2 / held.mass - mean * mean)
     });
     let node = |k: usize| -frame.cs + k as f64 * mesh.h_line;
-    let (mut sticks, mut lost, mut first_survival) = (Vec::<Stick>::new(), 0.0, Vec::new());
+    let (mut sticks, mut lost, mut first_survival, mut next_start) = (Vec::<Stick>::new(), 0.0, Vec::new(), (f64::NAN, f64::NAN));
     for k in 0..=count {
         let mut entries = vec![[0.0; 5]; mesh.n_line + 1];
         lost += passage(&mesh, cloud, &mut entries)?;
@@ -411,6 +419,7 @@ pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)],
             before.slip = moments(all, 3);
         }
         if k == count {
+            next_start = moments(all, 1);
             break;
         }
         if k == 0 {
@@ -427,7 +436,7 @@ pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)],
             breakaway: held.breakaway / held.mass,
         });
     }
-    Ok(Sequence { current, sticks, lost, first_survival })
+    Ok(Sequence { current, sticks, lost, first_survival, next_start })
 }
 
 #[cfg(test)]
@@ -441,6 +450,31 @@ mod tests {
         // a clock A ∈ {1, 3} (equal masses) moved later by s = 2 with no spread: A + 2 ∈ {3, 5}
         let c = later([2.0, 4.0, 10.0, 0.0, 0.0], 0.5, 2.0, 0.0, 0.0);
         assert_eq!(c, [1.0, 4.0, 17.0, 2.0, 4.0]);
+    }
+
+    #[test]
+    fn a_spread_delay_and_the_repetitions_sum_as_they_should() {
+        // clocks A ∈ {1, 3} (mass 1 each) later by s + u, E u = c, E u² = q, weight w: mass 2w,
+        // Σ E(A + s + u) = 4 + 2(s + c), Σ E(A + s + u)² = 10 + 2·4(s + c) + 2(s² + 2sc + q)
+        let (w, s, c, q) = (0.5, 0.5, 0.2, 0.1);
+        let got = later([2.0, 4.0, 10.0, 4.0, 10.0], w, s, c, q);
+        let (m1, m2) = (4.0 + 2.0 * (s + c), 10.0 + 8.0 * (s + c) + 2.0 * (s * s + 2.0 * s * c + q));
+        for (g, want) in got.iter().zip([2.0 * w, w * m1, w * m2, w * m1, w * m2]) {
+            assert!((g - want).abs() < 1e-14, "{got:?}");
+        }
+        assert_eq!(restart(got)[3..], [0.0, 0.0]);
+        // the repetitions' sums against the series summed term by term
+        for x in [1e-3, 0.7, 5.0] {
+            let (a0, a1, a2) = repeats(x);
+            let (mut b0, mut b1, mut b2) = (0.0, 0.0, 0.0);
+            for j in 0..200_000 {
+                let t = (-x * f64::from(j)).exp();
+                (b0, b1, b2) = (b0 + t, b1 + f64::from(j) * t, b2 + f64::from(j) * f64::from(j) * t);
+            }
+            for (a, b) in [(a0, b0), (a1, b1), (a2, b2)] {
+                assert!((a - b).abs() < 1e-9 * b, "{x}: {a} against {b}");
+            }
+        }
     }
 
     /// (μ_s = 0.6: c_s = 1.47) λ → 0: the walks are the deterministic motion

@@ -199,6 +199,13 @@ fn the_command_writes_its_tables_and_refuses_a_damped_scene() {
     let printed = String::from_utf8_lossy(&o.stdout);
     let sticks = t.floats("value").unwrap()[5].unwrap();
     assert!(printed.contains(&format!("{sticks:.6}")), "{printed}");
+    // a point initial condition that is a stick: refused at once, blamed on the input
+    let o = crate::common::stickslip(
+        &["exact-law", "--out", "d", "--set", "initial_conditions.position=[0.3, 0.3]", "--set", "initial_conditions.velocity=[1.0, 1.0]", "-q"],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("starts stuck"));
     let o = crate::common::stickslip(&["exact-law", "--out", "d", "--set", "model.damping=0.5", "-q"], tmp.path());
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
@@ -234,7 +241,7 @@ fn the_values_do_not_depend_on_the_threads() {
 fn the_table_from_the_initial_conditions_agrees_with_monte_carlo() {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&[]);
-    let (_, rows) = stickslip::law::run(&sc, 20, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _| {}).unwrap();
+    let (_, rows, _) = stickslip::law::run(&sc, 20, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _| {}).unwrap();
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
         &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')],

@@ -99,6 +99,14 @@ fn refusals_are_one_line_and_the_output_does_not_depend_on_threads() {
         o.stdout
     };
     assert_eq!(with("1"), with("3"));
+    // a belt too fast for the exact method's coarsest grid: the futures answer instead
+    let o = stickslip(&["predict", "--set", "belt.switch_rate=30", "--state", "0.5,0,1", "--futures", "2000"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("exact: not available here (the mass moves about v0/lambda"));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("| time_to_stick | monte carlo |"));
+    // a mass velocity within rounding of the belt's is the belt's: stuck, not refused
+    let o = stickslip(&["predict", "--state", "0.3,1.0000000001,1", "--stuck", "--futures", "100", "--resolution", "8", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let markov = format!("{}/pipelines/scenes/markov_belt.toml", env!("CARGO_MANIFEST_DIR"));
     for (args, says) in [
         (vec!["--state", "0.5,0,2"], "not a state of this belt"),
@@ -108,6 +116,8 @@ fn refusals_are_one_line_and_the_output_does_not_depend_on_threads() {
         (vec!["--state", "1,2"], "expected three numbers"),
         (vec!["--state", "nan,0,1"], "finite"),
         (vec!["--state", "0.5,0,1", "--futures", "0"], "--futures must be at least 1"),
+        (vec!["--state", "0.5,0,1", "--horizon=-1"], "--horizon -1: must be a positive number"),
+        (vec!["--state", "0.5,0,1", "--horizon", "nan"], "--horizon NaN: must be a positive number"),
         (vec!["--state", "0.5,0,1", "--resolution", "4"], "--resolution 4"),
         (vec![markov.as_str(), "--state", "0.5,0,1"], "two-state belt"),
     ] {
