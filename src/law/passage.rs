@@ -81,11 +81,11 @@ fn add(a: &mut Clock, b: Clock, f: f64) {
     a.iter_mut().zip(b).for_each(|(x, y)| *x += f * y);
 }
 
-/// The states the passage goes on from: grid nodes, belt-line nodes (a flip during a stick at
-/// y: the slip from (−y, −v0)), the breakaway (c_s, v0) and the start, with their clocks.
+/// The states a passage starts from (every later state is on the grid, [`passage`]): belt-line
+/// nodes (a flip during a stick at y: the slip from (−y, −v0)), the breakaway (c_s, v0) and
+/// the starts, with their clocks.
 #[derive(Debug, Clone)]
 struct Cloud {
-    grid: Vec<Clock>,
     line: Vec<Clock>,
     breakaway: Clock,
     starts: Vec<(Slip, Clock)>,
@@ -93,21 +93,13 @@ struct Cloud {
 
 impl Cloud {
     fn zero(mesh: &Mesh) -> Cloud {
-        Cloud { grid: vec![[0.0; 5]; mesh.nx * mesh.nw], line: vec![[0.0; 5]; mesh.n_line + 1], breakaway: [0.0; 5], starts: Vec::new() }
+        Cloud { line: vec![[0.0; 5]; mesh.n_line + 1], breakaway: [0.0; 5], starts: Vec::new() }
     }
 
     /// Every atom: its slip state and clock.
     fn atoms(&self, mesh: &Mesh) -> Vec<(Slip, Clock)> {
         let f = mesh.frame;
         let mut out: Vec<(Slip, Clock)> = self.starts.clone();
-        for i in 0..mesh.nx {
-            for j in 0..mesh.nw {
-                let c = self.grid[i * mesh.nw + j];
-                if c[0] > 1e-300 {
-                    out.push((mesh.node(i, j), c));
-                }
-            }
-        }
         for (k, &c) in self.line.iter().enumerate() {
             if c[0] > 1e-300 {
                 let y = -f.cs + k as f64 * mesh.h_line;
@@ -337,17 +329,17 @@ pub(crate) enum Start {
 }
 
 /// (mean, variance) of a variable.
-pub(crate) type Moments = (f64, f64);
+pub(crate) type MeanVar = (f64, f64);
 
 /// The k-th stick of a sequence: when it starts (T_k), how long it lasts (D_k), when it ends
 /// (L_k = T_k + D_k), the slip after it (H_k, to the start of stick k + 1) and the probability
 /// that it ends by breakaway.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Stick {
-    pub start: Moments,
-    pub duration: Moments,
-    pub end: Moments,
-    pub slip: Moments,
+    pub start: MeanVar,
+    pub duration: MeanVar,
+    pub end: MeanVar,
+    pub slip: MeanVar,
     pub breakaway: f64,
 }
 
@@ -355,11 +347,11 @@ pub(crate) struct Stick {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Sequence {
     /// the current stick's remaining time (a stuck start)
-    pub current: Option<Moments>,
+    pub current: Option<MeanVar>,
     /// sticks 1, 2, … after the start
     pub sticks: Vec<Stick>,
     /// the start of the stick after the last (where the last slip ends)
-    pub next_start: Moments,
+    pub next_start: MeanVar,
     /// the mass lost off the grid (of 1)
     pub lost: f64,
     /// P(D_1 > t) at points t from 0 to 2c_s/v0
@@ -379,7 +371,7 @@ pub(crate) fn half_width(frame: Frame, start: Start) -> f64 {
 }
 
 /// Mean and variance of t (`at` = 1) or a (`at` = 3) from the clock sums.
-fn moments(c: Clock, at: usize) -> Moments {
+fn moments(c: Clock, at: usize) -> MeanVar {
     let mean = c[at] / c[0];
     (mean, (c[at + 1] / c[0] - mean * mean).max(0.0))
 }

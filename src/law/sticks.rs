@@ -16,7 +16,7 @@
 //! relative ([`window_warning`] flags a window that may matter).
 
 use super::flow::{Frame, Slip};
-use super::passage::{self, Moments, Sequence, Start};
+use super::passage::{self, MeanVar, Sequence, Start};
 use crate::scenario::Scenario;
 use crate::simulation::belt::InitialSign;
 
@@ -83,7 +83,7 @@ pub(crate) fn check_starts(starts: &[(Start, f64)], frame: Frame) -> Result<(), 
 }
 
 /// One sequence's (variable, k, mean, variance), in the order of the rows.
-pub(crate) fn values(s: &Sequence) -> Vec<(&'static str, u32, Moments)> {
+pub(crate) fn values(s: &Sequence) -> Vec<(&'static str, u32, MeanVar)> {
     VARIABLES
         .iter()
         .enumerate()
@@ -95,7 +95,7 @@ pub(crate) fn values(s: &Sequence) -> Vec<(&'static str, u32, Moments)> {
 
 /// The rows from sequences at the ladder's spacings (coarsest first).
 pub(crate) fn rows(levels: &[(f64, Sequence)]) -> Vec<Row> {
-    let per: Vec<(f64, Vec<(&'static str, u32, Moments)>)> = levels.iter().map(|(h, s)| (*h, values(s))).collect();
+    let per: Vec<(f64, Vec<(&'static str, u32, MeanVar)>)> = levels.iter().map(|(h, s)| (*h, values(s))).collect();
     (0..per.first().map_or(0, |p| p.1.len()))
         .map(|i| {
             let (variable, index, _) = per[0].1[i];
@@ -130,7 +130,7 @@ pub(crate) fn solve(scenario: &Scenario, frame: Frame, ladder: &[(u32, f64)], pr
 /// H_K ends; computed by the sequence's last passage), lies within 4 standard deviations of t_a
 /// (a heuristic: the laws here are those of the process without the window; on the paper scene
 /// T_7 is 4.016 ± 1.072 s against t_a = 10 s, and 369 in 10^7 realizations have fewer than 7 sticks).
-pub fn window_warning(next_start: Moments, t_a: f64) -> Option<String> {
+pub fn window_warning(next_start: MeanVar, t_a: f64) -> Option<String> {
     let (mean, sd) = (next_start.0, next_start.1.sqrt());
     (mean + 4.0 * sd > t_a).then(|| {
         format!(
