@@ -87,10 +87,15 @@ pub struct Prediction {
     pub horizon: f64,
 }
 
-/// The belt state of velocity `v` (+1 forward, −1 reverse) and that state's exact velocity (`v`
-/// matches it within 1e-9 relative), or why there is none.
+/// Two velocities equal but for rounding (1e-9 relative): a typed belt or mass velocity names
+/// the belt state's exact one.
+fn same(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+/// The belt state of velocity `v` (+1 forward, −1 reverse) and that state's exact velocity
+/// ([`same`]), or why there is none.
 fn belt_state(process: &Process, v: f64) -> Result<(i32, f64), String> {
-    let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
     let (forward, reverse) = match process {
         Process::Symmetric(s) => (s.speed, s.speed),
         Process::Telegraph(t) => (t.forward_speed, t.reverse_speed),
@@ -144,8 +149,7 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     }
     let (sign, belt) = belt_state(&scene.belt.process, state.belt).map_err(LawError::Refused)?;
     // the state on the belt's exact velocity (and a mass velocity that matches it, on it too)
-    let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
-    let state = State { belt, velocity: if close(state.velocity, belt) { belt } else { state.velocity }, ..state };
+    let state = State { belt, velocity: if same(state.velocity, belt) { belt } else { state.velocity }, ..state };
     if state.stuck && state.velocity != state.belt {
         return Err(LawError::Refused(format!(
             "--stuck: the mass velocity {} must equal the belt velocity {} (a stuck mass moves with the belt)",
@@ -224,7 +228,7 @@ fn exact_start(frame: Frame, state: State, sign: i32) -> Result<Start, String> {
     let (x, v) = (s * state.x, s * state.velocity);
     let start = if state.stuck { Start::Stuck(x) } else { Start::Slip(Slip::at(x, v, frame.v0)) };
     // the grid's box grows with the start's amplitude; far out, the grid would be huge
-    let (half, base) = (passage::half_width(frame, start), passage::half_width(frame, Start::Stuck(0.0)));
+    let (half, base) = (passage::half_width(frame, start), frame.box_half());
     if half > 10.0 * base {
         return Err(format!("the state lies {:.1} times further out than the motion settles (the exact method's grid would not hold it)", half / base));
     }

@@ -221,7 +221,7 @@ fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>, ReportErro
     Ok(out)
 }
 
-fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, ReportError> {
+fn content(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>) -> Result<Content, ReportError> {
     let data = input::open_partial(dataset, true)?;
     let read_err = |path: &Path, e: &dyn std::fmt::Display| ReportError::Read { path: path.to_owned(), message: e.to_string() };
     let summary_path = adir.join("summary.json");
@@ -325,7 +325,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path) -> Result<Content, Report
         provenance,
         scenario: sc.to_toml(),
         paper,
-        exact: Vec::new(),
+        exact: exact.map_or(Ok(Vec::new()), |law| exact_rows(law, &table1))?,
         table1,
         growth,
         renewal,
@@ -556,10 +556,7 @@ pub fn run(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>, out
     for p in [out, md_path.as_path()] {
         check_separate(p, "--out", &[dataset, adir, figdir].into_iter().chain(exact).collect::<Vec<_>>())?;
     }
-    let mut c = content(dataset, adir, figdir)?;
-    if let Some(law) = exact {
-        c.exact = exact_rows(law, &c.table1)?;
-    }
+    let c = content(dataset, adir, figdir, exact)?;
     let (h, m) = (html(&c, figdir)?, markdown(&c, figdir));
     let created = match out.parent().filter(|p| !p.as_os_str().is_empty()) {
         Some(dir) => crate::outdir::Created::dir_all(dir)?,

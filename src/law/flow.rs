@@ -172,6 +172,13 @@ impl Frame {
         (0..n).map(move |i| (i as f64 * dt, dt, self.on_circle(c, r, phi0, i as f64 * dt + mid)))
     }
 
+    /// Half the side of the box of the plane (X, V/ω) that holds the chain's post-flip states,
+    /// m: they stay within |X| < 2(c_s + c_k) + w0 on the paper scene but for a mass ~1e-12
+    /// pumped further by flips at the turning points.
+    pub fn box_half(&self) -> f64 {
+        2.0 * (self.cs + self.ck + self.w0)
+    }
+
     /// The slip right after a breakaway at (c_s, v0), below belt speed.
     pub fn breakaway(&self) -> Slip {
         Slip { x: self.cs, v: self.v0, below: true }

@@ -202,10 +202,7 @@ pub(crate) fn ladder(frame: Frame, finest: u32, count: u32) -> Result<Vec<(u32, 
 /// Solve for the stationary law at resolution n, grid spacing h ([`ladder`]); `step` hears
 /// each iteration's number and change.
 pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool, step: &mut dyn FnMut(u32, f64)) -> Result<(Level, Option<density::Density>), String> {
-    // the box: the post-flip states of the paper scene stay within |X| < 2(c_s + c_k) + w0 but
-    // for a mass ~1e-12 pumped further by flips at the turning points
-    let half = 2.0 * (frame.cs + frame.ck + frame.w0);
-    let mesh = Mesh::new(frame, h, half);
+    let mesh = Mesh::new(frame, h, frame.box_half());
     let cont = chain::continuation(&mesh);
     let mut nu = chain::Measure::zero(&mesh, cont.samples.len());
     let share = 1.0 / nu.line.len() as f64;

@@ -362,7 +362,7 @@ pub(crate) struct Sequence {
 /// start's circle about the farther slip centre (the flips move a state by at most 2 c_k of
 /// amplitude per half-turn).
 pub(crate) fn half_width(frame: Frame, start: Start) -> f64 {
-    let base = 2.0 * (frame.cs + frame.ck + frame.w0);
+    let base = frame.box_half();
     let (x, w) = match start {
         Start::Slip(z) => (z.x, z.v / frame.omega),
         Start::Stuck(x) => (x, frame.w0),

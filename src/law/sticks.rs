@@ -112,12 +112,11 @@ pub(crate) fn check(scenario: &Scenario, frame: Frame, ladder: &[(u32, f64)]) ->
     ladder.first().map_or(Ok(()), |&(_, h)| check_starts(&starts(scenario, frame, h), frame))
 }
 
-/// The sequences of the scenario's initial law at the ladder's spacings.
+/// The sequences of the scenario's initial law at the ladder's spacings (after [`check`]).
 pub(crate) fn solve(scenario: &Scenario, frame: Frame, ladder: &[(u32, f64)], progress: &mut dyn FnMut(u32, f64)) -> Result<Vec<(f64, Sequence)>, String> {
     let mut out = Vec::new();
     for &(n, h) in ladder {
         let starts = starts(scenario, frame, h);
-        check_starts(&starts, frame)?;
         let half = starts.iter().map(|(s, _)| passage::half_width(frame, *s)).fold(0.0, f64::max);
         let t = std::time::Instant::now();
         out.push((h, passage::sequence(frame, h, half, &starts, STICKS)?));
