@@ -1,6 +1,6 @@
 //! `stickslip predict`: the next stick from a given state — the time to its start, its duration,
 //! the slip after it and whether it ends by breakaway — computed without sampling where the
-//! scene allows ([`crate::law::passage`]: Coulomb friction without damping, the symmetric belt,
+//! scene allows ([`crate::law::passage`]: Coulomb friction with or without a dashpot, the symmetric belt,
 //! fixed parameters) and by conditional Monte Carlo everywhere: futures simulated from the same
 //! state with the scenario's solver (the same realizations, seeds and generator as `simulate`,
 //! from the point initial condition and the belt in the given state).

@@ -53,7 +53,7 @@ pub(crate) struct Mesh {
     pub nx: usize,
     pub nw: usize,
     pub nb: usize,
-    /// the belt line's nodes y_j = −c_s + j h_line, j = 0..=n_line: a flip during a stick at y
+    /// the belt line's nodes y_j = x_lo + j h_line (x_lo = [`Frame::hold_lo`]), j = 0..=n_line: a flip during a stick at y
     /// leaves the mass at (−y, −v0) in the new frame
     pub h_line: f64,
     pub n_line: usize,
@@ -67,7 +67,7 @@ impl Mesh {
         let n_line = ((2.0 * frame.cs / (h / 4.0)).ceil() as usize).max(2);
         let nb = ((half + frame.w0) / h).ceil() as usize + 2;
         let na = ((half - frame.w0).max(0.0) / h).ceil() as usize + 2;
-        Mesh { frame, h, nx: 2 * (half / h).ceil() as usize, nw: nb + na, nb, h_line: 2.0 * frame.cs / n_line as f64, n_line, horizon: 41.4 / frame.lambda }
+        Mesh { frame, h, nx: 2 * (half / h).ceil() as usize, nw: nb + na, nb, h_line: 2.0 * frame.cs / n_line as f64, n_line, horizon: super::flow::HORIZON_DECAYS / frame.lambda }
     }
 
     /// The slip state of node (i, j).
@@ -112,13 +112,13 @@ impl Mesh {
     /// belt-line node k below y and the fraction towards k + 1). A flip at y leaves (−y, −v0).
     pub(super) fn stick_intervals(&self, x_e: f64) -> impl Iterator<Item = (f64, f64, f64, usize, f64)> + '_ {
         let f = self.frame;
-        let n = ((f.cs - x_e) / (self.h_line / 2.0)).ceil().max(1.0) as usize;
-        let dy = (f.cs - x_e) / n as f64;
+        let n = ((f.hold_hi() - x_e) / (self.h_line / 2.0)).ceil().max(1.0) as usize;
+        let dy = (f.hold_hi() - x_e) / n as f64;
         let dt = dy / f.v0;
         let mid = f.v0 * centroid(f.lambda, dt);
         (0..n).map(move |i| {
             let y = x_e + i as f64 * dy + mid;
-            let fy = ((y + f.cs) / self.h_line).clamp(0.0, self.n_line as f64);
+            let fy = ((y - f.hold_lo()) / self.h_line).clamp(0.0, self.n_line as f64);
             let k = (fy as usize).min(self.n_line - 1);
             (i as f64 * dt, dt, y, k, fy - k as f64)
         })
@@ -261,13 +261,13 @@ impl Visitor for Deposit<'_> {
         let (mesh, f) = (self.mesh, self.mesh.frame);
         let lambda = f.lambda;
         let e = (-lambda * t).exp();
-        let d = (f.cs - x_e) / f.v0;
+        let d = (f.hold_hi() - x_e) / f.v0;
         let x = lambda * d;
         self.tally.entries += self.m * e;
         self.tally.stick_time += self.m * decay(lambda, t, t + d);
         self.tally.d1 += self.m * e * -(-x).exp_m1() / lambda;
         self.tally.d2 += self.m * e * 2.0 * super::one_minus_exp_poly(x) / (lambda * lambda);
-        // a flip at y ∈ [x_e, c_s) leaves (−y, −v0): the belt line's nodes, linearly
+        // a flip at y ∈ [x_e, x_b) leaves (−y, −v0): the belt line's nodes, linearly
         for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
             let s = t + offset;
             let w = self.m * lambda * decay(lambda, s, s + dt);
@@ -335,7 +335,15 @@ pub(crate) fn continuation(mesh: &Mesh) -> Continuation {
     let samples: Vec<(f64, f64)> = rec.samples.iter().map(|s| (s.0, s.1)).collect();
     let mut deposit = Measure::zero(mesh, samples.len());
     let mut tally = Tally::default();
-    let (stuck, x_e, t_end) = rec.end.expect("the breakaway slip ends in a touch or a stick");
+    let Some((stuck, x_e, t_end)) = rec.end else {
+        // (damped: the breakaway slip spirals down without coming back to belt speed, walked
+        // to the horizon — nothing repeats)
+        let mut d = Deposit { mesh, out: &mut deposit, tally: &mut tally, m: 1.0, to_graze: Some(0), follow: [0.0; 2] };
+        for &(x, v, t, dt, age) in &rec.samples {
+            d.slip(x, v, t, dt, age);
+        }
+        return Continuation { samples, line: deposit.line, graze: deposit.graze, tally };
+    };
     {
         let mut d = Deposit { mesh, out: &mut deposit, tally: &mut tally, m: 1.0, to_graze: Some(0), follow: [0.0; 2] };
         for &(x, v, t, dt, age) in &rec.samples {
@@ -345,7 +353,7 @@ pub(crate) fn continuation(mesh: &Mesh) -> Continuation {
             d.stick(x_e, t_end);
         }
     }
-    let period = if stuck { t_end + (f.cs - x_e) / f.v0 } else { t_end };
+    let period = if stuck { t_end + (f.hold_hi() - x_e) / f.v0 } else { t_end };
     let q = (-lambda * period).exp();
     let one = 1.0 / -(-lambda * period).exp_m1();
     if stuck {
@@ -378,7 +386,7 @@ pub(crate) fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip
     }
     for (k, &m) in nu.line.iter().enumerate() {
         if m.abs() > 1e-300 {
-            let y = -f.cs + k as f64 * mesh.h_line;
+            let y = f.hold_lo() + k as f64 * mesh.h_line;
             out.push((Slip::at(-y, -f.v0, f.v0), 0.0, m));
         }
     }

@@ -17,8 +17,11 @@ pub struct Density {
     pub v_edges: Vec<f64>,
     /// density while slipping [1/(m · m/s)], cell (i, j) at `slip[i * (v_edges.len() − 1) + j]`
     pub slip: Vec<f64>,
-    /// cell edges of the stick lines in x [m] (over [−c_s, c_s])
-    pub stick_edges: Vec<f64>,
+    /// cell edges in x [m] of the stick lines ẋ = +v0 (over [x_lo, x_b], [`Frame::hold_lo`],
+    /// [`Frame::hold_hi`]; [−c_s, c_s] without a dashpot) and ẋ = −v0 (the mirror image
+    /// [−x_b, −x_lo]: a stick at X in the belt's frame is at −X in the lab when the belt runs
+    /// at −v0)
+    pub stick_edges: [Vec<f64>; 2],
     /// line density [1/m] on ẋ = +v0 and on ẋ = −v0
     pub stick: [Vec<f64>; 2],
     /// the belt speed v0 [m/s]
@@ -28,6 +31,14 @@ pub struct Density {
     /// the stationary survival of the stick duration, (t, P(D > t)) for t from 0 to the longest
     /// holding time 2 c_s/v0 in [`SURVIVAL_POINTS`] − 1 steps
     pub stick_survival: Vec<(f64, f64)>,
+}
+
+impl Density {
+    /// The centres of the stick cells of line k (0: ẋ = +v0, 1: ẋ = −v0), in the order of
+    /// `stick[k]`.
+    pub fn stick_centres(&self, k: usize) -> Vec<f64> {
+        self.stick_edges[k].windows(2).map(|w| 0.5 * (w[0] + w[1])).collect()
+    }
 }
 
 /// Points of the stick duration's survival curve.
@@ -41,10 +52,10 @@ pub const CELLS: usize = 160;
 /// rows at whole multiples of h (w0 is a whole number of rows), so every cell holds K × K nodes
 /// (a cell holding one row more than its neighbour shows as a stripe: the walks start at the
 /// nodes) and the cells are symmetric about 0, as the lab frame's (x, ẋ) ↔ (−x, −ẋ) needs.
-/// Returns (K h, cells per half axis in x, in ẋ/ω), covering |x| ≤ c_s + c_k + 2 w0 and
-/// |ẋ/ω| ≤ c_s + c_k + w0.
+/// Returns (K h, cells per half axis in x, in ẋ/ω), covering |x| ≤ c + c_k + 2 w0 and
+/// |ẋ/ω| ≤ c + c_k + w0, c the stick region's larger end (c_s without a dashpot).
 fn cells(f: &Frame, h: f64) -> (f64, usize, usize) {
-    let (xd, wd) = (f.cs + f.ck + 2.0 * f.w0, f.cs + f.ck + f.w0);
+    let (xd, wd) = (f.hold_hi().max(-f.hold_lo()) + f.ck + 2.0 * f.w0, f.hold_hi().max(-f.hold_lo()) + f.ck + f.w0);
     let k = ((2.0 * xd / (CELLS as f64 * h)).round() as usize).max(1) | 1;
     let size = k as f64 * h;
     (size, (xd / size).ceil() as usize, (wd / size - 0.5).ceil() as usize)
@@ -98,15 +109,16 @@ impl Visitor for Occupy<'_> {
     fn stick(&mut self, x_e: f64, t: f64) {
         let f = self.f;
         let n = self.stick.len();
+        let (lo, hi) = (f.hold_lo(), f.hold_hi());
         let width = 2.0 * f.cs / n as f64;
-        let first = (((x_e + f.cs) / width).floor().max(0.0) as usize).min(n - 1);
+        let first = (((x_e - lo) / width).floor().max(0.0) as usize).min(n - 1);
         for k in first..n {
-            let (a, b) = ((-f.cs + k as f64 * width).max(x_e), -f.cs + (k + 1) as f64 * width);
+            let (a, b) = ((lo + k as f64 * width).max(x_e), lo + (k + 1) as f64 * width);
             if b > a {
                 self.stick[k] += self.m * f.lambda * decay(f.lambda, t + (a - x_e) / f.v0, t + (b - x_e) / f.v0);
             }
         }
-        self.follow += self.m * (-f.lambda * (t + (f.cs - x_e) / f.v0)).exp();
+        self.follow += self.m * (-f.lambda * (t + (hi - x_e) / f.v0)).exp();
         self.entries.push((x_e, self.m * (-f.lambda * t).exp()));
     }
 
@@ -162,7 +174,7 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
         x_edges: edges(-(half.0 as f64) * dx, dx, nx),
         v_edges: edges(-(half.1 as f64 + 0.5) * dv, dv, nv),
         slip: lab,
-        stick_edges: edges(-f.cs, ds, CELLS),
+        stick_edges: [edges(f.hold_lo(), ds, CELLS), edges(-f.hold_hi(), ds, CELLS)],
         stick: [plus, minus],
         v0: f.v0,
         outside,
@@ -172,11 +184,11 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
 
 /// P(D > t) = Σ w e^{−λt} 1{t < d(x_e)} / Σ w over the stick entries (x_e, w): a stick entered
 /// at x_e ends at the earlier of the next flip (memoryless: Exp(λ) from the entry) and the
-/// breakaway after d(x_e) = (c_s − x_e)/v0 — the conditional estimator of the tails analysis,
+/// breakaway after d(x_e) = (x_b − x_e)/v0 — the conditional estimator of the tails analysis,
 /// here on the stationary entry law.
 pub(super) fn survival(f: &Frame, entries: &[(f64, f64)]) -> Vec<(f64, f64)> {
     let total: f64 = entries.iter().map(|e| e.1).sum();
-    let mut held: Vec<(f64, f64)> = entries.iter().map(|&(x, w)| ((f.cs - x) / f.v0, w)).collect();
+    let mut held: Vec<(f64, f64)> = entries.iter().map(|&(x, w)| ((f.hold_hi() - x) / f.v0, w)).collect();
     held.sort_by(|a, b| a.0.total_cmp(&b.0));
     // the weight of the entries held past t, from the longest down
     let top = 2.0 * f.cs / f.v0;

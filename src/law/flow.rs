@@ -4,6 +4,11 @@
 
 use std::f64::consts::TAU;
 
+use crate::physics::{Damped, SlipForm};
+
+/// Walks stop where the weight e^{−λt} of what follows falls below e^{−41.4} ≈ 1e-18.
+pub(crate) const HORIZON_DECAYS: f64 = 41.4;
+
 /// The reflected frame's constants (module docs of [`super`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Frame {
@@ -19,6 +24,9 @@ pub(crate) struct Frame {
     pub cs: f64,
     /// λ [1/s], the flip rate
     pub lambda: f64,
+    /// the damped closed forms (module docs of [`crate::physics::damped`]) when the dashpot
+    /// c > 0, else None: the undamped circles
+    pub damped: Option<Damped>,
 }
 
 /// A slip state: position X, velocity V, on which side of belt speed it moves (the side decides
@@ -56,6 +64,29 @@ pub(crate) trait Visitor {
 }
 
 impl Frame {
+    /// γ = c/m [1/s] (0 without a dashpot).
+    fn gamma(&self) -> f64 {
+        self.damped.map_or(0.0, |d| d.gamma())
+    }
+
+    /// The dashpot's shift of the stick region, γ v0/ω² [m]: while stuck the holding force per
+    /// unit mass is ω² X + γ v0, within ±a_s on [`Frame::hold_lo`], [`Frame::hold_hi`].
+    fn shift(&self) -> f64 {
+        self.gamma() * self.v0 / (self.omega * self.omega)
+    }
+
+    /// The stick region's lower end −c_s − γ v0/ω² [m] (−c_s without a dashpot): an arrival
+    /// below it passes through belt speed.
+    pub fn hold_lo(&self) -> f64 {
+        -self.cs - self.shift()
+    }
+
+    /// The breakaway point x_b = c_s − γ v0/ω² [m] (c_s without a dashpot): a stick entered at
+    /// X_e breaks away after (x_b − X_e)/v0.
+    pub fn hold_hi(&self) -> f64 {
+        self.cs - self.shift()
+    }
+
     /// The centre of the slip's circle: +c_k below belt speed, −c_k above.
     fn centre(&self, below: bool) -> f64 {
         if below {
@@ -83,6 +114,9 @@ impl Frame {
     /// not walked (their weight e^{−λt} is below what the caller keeps). Slip arcs are cut into
     /// samples at most `spacing` long in the plane (X, V/ω).
     pub fn walk(&self, mut z: Slip, age: f64, spacing: f64, horizon: f64, visit: &mut impl Visitor) {
+        if let Some(form) = self.damped {
+            return self.walk_damped(&form, z, age, spacing, horizon, visit);
+        }
         let mut t = 0.0;
         // each pass-through loses 2 c_k of amplitude (Coulomb), so the walk ends; the bound only
         // guards against c_k = 0, where an arc can pass through belt speed forever
@@ -131,17 +165,90 @@ impl Frame {
     /// breakaway point (the walk ends in both), or the slip passing belt speed, whose state on
     /// the other side is returned.
     fn arrive(&self, z: Slip, t: f64, age: f64, visit: &mut impl Visitor) -> Option<Slip> {
-        if (-self.cs..self.cs).contains(&z.x) {
+        if (self.hold_lo()..self.hold_hi()).contains(&z.x) {
             visit.stick(z.x, t);
             return None;
         }
-        if z.below && z.x >= self.cs {
+        if z.below && z.x >= self.hold_hi() {
             // (only c_k = c_s, r = w0: a touch at the breakaway point)
             visit.breakaway_slip(t, age + t);
             return None;
         }
         // passes through belt speed: the friction reverses
         Some(Slip { below: !z.below, ..z })
+    }
+
+    /// The walk of [`Frame::walk`] with a dashpot: the slip spirals (ẍ = σ a_k − ω² X − γ Ẋ,
+    /// σ = +1 below belt speed, −1 above, in this frame), and its arrival at belt speed is
+    /// [`Damped::crossing`]'s first root of Ẋ = v0 (closed-form turning points bracket it: no
+    /// step can miss a shallow crossing). The arrival rule is the undamped one on the shifted
+    /// stick region [`Frame::hold_lo`] ≤ X < [`Frame::hold_hi`]. A spiral that does not reach
+    /// belt speed again never will (the energy ω²(X − σc_k)² + Ẋ² only falls), so there is no
+    /// periodic piece: the walk samples it up to the horizon, capped at [`HORIZON_DECAYS`]/λ
+    /// (a breakaway slip, walked with an infinite horizon, would otherwise not end). With
+    /// μ_s = μ_k the breakaway slip leaves (x_b, v0) with zero acceleration: a velocity
+    /// maximum, the spiral never touches belt speed again.
+    fn walk_damped(&self, form: &Damped, mut z: Slip, age: f64, spacing: f64, horizon: f64, visit: &mut impl Visitor) {
+        let horizon = horizon.min(HORIZON_DECAYS / self.lambda);
+        let (w2, gamma, ak) = (self.omega * self.omega, self.gamma(), self.ck * self.omega * self.omega);
+        let accel = |z: &Slip| (if z.below { ak } else { -ak }) - w2 * z.x - gamma * z.v;
+        // a start on the belt line moving across it arrives at once
+        let a0 = accel(&z);
+        if z.v == self.v0 && (if z.below { a0 > 0.0 } else { a0 < 0.0 }) {
+            match self.arrive_damped(z, 0.0, visit) {
+                Some(next) => z = next,
+                None => return,
+            }
+        }
+        let mut t = 0.0;
+        // each pass through belt speed loses amplitude (Coulomb and the dashpot): the walk ends
+        for _ in 0..100_000 {
+            if t > horizon {
+                return;
+            }
+            let a0 = accel(&z);
+            match form.crossing(z.x, z.v, a0, self.v0, horizon - t) {
+                Some((tau, xa)) => {
+                    self.sample_damped(form, z, a0, t, tau, age, spacing, visit);
+                    t += tau;
+                    match self.arrive_damped(Slip { x: xa, v: self.v0, below: z.below }, t, visit) {
+                        Some(next) => z = next,
+                        None => return,
+                    }
+                }
+                None => {
+                    self.sample_damped(form, z, a0, t, horizon - t, age, spacing, visit);
+                    return;
+                }
+            }
+        }
+    }
+
+    /// A damped arrival at belt speed: a stick on the shifted region, else the slip goes on on
+    /// the other side (a rising arrival at X ≥ x_b, a tangent touch only reached by rounding,
+    /// goes on below: [`Damped::crossing`] then finds where it comes back, if it does).
+    fn arrive_damped(&self, z: Slip, t: f64, visit: &mut impl Visitor) -> Option<Slip> {
+        if (self.hold_lo()..self.hold_hi()).contains(&z.x) {
+            visit.stick(z.x, t);
+            return None;
+        }
+        Some(if z.below && z.x >= self.hold_hi() { z } else { Slip { below: !z.below, ..z } })
+    }
+
+    /// Samples of the damped slip from `z` (acceleration a0) over [t0, t0 + duration), at most
+    /// `spacing` apart in the plane (X, V/ω): the plane speed is at most R(ω + γ) with R the
+    /// start's radius about its centre σ c_k (the energy only falls: |X − σc_k|, |V|/ω ≤ R, and
+    /// |Ẍ|/ω ≤ ωR + γR).
+    #[allow(clippy::too_many_arguments)]
+    fn sample_damped(&self, form: &Damped, z: Slip, a0: f64, t0: f64, duration: f64, age: f64, spacing: f64, visit: &mut impl Visitor) {
+        let (r, _) = self.polar(self.centre(z.below), z.x, z.v);
+        let n = ((r * (self.omega + self.gamma()) * duration / spacing).ceil() as usize).max(1);
+        let dt = duration / n as f64;
+        let mid = centroid(self.lambda, dt);
+        for i in 0..n {
+            let (x, v) = form.state(z.x, z.v, a0, i as f64 * dt + mid);
+            visit.slip(x, v, t0 + i as f64 * dt, dt, age + t0 + i as f64 * dt);
+        }
     }
 
     /// Samples of the arc of centre `c`, radius r from angle φ0 over [t0, t0 + duration).
@@ -176,12 +283,12 @@ impl Frame {
     /// m: they stay within |X| < 2(c_s + c_k) + w0 on the paper scene but for a mass ~1e-12
     /// pumped further by flips at the turning points.
     pub fn box_half(&self) -> f64 {
-        2.0 * (self.cs + self.ck + self.w0)
+        2.0 * (self.cs + self.shift() + self.ck + self.w0)
     }
 
-    /// The slip right after a breakaway at (c_s, v0), below belt speed.
+    /// The slip right after a breakaway at (x_b, v0), below belt speed.
     pub fn breakaway(&self) -> Slip {
-        Slip { x: self.cs, v: self.v0, below: true }
+        Slip { x: self.hold_hi(), v: self.v0, below: true }
     }
 }
 
@@ -235,7 +342,7 @@ pub(crate) fn aged_decay(lambda: f64, t0: f64, t1: f64, a: f64) -> f64 {
 mod tests {
     use super::*;
 
-    const PAPER: Frame = Frame { omega: 2.0, v0: 1.0, w0: 0.5, ck: 1.2495, cs: 1.2495, lambda: 5.0 };
+    const PAPER: Frame = Frame { omega: 2.0, v0: 1.0, w0: 0.5, ck: 1.2495, cs: 1.2495, lambda: 5.0, damped: None };
 
     #[derive(Default)]
     struct Log {
@@ -308,6 +415,87 @@ mod tests {
         let mut log = Log::default();
         f.walk(f.breakaway(), 0.0, 1e-3, 100.0, &mut log);
         assert!((log.stick.unwrap().0 - (2.0 * f.ck - f.cs)).abs() < 1e-12);
+    }
+
+    /// The paper's frame with the dashpot c = 0.5 N·s/m (γ = 0.5/s) and μ_s = `mu_s`.
+    fn damped(mu_s: f64) -> Frame {
+        let u = crate::physics::Params { damping: 0.5, static_: mu_s, ..crate::physics::Params::PAPER }.per_unit_mass();
+        Frame { cs: u.breakaway / u.omega2, damped: Some(<Damped as SlipForm>::new(&u)), ..PAPER }
+    }
+
+    /// The first stick of the damped slip from (x, v) by an independent integration: classical
+    /// RK4 of ẍ = σ a_k − ω² x − γ ẋ (σ = +1 below belt speed, −1 above) in steps of 1e-4 s, a
+    /// crossing of belt speed located within its step by bisection on the step's fraction, the
+    /// arrival rule applied there (a stick on [−c_s − γ v0/ω², c_s − γ v0/ω²), else the friction
+    /// reverses). Returns (time, position) of the stick.
+    fn rk4_first_stick(f: &Frame, x: f64, v: f64, below: bool, gamma: f64) -> (f64, f64) {
+        let (w2, ak) = (f.omega * f.omega, f.ck * f.omega * f.omega);
+        let shift = gamma * f.v0 / w2;
+        let step = |y: [f64; 2], sigma: f64, h: f64| {
+            let d = |y: [f64; 2]| [y[1], sigma * ak - w2 * y[0] - gamma * y[1]];
+            let k1 = d(y);
+            let k2 = d([y[0] + 0.5 * h * k1[0], y[1] + 0.5 * h * k1[1]]);
+            let k3 = d([y[0] + 0.5 * h * k2[0], y[1] + 0.5 * h * k2[1]]);
+            let k4 = d([y[0] + h * k3[0], y[1] + h * k3[1]]);
+            [y[0] + h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]), y[1] + h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])]
+        };
+        let (mut y, mut t, mut sigma) = ([x, v], 0.0, if below { 1.0 } else { -1.0 });
+        let h = 1e-4;
+        for _ in 0..10_000_000 {
+            let next = step(y, sigma, h);
+            // the side the step started on (on the line: the side it leaves to)
+            let side = if y[1] == f.v0 { -sigma } else { (y[1] - f.v0).signum() };
+            if (next[1] - f.v0).signum() != side {
+                let (mut lo, mut hi) = (0.0, 1.0);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if (step(y, sigma, mid * h)[1] - f.v0).signum() == side {
+                        lo = mid
+                    } else {
+                        hi = mid
+                    }
+                }
+                let at = step(y, sigma, hi * h);
+                let tc = t + hi * h;
+                if (-f.cs - shift..f.cs - shift).contains(&at[0]) {
+                    return (tc, at[0]);
+                }
+                sigma = -sigma;
+                (y, t) = ([at[0], f.v0], tc);
+                continue;
+            }
+            (y, t) = (next, t + h);
+        }
+        panic!("no stick")
+    }
+
+    #[test]
+    fn the_damped_walk_sticks_where_an_independent_integration_does() {
+        for (mu_s, x, v, below) in [(0.51, -2.0, 0.0, true), (0.51, -3.5, -2.0, true), (0.51, 0.4, -0.8, true), (0.51, -0.9, -1.0, true), (0.51, 3.0, 2.5, false), (1.2, 0.0, 0.0, true)]
+        {
+            // (from (−5, 0) it passes belt speed twice and then slips below it for good: the
+            // second arrival, at 1.236 > x_b = 1.1245, leaves a spiral of radius ≈ w0 that the
+            // dashpot shrinks — no stick; the last case is the μ_s > μ_k breakaway slip)
+            let f = damped(mu_s);
+            let mut log = Log::default();
+            let start = if mu_s > 0.51 { f.breakaway() } else { Slip { x, v, below } };
+            f.walk(start, 0.0, 1e-3, 100.0, &mut log);
+            let (xe, t) = log.stick.unwrap_or_else(|| panic!("from ({x}, {v}): no stick"));
+            let (tr, xr) = rk4_first_stick(&f, start.x, start.v, start.below, 0.5);
+            assert!((t - tr).abs() < 1e-8 && (xe - xr).abs() < 1e-8, "from ({x}, {v}): walk ({t}, {xe}), RK4 ({tr}, {xr})");
+            // the slip samples cover the time to the stick
+            assert!((log.slip - t).abs() < 1e-9 * t, "{} vs {t}", log.slip);
+            assert!(!log.periodic && log.breakaway.is_none());
+        }
+        // μ_s = μ_k: the breakaway slip leaves at a velocity maximum and never comes back to belt
+        // speed; the walk samples it up to e^{−41.4} (41.4/λ) and stops
+        let f = damped(0.51);
+        let mut log = Log::default();
+        f.walk(f.breakaway(), 0.0, 1e-3, f64::INFINITY, &mut log);
+        assert!(log.stick.is_none() && !log.periodic && log.breakaway.is_none());
+        assert!((log.slip - HORIZON_DECAYS / f.lambda).abs() < 1e-9, "{}", log.slip);
+        let (x, v) = log.last.unwrap();
+        assert!(v < f.v0 && (x - f.ck).hypot(v / f.omega) < f.w0, "spiralling in: ({x}, {v})");
     }
 
     #[test]

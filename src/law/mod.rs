@@ -29,6 +29,19 @@
 //! either way the same periodic continuation for every breakaway, summed once in closed form
 //! over its repetitions (`chain::continuation`).
 //!
+//! **The dashpot** (c > 0, γ = c/m): the Coulomb slip is the damped linear oscillator
+//! Ẍ = σ a_k − ω² X − γ Ẋ about the same centres, a spiral in the plane instead of a circle, in
+//! the closed forms of [`crate::physics::damped`] (whose first return to belt speed is bracketed
+//! by the velocity's turning points: it cannot be missed). The point reflection still maps the
+//! flow onto itself (the dashpot is odd too). While stuck the holding force per unit mass is
+//! ω² X + γ v0, so the stick region is shifted by −γ v0/ω²: −c_s − γv0/ω² ≤ X < x_b = c_s − γv0/ω²
+//! ([`flow::Frame::hold_lo`], [`flow::Frame::hold_hi`]), and a stick entered at X_e breaks away
+//! after (x_b − X_e)/v0. A spiral below belt speed that does not come back to it never will
+//! (the energy only falls), so it has no periodic repetition: it is walked, like every slip,
+//! until its weight e^{−λt} is negligible. With μ_s = μ_k the breakaway slip leaves at a
+//! velocity maximum and never returns to belt speed; with μ_s > μ_k it may stick again, and
+//! that cycle repeats as without the dashpot.
+//!
 //! **The chain.** ν lives on three supports: the line {(−y, −v0) : −c_s ≤ y ≤ c_s} (a flip during
 //! a stick at y; nodes every h/4, linear), the images of the breakaway slip's samples (exact
 //! points), and a grid of the plane of spacing h (bilinear): the measure of the post-flip
@@ -58,7 +71,7 @@
 //! (Richardson) from the two finest of three nested resolutions, with the change of that
 //! extrapolation from the coarser pair as its error.
 //!
-//! **Where it holds**: Coulomb friction (μ_s ≥ μ_k), no damping, no viscous friction, k > 0,
+//! **Where it holds**: Coulomb friction (μ_s ≥ μ_k), any dashpot c ≥ 0, no viscous friction, k > 0,
 //! the symmetric belt (or a telegraph belt with equal rates and speeds), λ > 0, fixed
 //! parameters. Anything else is refused with the reason.
 
@@ -107,8 +120,8 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
         return Err("parameters are drawn per realization (the long-run law is computed for fixed parameters)".into());
     }
     let p = scene.params;
-    if p.damping != 0.0 || p.viscous != 0.0 {
-        return Err("the slip is damped (model.damping or model.viscous_friction): only the undamped closed forms are implemented".into());
+    if p.viscous != 0.0 {
+        return Err("model.viscous_friction is not 0: the viscous term's closed forms are not implemented here (the dashpot model.damping is)".into());
     }
     if p.static_ != p.kinetic && matches!(p.law, Law::Stribeck(_)) {
         return Err("Stribeck friction with mu_s > mu_k has no closed-form slip".into());
@@ -134,7 +147,8 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
         // it returns to belt speed at the very edge of the stick region: −c_s + 2 c_k)
         return Err("the kinetic friction is below 1e-6 of the static friction (mu_k / mu_s): not supported".into());
     }
-    let f = Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate };
+    let damped = (u.gamma > 0.0).then(|| <crate::physics::Damped as crate::physics::SlipForm>::new(&u));
+    let f = Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate, damped };
     // The grid must resolve both lengths of the plane, the belt's velocity scale w0 = v0/ω and
     // the stick region's half-width c_s, and a walk crosses belt speed about w0/c_k times before
     // it sticks (each crossing loses 2 c_k of amplitude): outside this range the grid or the

@@ -180,15 +180,15 @@ fn convergence_table(levels: &[Level], ladder: &[(u32, f64)], sticks: &[(f64, su
 /// cell of a stick line ẋ = ±v0, density in 1/m), x and velocity (the cell's centre), density.
 fn density_table(d: &Density) -> Table {
     let centres = |e: &[f64]| e.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect::<Vec<f64>>();
-    let (xs, vs, ss) = (centres(&d.x_edges), centres(&d.v_edges), centres(&d.stick_edges));
+    let (xs, vs) = (centres(&d.x_edges), centres(&d.v_edges));
     let mut rows: Vec<(&str, f64, f64, f64)> = Vec::new();
     for (i, &x) in xs.iter().enumerate() {
         for (j, &v) in vs.iter().enumerate() {
             rows.push(("slip", x, v, d.slip[i * vs.len() + j]));
         }
     }
-    for (line, v) in d.stick.iter().zip([d.v0, -d.v0]) {
-        rows.extend(ss.iter().zip(line).map(|(&x, &p)| ("stick", x, v, p)));
+    for (k, (line, v)) in d.stick.iter().zip([d.v0, -d.v0]).enumerate() {
+        rows.extend(d.stick_centres(k).into_iter().zip(line).map(|(x, &p)| ("stick", x, v, p)));
     }
     let mut t = Table::default();
     t.push("kind", Col::Str(rows.iter().map(|r| r.0.to_string()).collect()))
@@ -208,11 +208,10 @@ fn density_figure(d: &Density) -> Figure {
             [d.x_edges[i], d.x_edges[i + 1], d.v_edges[j], d.v_edges[j + 1], d.slip[k]]
         })
         .collect();
-    let centres: Vec<f64> = d.stick_edges.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect();
     let line = |k: usize, label: String, color: usize| Series {
         label,
         color,
-        points: centres.iter().copied().zip(d.stick[k].iter().copied()).collect(),
+        points: d.stick_centres(k).into_iter().zip(d.stick[k].iter().copied()).collect(),
         errors: vec![],
     };
     // the axes over the cells above 1e-3 of the largest (the table has them all)

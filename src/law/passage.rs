@@ -28,10 +28,11 @@
 //! Σ q^j = 1/(1 − q), Σ j q^j = q/(1 − q)², Σ j² q^j = q(1 + q)/(1 − q)³.
 //!
 //! **The stick** entered at x_e ends at D = min(F, d): F ~ Exp(λ) the next flip (memoryless),
-//! d = (c_s − x_e)/v0 the breakaway. E[D] = (1 − e^{−λd})/λ, E[D²] = (2/λ²)(1 − e^{−λd}(1 + λd)),
-//! P(D > t) = e^{−λt} 1{t < d}. It ends by a flip at y ∈ [x_e, c_s) (leaving the slip state
+//! d = (x_b − x_e)/v0 the breakaway (x_b = c_s − γv0/ω², c_s without a dashpot).
+//! E[D] = (1 − e^{−λd})/λ, E[D²] = (2/λ²)(1 − e^{−λd}(1 + λd)),
+//! P(D > t) = e^{−λt} 1{t < d}. It ends by a flip at y ∈ [x_e, x_b) (leaving the slip state
 //! (−y, −v0) in the new frame, as in the chain) or by the breakaway with probability e^{−λd}
-//! (leaving (c_s, v0), below belt speed).
+//! (leaving (x_b, v0), below belt speed).
 //!
 //! **The slip after it** H: the first passage again, from those exits, on a clock started at the
 //! stick's end. From a stuck state (`--stuck`) the current stick is such a stick entered at the
@@ -82,7 +83,7 @@ fn add(a: &mut Clock, b: Clock, f: f64) {
 }
 
 /// The states a passage starts from (every later state is on the grid, [`passage`]): belt-line
-/// nodes (a flip during a stick at y: the slip from (−y, −v0)), the breakaway (c_s, v0) and
+/// nodes (a flip during a stick at y: the slip from (−y, −v0)), the breakaway (x_b, v0) and
 /// the starts, with their clocks.
 #[derive(Debug, Clone)]
 struct Cloud {
@@ -102,7 +103,7 @@ impl Cloud {
         let mut out: Vec<(Slip, Clock)> = self.starts.clone();
         for (k, &c) in self.line.iter().enumerate() {
             if c[0] > 1e-300 {
-                let y = -f.cs + k as f64 * mesh.h_line;
+                let y = f.hold_lo() + k as f64 * mesh.h_line;
                 out.push((Slip::at(-y, -f.v0, f.v0), c));
             }
         }
@@ -160,7 +161,7 @@ impl Visitor for Pass<'_> {
     fn stick(&mut self, x_e: f64, t: f64) {
         let (mesh, f) = (self.mesh, self.mesh.frame);
         let clock = later(self.clock, (-f.lambda * t).exp(), t, 0.0, 0.0);
-        let fy = ((x_e + f.cs) / mesh.h_line).clamp(0.0, mesh.n_line as f64);
+        let fy = ((x_e - f.hold_lo()) / mesh.h_line).clamp(0.0, mesh.n_line as f64);
         let k = (fy as usize).min(mesh.n_line - 1);
         let frac = fy - k as f64;
         add(&mut self.entries[k], clock, 1.0 - frac);
@@ -298,7 +299,7 @@ fn leave(mesh: &Mesh, entries: impl Iterator<Item = (f64, Clock)>, out: &mut Clo
     let lambda = f.lambda;
     let mut held = Held { mass: 0.0, d1: 0.0, d2: 0.0, breakaway: 0.0, ends: [0.0; 5] };
     for (x_e, m) in entries {
-        let d = (f.cs - x_e).max(0.0) / f.v0;
+        let d = (f.hold_hi() - x_e).max(0.0) / f.v0;
         let x = lambda * d;
         held.mass += m[0];
         held.d1 += m[0] * -(-x).exp_m1() / lambda;
@@ -324,7 +325,7 @@ fn leave(mesh: &Mesh, entries: impl Iterator<Item = (f64, Clock)>, out: &mut Clo
 pub(crate) enum Start {
     /// slipping at this state
     Slip(Slip),
-    /// stuck at this position (−c_s ≤ X < c_s), moving with the belt
+    /// stuck at this position (on the stick region [`Frame::hold_lo`] ≤ X < x_b), moving with the belt
     Stuck(f64),
 }
 
@@ -354,7 +355,7 @@ pub(crate) struct Sequence {
     pub next_start: MeanVar,
     /// the mass lost off the grid (of 1)
     pub lost: f64,
-    /// P(D_1 > t) at points t from 0 to 2c_s/v0
+    /// P(D_1 > t) at points t from 0 to the longest holding time 2c_s/v0
     pub first_survival: Vec<(f64, f64)>,
 }
 
@@ -401,7 +402,7 @@ pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)],
         let mean = held.d1 / held.mass;
         (mean, held.d2 / held.mass - mean * mean)
     });
-    let node = |k: usize| -frame.cs + k as f64 * mesh.h_line;
+    let node = |k: usize| frame.hold_lo() + k as f64 * mesh.h_line;
     let (mut sticks, mut lost, mut first_survival, mut next_start) = (Vec::<Stick>::new(), 0.0, Vec::new(), (f64::NAN, f64::NAN));
     for k in 0..=count {
         let mut entries = vec![[0.0; 5]; mesh.n_line + 1];
@@ -435,7 +436,7 @@ pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)],
 mod tests {
     use super::*;
 
-    const PAPER: Frame = Frame { omega: 2.0, v0: 1.0, w0: 0.5, ck: 1.2495, cs: 1.2495, lambda: 5.0 };
+    const PAPER: Frame = Frame { omega: 2.0, v0: 1.0, w0: 0.5, ck: 1.2495, cs: 1.2495, lambda: 5.0, damped: None };
 
     #[test]
     fn a_clock_moved_later_keeps_its_moments() {

@@ -73,7 +73,7 @@ pub(crate) fn starts(scenario: &Scenario, frame: Frame, h: f64) -> Vec<(Start, f
 /// holding limit is a stick of its own (a point initial condition there is refused: `predict
 /// --stuck` answers that question).
 pub(crate) fn check_starts(starts: &[(Start, f64)], frame: Frame) -> Result<(), String> {
-    match starts.iter().find(|(s, _)| matches!(s, Start::Slip(z) if z.v == frame.v0 && (-frame.cs..frame.cs).contains(&z.x))) {
+    match starts.iter().find(|(s, _)| matches!(s, Start::Slip(z) if z.v == frame.v0 && (frame.hold_lo()..frame.hold_hi()).contains(&z.x))) {
         Some(_) => {
             Err("the initial condition moves with the belt within the holding limit (it starts stuck): the table follows the sticks after a slipping start"
                 .into())

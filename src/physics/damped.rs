@@ -145,6 +145,11 @@ impl SlipForm for Damped {
 }
 
 impl Damped {
+    /// The slip's damping γ (+ β with a viscous term) [1/s].
+    pub(crate) fn gamma(&self) -> f64 {
+        self.gamma
+    }
+
     fn basis(&self, tau: f64) -> Basis {
         if self.scale * tau <= 0.5 {
             return self.taylor(tau);

@@ -138,10 +138,18 @@ fn static_friction_and_slow_flips_agree_with_a_long_monte_carlo_run() {
     agrees(&["model.static_friction_coefficient=0.6", "belt.switch_rate=1.0"], 2000, 600.0, 32);
 }
 
+/// The dashpot c = 0.5 N·s/m (ζ = 1/8): spirals instead of circles, the stick region shifted
+/// by −c v0/k; with μ_s = 0.8 the breakaway slip comes back to stick, with μ_s = μ_k it never does.
+#[test]
+fn a_damped_scene_agrees_with_a_long_monte_carlo_run() {
+    agrees(&["model.damping=0.5"], 2000, 400.0, 32);
+    agrees(&["model.damping=0.5", "model.static_friction_coefficient=0.8", "belt.switch_rate=2.0"], 2000, 400.0, 32);
+}
+
 #[test]
 fn scenes_outside_the_method_are_refused_with_the_reason() {
     for (sets, reason) in [
-        (&["model.damping=0.5"][..], "damped"),
+        (&["model.viscous_friction=0.3"][..], "viscous"),
         (&["belt.reverse_speed=0.5", "belt.reverse_switch_rate=2"][..], "asymmetric"),
         (&["model.friction_coefficient={dist = \"uniform\", low = 0.3, high = 0.7}"][..], "drawn per realization"),
         (&["belt.switch_rate=0"][..], "no stationary law"),
@@ -158,7 +166,7 @@ fn scenes_outside_the_method_are_refused_with_the_reason() {
 }
 
 #[test]
-fn the_command_writes_its_tables_and_refuses_a_damped_scene() {
+fn the_command_writes_its_tables_and_refuses_a_viscous_scene() {
     let tmp = tempfile::tempdir().unwrap();
     let o = crate::common::stickslip(&["exact-law", "--out", "e", "--resolution", "16"], tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -206,10 +214,10 @@ fn the_command_writes_its_tables_and_refuses_a_damped_scene() {
     );
     assert_eq!(o.status.code(), Some(2), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stderr).contains("starts stuck"));
-    let o = crate::common::stickslip(&["exact-law", "--out", "d", "--set", "model.damping=0.5", "-q"], tmp.path());
+    let o = crate::common::stickslip(&["exact-law", "--out", "d", "--set", "model.viscous_friction=0.3", "-q"], tmp.path());
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("damped") && err.lines().count() == 1, "{err}");
+    assert!(err.contains("viscous") && err.lines().count() == 1, "{err}");
     assert!(!tmp.path().join("d").exists());
 }
 
@@ -239,8 +247,18 @@ fn the_values_do_not_depend_on_the_threads() {
 /// `moments.parquet` with analyze's column names.
 #[test]
 fn the_table_from_the_initial_conditions_agrees_with_monte_carlo() {
+    table_agrees(&[]);
+}
+
+/// The same on the damped scene (c = 0.5 N·s/m).
+#[test]
+fn the_damped_table_from_the_initial_conditions_agrees_with_monte_carlo() {
+    table_agrees(&["model.damping=0.5"]);
+}
+
+fn table_agrees(sets: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
-    let sc = scenario(&[]);
+    let sc = scenario(sets);
     let (_, rows, _) = stickslip::law::run(&sc, 20, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _| {}).unwrap();
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
@@ -268,7 +286,7 @@ fn the_table_from_the_initial_conditions_agrees_with_monte_carlo() {
         let m2 = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
         let m4 = xs.iter().map(|x| (x - mean).powi(4)).sum::<f64>() / n;
         let (se, se_var) = ((m2 / n).sqrt(), ((m4 - m2 * m2) / n).sqrt());
-        let what = format!("{}_{}", r.variable, r.index);
+        let what = format!("{sets:?} {}_{}", r.variable, r.index);
         assert!((r.mean - mean).abs() <= 4.5 * se + r.error, "{what}: exact {} ± {}, Monte Carlo {mean} ± {se}", r.mean, r.error);
         assert!(
             (r.variance - m2).abs() <= 4.5 * se_var + r.variance_error,
