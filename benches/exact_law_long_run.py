@@ -11,7 +11,7 @@ ones are the long ones). Prints one Markdown table per scene: the exact
 value ± its error, the Monte Carlo estimate and interval, and whether the exact value is inside.
 
 usage: python3 benches/exact_law_long_run.py [BINARY] [--realizations N] [--horizon T] [--burn B]
-       [--resolution R] [--seed S] [--keep DIR]
+       [--resolution R] [--seed S] [--keep DIR] [--only SCENE ...]
 (pinned: polars==2.1.0; the binary defaults to target/release/stickslip)
 """
 import argparse, math, os, shutil, subprocess, sys, tempfile, time
@@ -21,6 +21,7 @@ import polars as pl
 SCENES = {
     "paper": [],
     "mu_s = 0.6": ["--set", "model.static_friction_coefficient=0.6"],
+    "damped c = 0.5": ["--set", "model.damping=0.5"],
 }
 
 QUANTITIES = ["stick_fraction", "mean_stick_duration", "mean_slip_duration", "var_stick_duration",
@@ -95,10 +96,13 @@ def main():
     ap.add_argument("--resolution", type=int, default=160)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--keep", help="keep the outputs in this directory")
+    ap.add_argument("--only", action="append", choices=list(SCENES), help="run only this scene (repeatable; default: all)")
     a = ap.parse_args()
     tmp = a.keep or tempfile.mkdtemp(prefix="exact_law_")
     try:
         for name, sets in SCENES.items():
+            if a.only and name not in a.only:
+                continue
             tag = name.replace(" ", "").replace("=", "").replace(".", "")
             law_dir, data_dir = os.path.join(tmp, f"law_{tag}"), os.path.join(tmp, f"mc_{tag}")
             t_law = run([a.binary, "exact-law", *sets, "--resolution", str(a.resolution), "--out", law_dir, "-q"])

@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """The paper's Table 1 without sampling (`stickslip exact-law`, moments.parquet) against Monte Carlo.
 
-Runs `exact-law` on the paper scenario (timed) and `simulate` of REALIZATIONS realizations of it
+Runs `exact-law` on the paper scenario (or the scene `--set` makes of it; timed) and `simulate` of REALIZATIONS realizations of it
 (timed), then compares every mean and variance of T_k, L_k, D_k, H_k (k = 1..6): Monte Carlo over
 the realizations that reached the k-th stick (a duration only if it ended before t_a), its
 standard error (the variance's from the fourth central moment), and z = (exact − MC) /
 sqrt(SE² + error²). Prints a Markdown table and the largest |z|.
 
 usage: python3 benches/exact_table1.py [BINARY] [--realizations N] [--seed S] [--resolution R] [--keep DIR]
+       [--set KEY=VALUE ...]
 (pinned: polars==2.1.0; the binary defaults to target/release/stickslip)
 """
 import argparse, math, subprocess, sys, tempfile, time
@@ -20,20 +21,22 @@ p.add_argument("--realizations", type=int, default=10_000_000)
 p.add_argument("--seed", type=int, default=1)
 p.add_argument("--resolution", type=int, default=80)
 p.add_argument("--keep", help="keep the exact-law output and the dataset in this new directory")
+p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="a scenario key for both runs (repeatable), e.g. model.damping=0.5")
 a = p.parse_args()
+sets = [x for kv in a.set for x in ("--set", kv)]
 
 with tempfile.TemporaryDirectory() as scratch:
     tmp = a.keep or scratch
     t0 = time.time()
-    subprocess.run([a.binary, "exact-law", "--out", f"{tmp}/law", "--resolution", str(a.resolution), "-q"], check=True)
+    subprocess.run([a.binary, "exact-law", *sets, "--out", f"{tmp}/law", "--resolution", str(a.resolution), "-q"], check=True)
     t_exact = time.time() - t0
     t0 = time.time()
-    subprocess.run([a.binary, "simulate", "--out", f"{tmp}/mc", "--realizations", str(a.realizations), "--seed", str(a.seed), "-q"], check=True)
+    subprocess.run([a.binary, "simulate", *sets, "--out", f"{tmp}/mc", "--realizations", str(a.realizations), "--seed", str(a.seed), "-q"], check=True)
     t_mc = time.time() - t0
     ex = pl.read_parquet(f"{tmp}/law/moments.parquet")
     df = pl.scan_parquet(f"{tmp}/mc/*.parquet")
     cols = {"T": "stick_start", "L": "slip_start", "D": "stick_duration", "H": "slip_duration"}
-    print(f"exact-law --resolution {a.resolution}: {t_exact:.1f} s; simulate {a.realizations} realizations (seed {a.seed}): {t_mc:.1f} s\n")
+    print(f"{' '.join(a.set) or 'the paper scenario'}: exact-law --resolution {a.resolution}: {t_exact:.1f} s; simulate {a.realizations} realizations (seed {a.seed}): {t_mc:.1f} s\n")
     print("| variable | mean, exact | Monte Carlo | z | variance, exact | Monte Carlo | z |\n|---|---:|---:|---:|---:|---:|---:|")
     worst = 0.0
     for v, c in cols.items():

@@ -161,14 +161,16 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     let mut rows = Vec::new();
     let mut survival = None;
     // exact, where the scene allows
-    let exact = crate::law::frame(&scene).and_then(|f| {
-        crate::law::ladder(f, opts.resolution, crate::law::LEVELS)?;
-        exact_start(f, state, sign).map(|s| (f, s))
+    let exact = crate::law::frames(&scene).and_then(|f| {
+        let ladder = crate::law::ladder(&f, opts.resolution, crate::law::LEVELS)?;
+        // the symmetric belt's one frame holds both signs; the telegraph's reverse state is its second
+        let at = if sign > 0 { 0 } else { f.len() - 1 };
+        exact_start(f[at], state, sign).map(|s| (f, ladder, at, s))
     });
     let exact_refused = exact.as_ref().err().cloned();
-    if let Ok((frame, start)) = exact {
+    if let Ok((frames, ladder, at, start)) = exact {
         progress("exact: three resolutions");
-        let (r, s) = exact_rows(frame, start, opts.resolution).map_err(LawError::Failed)?;
+        let (r, s) = exact_rows(&frames, &ladder, at, start).map_err(LawError::Failed)?;
         rows.extend(r);
         survival = Some(s);
     }
@@ -237,11 +239,11 @@ fn exact_start(frame: Frame, state: State, sign: i32) -> Result<Start, String> {
 
 /// The exact rows from three resolutions (extrapolated, with the error estimate), and the stick
 /// duration's survival curve at the finest.
-fn exact_rows(frame: Frame, start: Start, finest: u32) -> Result<(Vec<Row>, Vec<(f64, f64)>), String> {
-    let half = passage::half_width(frame, start);
+fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: Start) -> Result<(Vec<Row>, Vec<(f64, f64)>), String> {
+    let half = frames.iter().map(|f| f.box_half()).fold(passage::half_width(frames[at], start), f64::max);
     let mut solved = Vec::new();
-    for (_, h) in crate::law::ladder(frame, finest, crate::law::LEVELS)? {
-        solved.push((h, passage::sequence(frame, h, half, &[(start, 1.0)], 1)?));
+    for (_, h) in ladder {
+        solved.push((h[0], passage::sequence(frames, h, half, &[(at, start, 1.0)], 1)?));
     }
     let pick = |f: &dyn Fn(&passage::Sequence) -> f64| crate::law::guarded(&solved.iter().map(|(h, s)| (*h, f(s))).collect::<Vec<_>>());
     let mut rows = Vec::new();

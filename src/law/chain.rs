@@ -27,7 +27,7 @@ pub(crate) struct Tally {
 }
 
 impl Tally {
-    fn add(&mut self, o: &Tally, f: f64) {
+    pub(super) fn add(&mut self, o: &Tally, f: f64) {
         self.stick_time += f * o.stick_time;
         self.slip_time += f * o.slip_time;
         self.slip_age_time += f * o.slip_age_time;
@@ -53,8 +53,9 @@ pub(crate) struct Mesh {
     pub nx: usize,
     pub nw: usize,
     pub nb: usize,
-    /// the belt line's nodes y_j = x_lo + j h_line (x_lo = [`Frame::hold_lo`]), j = 0..=n_line: a flip during a stick at y
-    /// leaves the mass at (−y, −v0) in the new frame
+    /// the stick region's nodes y_j = x_lo + j h_line (x_lo = [`Frame::hold_lo`]),
+    /// j = 0..=n_line: a flip during a stick at y leaves the mass at (−y, −v0) in the next
+    /// state's frame, on that state's line support ([`Chain`])
     pub h_line: f64,
     pub n_line: usize,
     /// walks stop where e^{−λt} < 1e-18
@@ -125,6 +126,46 @@ impl Mesh {
     }
 }
 
+/// The meshes of the belt's states s = 0 … n − 1, a flip taking state s to s + 1 (mod n): one
+/// state for the symmetric belt (its two states are one frame by the point reflection), two for
+/// the telegraph belt (forward, reverse: each in its own frame, the belt at +v_s, flips at λ_s).
+/// State d's measure lives on its mesh's grid, on the line support of the flips during the
+/// sticks of the state before it (that state's stick nodes) and on the images of that state's
+/// breakaway slip.
+pub(crate) struct Chain {
+    pub meshes: Vec<Mesh>,
+    /// per state, what follows its breakaway (deposited into the next state's measure)
+    pub conts: Vec<Continuation>,
+}
+
+impl Chain {
+    pub fn new(meshes: Vec<Mesh>) -> Chain {
+        let n = meshes.len();
+        let conts = (0..n).map(|s| continuation(&meshes[s], &meshes[(s + 1) % n])).collect();
+        Chain { meshes, conts }
+    }
+
+    /// The state a flip from s leads to.
+    pub fn next(&self, s: usize) -> usize {
+        (s + 1) % self.meshes.len()
+    }
+
+    /// The state whose flips lead to d.
+    pub fn prev(&self, d: usize) -> usize {
+        (d + self.meshes.len() - 1) % self.meshes.len()
+    }
+
+    /// The zero measure of every state.
+    pub fn zero(&self) -> Vec<Measure> {
+        (0..self.meshes.len())
+            .map(|d| {
+                let p = self.prev(d);
+                Measure::zero(&self.meshes[d], &self.meshes[p], self.conts[p].samples.len())
+            })
+            .collect()
+    }
+}
+
 /// The measure of the post-flip state: mass and age-mass (mass × the slip's age) per grid node
 /// and per sample of the breakaway slip; mass per belt-line node (age 0: the slip just began).
 #[derive(Debug, Clone, PartialEq)]
@@ -135,8 +176,10 @@ pub(crate) struct Measure {
 }
 
 impl Measure {
-    pub fn zero(mesh: &Mesh, graze: usize) -> Measure {
-        Measure { grid: vec![[0.0; 2]; mesh.nx * mesh.nw], line: vec![0.0; mesh.n_line + 1], graze: vec![[0.0; 2]; graze] }
+    /// The zero measure of a state on `mesh`, whose flips come from the state on `from` (its
+    /// line support is `from`'s stick nodes) with `graze` samples of that state's breakaway slip.
+    pub fn zero(mesh: &Mesh, from: &Mesh, graze: usize) -> Measure {
+        Measure { grid: vec![[0.0; 2]; mesh.nx * mesh.nw], line: vec![0.0; from.n_line + 1], graze: vec![[0.0; 2]; graze] }
     }
 
     pub fn total(&self) -> f64 {
@@ -155,6 +198,11 @@ impl Measure {
         v.extend(&self.line);
         v.extend(self.graze.iter().flatten());
         v
+    }
+
+    /// The length of [`Measure::flat`]'s vector.
+    pub fn flat_len(&self) -> usize {
+        2 * self.grid.len() + self.line.len() + 2 * self.graze.len()
     }
 
     /// The measure from [`Measure::flat`]'s vector.
@@ -194,10 +242,11 @@ pub(crate) struct Continuation {
     pub tally: Tally,
 }
 
-/// A walk's visitor: deposits the post-flip states of a flip at each moment into `out` and adds
-/// the tallies, for a walk of mass `m`.
+/// A walk's visitor: deposits the post-flip states of a flip at each moment into `out` (the next
+/// state's measure, on `dst`) and adds the tallies, for a walk of mass `m` on `src`.
 struct Deposit<'a> {
-    mesh: &'a Mesh,
+    src: &'a Mesh,
+    dst: &'a Mesh,
     out: &'a mut Measure,
     tally: &'a mut Tally,
     m: f64,
@@ -217,7 +266,7 @@ impl Deposit<'_> {
             return;
         }
         // the flip reverses the frame: (x, v) → (−x, −v)
-        match self.mesh.corners(-x, -v) {
+        match self.dst.corners(-x, -v) {
             Some(corners) => {
                 for (k, w) in corners {
                     let g = &mut self.out.grid[k];
@@ -232,7 +281,7 @@ impl Deposit<'_> {
 
 impl Visitor for Deposit<'_> {
     fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, age: f64) {
-        let lambda = self.mesh.frame.lambda;
+        let lambda = self.src.frame.lambda;
         let w = self.m * lambda * decay(lambda, t, t + dt);
         self.slip_at(x, v, w, w * (age + centroid(lambda, dt)));
         self.tally.slip_time += self.m * decay(lambda, t, t + dt);
@@ -242,11 +291,11 @@ impl Visitor for Deposit<'_> {
     fn periodic(&mut self, start: Slip, t: f64, age: f64, period: f64) {
         // every sample repeats at t + kP, k ≥ 0: mass Σ_k e^{−λkP} = 1/(1 − q), age-mass
         // Σ_k e^{−λkP}(a + kP) = a/(1 − q) + P q/(1 − q)², q = e^{−λP}
-        let f = self.mesh.frame;
+        let f = self.src.frame;
         let lambda = f.lambda;
         let q = (-lambda * period).exp();
         let (one, extra) = (1.0 / -(-lambda * period).exp_m1(), period * q / (1.0 - q).powi(2));
-        for (offset, dt, (x, v)) in f.period_samples(start, period, self.mesh.h) {
+        for (offset, dt, (x, v)) in f.period_samples(start, period, self.src.h) {
             let s = t + offset;
             let w = self.m * lambda * decay(lambda, s, s + dt);
             let a = age + offset + centroid(lambda, dt);
@@ -258,7 +307,7 @@ impl Visitor for Deposit<'_> {
     }
 
     fn stick(&mut self, x_e: f64, t: f64) {
-        let (mesh, f) = (self.mesh, self.mesh.frame);
+        let (mesh, f) = (self.src, self.src.frame);
         let lambda = f.lambda;
         let e = (-lambda * t).exp();
         let d = (f.hold_hi() - x_e) / f.v0;
@@ -267,7 +316,7 @@ impl Visitor for Deposit<'_> {
         self.tally.stick_time += self.m * decay(lambda, t, t + d);
         self.tally.d1 += self.m * e * -(-x).exp_m1() / lambda;
         self.tally.d2 += self.m * e * 2.0 * super::one_minus_exp_poly(x) / (lambda * lambda);
-        // a flip at y ∈ [x_e, x_b) leaves (−y, −v0): the belt line's nodes, linearly
+        // a flip at y ∈ [x_e, x_b) leaves (−y, −v0): the next state's line support, linearly
         for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
             let s = t + offset;
             let w = self.m * lambda * decay(lambda, s, s + dt);
@@ -288,7 +337,7 @@ impl Deposit<'_> {
     /// The continuation from time t (of a slip `age` old going on through a touch): added per
     /// step, by its total weight (`Deposit::follow`).
     fn follow(&mut self, t: f64, age: f64) {
-        let f = self.m * (-self.mesh.frame.lambda * t).exp();
+        let f = self.m * (-self.src.frame.lambda * t).exp();
         self.follow[0] += f;
         self.follow[1] += f * age;
     }
@@ -304,12 +353,14 @@ fn add_continuation(cont: &Continuation, [w, wa]: [f64; 2], out: &mut Measure, t
     tally.slip_age_time += wa * cont.tally.slip_time;
 }
 
-/// The continuation of a breakaway (module docs of [`super`]): walk the breakaway slip once;
-/// it ends in a touch after a period P (μ_s = μ_k: the slip grazes the belt line and goes on,
-/// older) or in a stick, whose breakaway after the holding time closes a cycle of length P
-/// (μ_s > μ_k); the cycle's repetitions are summed in closed form.
-pub(crate) fn continuation(mesh: &Mesh) -> Continuation {
-    let f = mesh.frame;
+/// The continuation of a breakaway on `src` (module docs of [`super`]), its flips deposited on
+/// `dst` (the next state's mesh): walk the breakaway slip once; it ends in a touch after a period
+/// P (μ_s = μ_k: the slip grazes the belt line and goes on, older) or in a stick, whose breakaway
+/// after the holding time closes a cycle of length P (μ_s > μ_k); the cycle's repetitions are
+/// summed in closed form. (With a dashpot it may instead spiral down for good: walked to the
+/// horizon, nothing repeats.)
+pub(crate) fn continuation(src: &Mesh, dst: &Mesh) -> Continuation {
+    let f = src.frame;
     let lambda = f.lambda;
     // the samples of one pass, with their unrepeated deposits and tallies
     struct Record {
@@ -331,28 +382,24 @@ pub(crate) fn continuation(mesh: &Mesh) -> Continuation {
         }
     }
     let mut rec = Record { samples: Vec::new(), end: None };
-    f.walk(f.breakaway(), 0.0, mesh.h, f64::INFINITY, &mut rec);
+    f.walk(f.breakaway(), 0.0, src.h, f64::INFINITY, &mut rec);
     let samples: Vec<(f64, f64)> = rec.samples.iter().map(|s| (s.0, s.1)).collect();
-    let mut deposit = Measure::zero(mesh, samples.len());
+    let mut deposit = Measure::zero(dst, src, samples.len());
     let mut tally = Tally::default();
-    let Some((stuck, x_e, t_end)) = rec.end else {
-        // (damped: the breakaway slip spirals down without coming back to belt speed, walked
-        // to the horizon — nothing repeats)
-        let mut d = Deposit { mesh, out: &mut deposit, tally: &mut tally, m: 1.0, to_graze: Some(0), follow: [0.0; 2] };
-        for &(x, v, t, dt, age) in &rec.samples {
-            d.slip(x, v, t, dt, age);
-        }
-        return Continuation { samples, line: deposit.line, graze: deposit.graze, tally };
-    };
     {
-        let mut d = Deposit { mesh, out: &mut deposit, tally: &mut tally, m: 1.0, to_graze: Some(0), follow: [0.0; 2] };
+        let mut d = Deposit { src, dst, out: &mut deposit, tally: &mut tally, m: 1.0, to_graze: Some(0), follow: [0.0; 2] };
         for &(x, v, t, dt, age) in &rec.samples {
             d.slip(x, v, t, dt, age);
         }
-        if stuck {
+        if let Some((true, x_e, t_end)) = rec.end {
             d.stick(x_e, t_end);
         }
     }
+    let Some((stuck, x_e, t_end)) = rec.end else {
+        // (damped: the breakaway slip spirals down without coming back to belt speed, walked
+        // to the horizon — nothing repeats)
+        return Continuation { samples, line: deposit.line, graze: deposit.graze, tally };
+    };
     let period = if stuck { t_end + (f.hold_hi() - x_e) / f.v0 } else { t_end };
     let q = (-lambda * period).exp();
     let one = 1.0 / -(-lambda * period).exp_m1();
@@ -372,9 +419,10 @@ pub(crate) fn continuation(mesh: &Mesh) -> Continuation {
     Continuation { samples, line: deposit.line, graze: deposit.graze, tally }
 }
 
-/// The atoms of a measure: (start, age, mass).
-pub(crate) fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip, f64, f64)> {
-    let f = mesh.frame;
+/// The atoms of state d's measure: (start, age, mass), in d's frame.
+pub(crate) fn atoms(chain: &Chain, d: usize, nu: &Measure) -> Vec<(Slip, f64, f64)> {
+    let (mesh, p) = (&chain.meshes[d], chain.prev(d));
+    let (f, from) = (mesh.frame, &chain.meshes[p]);
     let mut out = Vec::new();
     for i in 0..mesh.nx {
         for j in 0..mesh.nw {
@@ -386,11 +434,11 @@ pub(crate) fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip
     }
     for (k, &m) in nu.line.iter().enumerate() {
         if m.abs() > 1e-300 {
-            let y = f.hold_lo() + k as f64 * mesh.h_line;
-            out.push((Slip::at(-y, -f.v0, f.v0), 0.0, m));
+            let y = from.frame.hold_lo() + k as f64 * from.h_line;
+            out.push((Slip::at(-y, -from.frame.v0, f.v0), 0.0, m));
         }
     }
-    for (&(x, v), &[m, a]) in cont.samples.iter().zip(&nu.graze) {
+    for (&(x, v), &[m, a]) in chain.conts[p].samples.iter().zip(&nu.graze) {
         if m.abs() > 1e-300 {
             out.push((Slip::at(-x, -v, f.v0), a / m, m));
         }
@@ -401,32 +449,37 @@ pub(crate) fn atoms(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Vec<(Slip
 /// Chunks of a step's atoms, fixed in number so that the sums do not depend on the threads.
 pub(super) const CHUNKS: usize = 16;
 
-/// One step of the chain: the measure of the next post-flip state, and the tallies of the walks
-/// from `nu` (per unit of its mass).
-pub(crate) fn step(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> (Measure, Tally) {
+/// One step of the chain: the measure of every state's next post-flip state (state s's walks
+/// land in state s + 1), and the tallies of each state's walks (per unit of its mass).
+pub(crate) fn step(chain: &Chain, nu: &[Measure]) -> (Vec<Measure>, Vec<Tally>) {
     use rayon::prelude::*;
-    let atoms = atoms(mesh, cont, nu);
-    let size = atoms.len().div_ceil(CHUNKS).max(1);
-    let parts: Vec<(Measure, Tally)> = atoms
-        .par_chunks(size)
-        .map(|chunk| {
-            let mut out = Measure::zero(mesh, cont.samples.len());
-            let mut tally = Tally::default();
-            let mut d = Deposit { mesh, out: &mut out, tally: &mut tally, m: 0.0, to_graze: None, follow: [0.0; 2] };
-            for &(z, age, m) in chunk {
-                d.m = m;
-                mesh.frame.walk(z, age, mesh.h, mesh.horizon, &mut d);
-            }
-            let follow = d.follow;
-            add_continuation(cont, follow, &mut out, &mut tally);
-            (out, tally)
-        })
-        .collect();
-    let mut out = Measure::zero(mesh, cont.samples.len());
-    let mut tally = Tally::default();
-    for (m, t) in &parts {
-        out.add(m);
-        tally.add(t, 1.0);
+    let mut outs = chain.zero();
+    let mut tallies = vec![Tally::default(); nu.len()];
+    for (s, measure) in nu.iter().enumerate() {
+        let (src, d) = (&chain.meshes[s], chain.next(s));
+        let (dst, cont) = (&chain.meshes[d], &chain.conts[s]);
+        let atoms = atoms(chain, s, measure);
+        let size = atoms.len().div_ceil(CHUNKS).max(1);
+        let zero = chain.zero().swap_remove(d);
+        let parts: Vec<(Measure, Tally)> = atoms
+            .par_chunks(size)
+            .map(|chunk| {
+                let mut out = zero.clone();
+                let mut tally = Tally::default();
+                let mut dep = Deposit { src, dst, out: &mut out, tally: &mut tally, m: 0.0, to_graze: None, follow: [0.0; 2] };
+                for &(z, age, m) in chunk {
+                    dep.m = m;
+                    src.frame.walk(z, age, src.h, src.horizon, &mut dep);
+                }
+                let follow = dep.follow;
+                add_continuation(cont, follow, &mut out, &mut tally);
+                (out, tally)
+            })
+            .collect();
+        for (m, t) in &parts {
+            outs[d].add(m);
+            tallies[s].add(t, 1.0);
+        }
     }
-    (out, tally)
+    (outs, tallies)
 }

@@ -1,11 +1,14 @@
 //! The stationary joint density of the state (x, ẋ) in the lab frame: a density over the plane
-//! while the mass slips, and line densities on ẋ = ±v0 while it sticks (module docs of
-//! [`super`]). The time spent in each cell per unit time is λ E_ν ∫ e^{−λt} 1{state in the
-//! cell} dt over the walks from the stationary post-flip measure ν; the belt's sign s = ±1 is
-//! equally likely in the long run (symmetric belt), so with q the density in the belt's frame
-//! the lab density is p(x, ẋ) = ½ [q(x, ẋ) + q(−x, −ẋ)].
+//! while the mass slips, and line densities on ẋ = v_f and ẋ = −v_r (±v0 for the symmetric belt)
+//! while it sticks (module docs of [`super`]). The time spent in each cell per unit time is
+//! ρ Σ_s E_{ν_s} ∫ e^{−λ_s t} 1{state in the cell} dt over the walks from each belt state's
+//! stationary post-flip measure ν_s, ρ = 1/Σ_s(1/λ_s) the belt's cycles per second. The
+//! symmetric belt has one state (ρ = λ) whose two signs are equally likely in the long run, so
+//! with q the density in the belt's frame the lab density is p(x, ẋ) = ½ [q(x, ẋ) + q(−x, −ẋ)];
+//! the telegraph belt's forward state is the lab frame, its reverse state the reflected one:
+//! p(x, ẋ) = q_f(x, ẋ) + q_r(−x, −ẋ).
 
-use super::chain::{self, Continuation, Measure, Mesh};
+use super::chain::{self, Chain, Measure};
 use super::flow::{decay, Frame, Slip, Visitor};
 
 /// The stationary density on a grid of cells.
@@ -17,19 +20,19 @@ pub struct Density {
     pub v_edges: Vec<f64>,
     /// density while slipping [1/(m · m/s)], cell (i, j) at `slip[i * (v_edges.len() − 1) + j]`
     pub slip: Vec<f64>,
-    /// cell edges in x [m] of the stick lines ẋ = +v0 (over [x_lo, x_b], [`Frame::hold_lo`],
-    /// [`Frame::hold_hi`]; [−c_s, c_s] without a dashpot) and ẋ = −v0 (the mirror image
-    /// [−x_b, −x_lo]: a stick at X in the belt's frame is at −X in the lab when the belt runs
-    /// at −v0)
+    /// cell edges in x [m] of the stick lines ẋ = +v_f (over the forward frame's [x_lo, x_b],
+    /// [`Frame::hold_lo`], [`Frame::hold_hi`]; [−c_s, c_s] without a dashpot) and ẋ = −v_r (the
+    /// mirror image of the reverse frame's, [−x_b, −x_lo]: a stick at X in the belt's frame is at
+    /// −X in the lab when the belt runs in reverse)
     pub stick_edges: [Vec<f64>; 2],
     /// line density [1/m] on ẋ = +v0 and on ẋ = −v0
     pub stick: [Vec<f64>; 2],
-    /// the belt speed v0 [m/s]
-    pub v0: f64,
+    /// the velocities of the stick lines, v_f and −v_r [m/s]
+    pub velocities: [f64; 2],
     /// the share of the time outside the grid
     pub outside: f64,
     /// the stationary survival of the stick duration, (t, P(D > t)) for t from 0 to the longest
-    /// holding time 2 c_s/v0 in [`SURVIVAL_POINTS`] − 1 steps
+    /// holding time 2 c_s/min v_s in [`SURVIVAL_POINTS`] − 1 steps
     pub stick_survival: Vec<(f64, f64)>,
 }
 
@@ -53,9 +56,13 @@ pub const CELLS: usize = 160;
 /// (a cell holding one row more than its neighbour shows as a stripe: the walks start at the
 /// nodes) and the cells are symmetric about 0, as the lab frame's (x, ẋ) ↔ (−x, −ẋ) needs.
 /// Returns (K h, cells per half axis in x, in ẋ/ω), covering |x| ≤ c + c_k + 2 w0 and
-/// |ẋ/ω| ≤ c + c_k + w0, c the stick region's larger end (c_s without a dashpot).
-fn cells(f: &Frame, h: f64) -> (f64, usize, usize) {
-    let (xd, wd) = (f.hold_hi().max(-f.hold_lo()) + f.ck + 2.0 * f.w0, f.hold_hi().max(-f.hold_lo()) + f.ck + f.w0);
+/// |ẋ/ω| ≤ c + c_k + w0, c the stick regions' larger end (c_s without a dashpot), w0 the larger
+/// belt speed's; h is the first state's spacing (the telegraph's reverse state has its own
+/// rows, which the cells need not hold whole).
+fn cells(frames: &[Frame], h: f64) -> (f64, usize, usize) {
+    let reach = frames.iter().map(|f| f.hold_hi().max(-f.hold_lo()) + f.ck).fold(0.0, f64::max);
+    let w0 = frames.iter().map(|f| f.w0).fold(0.0, f64::max);
+    let (xd, wd) = (reach + 2.0 * w0, reach + w0);
     let k = ((2.0 * xd / (CELLS as f64 * h)).round() as usize).max(1) | 1;
     let size = k as f64 * h;
     (size, (xd / size).ceil() as usize, (wd / size - 0.5).ceil() as usize)
@@ -64,6 +71,8 @@ fn cells(f: &Frame, h: f64) -> (f64, usize, usize) {
 struct Occupy<'a> {
     f: Frame,
     spacing: f64,
+    /// the weight per unit time: λ for the symmetric belt, the cycles per second ρ else
+    rate: f64,
     /// cell size K h, and cells per half axis (`cells`)
     size: f64,
     half: (usize, usize),
@@ -93,7 +102,7 @@ impl Occupy<'_> {
 impl Visitor for Occupy<'_> {
     fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, _age: f64) {
         let lambda = self.f.lambda;
-        self.add(x, v, self.m * lambda * decay(lambda, t, t + dt));
+        self.add(x, v, self.m * self.rate * decay(lambda, t, t + dt));
     }
 
     fn periodic(&mut self, start: Slip, t: f64, _age: f64, period: f64) {
@@ -102,7 +111,7 @@ impl Visitor for Occupy<'_> {
         let one = 1.0 / -(-lambda * period).exp_m1();
         for (offset, dt, (x, v)) in f.period_samples(start, period, self.spacing) {
             let s = t + offset;
-            self.add(x, v, self.m * lambda * decay(lambda, s, s + dt) * one);
+            self.add(x, v, self.m * self.rate * decay(lambda, s, s + dt) * one);
         }
     }
 
@@ -115,7 +124,7 @@ impl Visitor for Occupy<'_> {
         for k in first..n {
             let (a, b) = ((lo + k as f64 * width).max(x_e), lo + (k + 1) as f64 * width);
             if b > a {
-                self.stick[k] += self.m * f.lambda * decay(f.lambda, t + (a - x_e) / f.v0, t + (b - x_e) / f.v0);
+                self.stick[k] += self.m * self.rate * decay(f.lambda, t + (a - x_e) / f.v0, t + (b - x_e) / f.v0);
             }
         }
         self.follow += self.m * (-f.lambda * (t + (hi - x_e) / f.v0)).exp();
@@ -127,29 +136,36 @@ impl Visitor for Occupy<'_> {
     }
 }
 
-/// The stationary density from the stationary post-flip measure `nu` on `mesh`.
-pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Density {
+/// One belt state's occupation in its frame: the slip cells, the stick cells, the time outside
+/// the cells, and its stick entries (x_e, weight).
+struct Occupation {
+    slip: Vec<f64>,
+    stick: Vec<f64>,
+    outside: f64,
+    entries: Vec<(f64, f64)>,
+}
+
+/// The occupation of the walks of state s from its stationary post-flip measure `nu`, with the
+/// continuation of its breakaways.
+fn occupy(chain: &Chain, s: usize, nu: &Measure, rate: f64, size: f64, half: (usize, usize)) -> Occupation {
+    let mesh = &chain.meshes[s];
     let f = mesh.frame;
-    let (size, half) = {
-        let (size, hx, hw) = cells(&f, mesh.h);
-        (size, (hx, hw))
-    };
-    let (nx, nv) = (2 * half.0, 2 * half.1 + 1);
-    let (mut slip, mut stick, mut outside) = (vec![0.0; nx * nv], vec![0.0; CELLS], 0.0);
+    let cells = 2 * half.0 * (2 * half.1 + 1);
+    let (mut slip, mut stick, mut outside) = (vec![0.0; cells], vec![0.0; CELLS], 0.0);
     // the breakaway's continuation, once: one pass until the breakaway slip touches the belt
     // line (μ_s = μ_k) or its stick breaks away again (μ_s > μ_k), after the period P; the
     // passes repeat, each e^{−λP} later
-    let (mut b_slip, mut b_stick, mut b_out) = (vec![0.0; nx * nv], vec![0.0; CELLS], 0.0);
+    let (mut b_slip, mut b_stick, mut b_out) = (vec![0.0; cells], vec![0.0; CELLS], 0.0);
     let (mut b_entries, mut entries) = (Vec::new(), Vec::new());
     let mut pass =
-        Occupy { f, spacing: mesh.h, size, half, slip: &mut b_slip, stick: &mut b_stick, outside: &mut b_out, m: 1.0, follow: 0.0, entries: &mut b_entries };
+        Occupy { f, spacing: mesh.h, rate, size, half, slip: &mut b_slip, stick: &mut b_stick, outside: &mut b_out, m: 1.0, follow: 0.0, entries: &mut b_entries };
     f.walk(f.breakaway(), 0.0, mesh.h, f64::INFINITY, &mut pass);
     let repeat = 1.0 / (1.0 - pass.follow);
     let mut occ =
-        Occupy { f, spacing: mesh.h, size, half, slip: &mut slip, stick: &mut stick, outside: &mut outside, m: 0.0, follow: 0.0, entries: &mut entries };
+        Occupy { f, spacing: mesh.h, rate, size, half, slip: &mut slip, stick: &mut stick, outside: &mut outside, m: 0.0, follow: 0.0, entries: &mut entries };
     // (the Anderson mixing leaves masses of ~1e-60 below zero where the measure vanishes: a
     // density is not negative, so those atoms are left out)
-    for (z, age, m) in chain::atoms(mesh, cont, nu).into_iter().filter(|a| a.2 > 0.0) {
+    for (z, age, m) in chain::atoms(chain, s, nu).into_iter().filter(|a| a.2 > 0.0) {
         occ.m = m;
         f.walk(z, age, mesh.h, mesh.horizon, &mut occ);
     }
@@ -158,50 +174,74 @@ pub(crate) fn occupation(mesh: &Mesh, cont: &Continuation, nu: &Measure) -> Dens
     stick.iter_mut().zip(&b_stick).for_each(|(a, b)| *a += w * b);
     outside += w * b_out;
     entries.extend(b_entries.iter().map(|&(x, e)| (x, w * e)));
-    let stick_survival = survival(&f, &entries);
-    // densities, and the lab frame: (x, ẋ) and (−x, −ẋ) each half the time
-    let (dx, dv, ds) = (size, size * f.omega, 2.0 * f.cs / CELLS as f64);
+    Occupation { slip, stick, outside, entries }
+}
+
+/// The stationary density from the stationary post-flip measures `nu` of the chain's states.
+pub(crate) fn occupation(chain: &Chain, nu: &[Measure]) -> Density {
+    let frames: Vec<Frame> = chain.meshes.iter().map(|m| m.frame).collect();
+    let (size, hx, hw) = cells(&frames, chain.meshes[0].h);
+    let (nx, nv) = (2 * hx, 2 * hw + 1);
+    let symmetric = frames.len() == 1;
+    let rate = if symmetric { frames[0].lambda } else { 1.0 / frames.iter().map(|f| 1.0 / f.lambda).sum::<f64>() };
+    let occ: Vec<Occupation> = nu.iter().enumerate().map(|(s, m)| occupy(chain, s, m, rate, size, (hx, hw))).collect();
+    let entries: Vec<(usize, f64, f64)> = occ.iter().enumerate().flat_map(|(s, o)| o.entries.iter().map(move |&(x, w)| (s, x, w))).collect();
+    let stick_survival = survival(&frames, &entries);
+    // densities, and the lab frame: the symmetric belt's (x, ẋ) and (−x, −ẋ) each half the
+    // time; the telegraph's forward state as it is, its reverse state reflected
+    let (first, last) = (&occ[0], &occ[occ.len() - 1]);
+    let ds = 2.0 * frames[0].cs / CELLS as f64;
+    let (dx, dv) = (size, size * frames[0].omega);
     let lab: Vec<f64> = (0..nx * nv)
         .map(|k| {
             let (i, j) = (k / nv, k % nv);
-            0.5 * (slip[k] + slip[(nx - 1 - i) * nv + nv - 1 - j]) / (dx * dv)
+            let mirror = (nx - 1 - i) * nv + nv - 1 - j;
+            if symmetric {
+                0.5 * (first.slip[k] + first.slip[mirror]) / (dx * dv)
+            } else {
+                (first.slip[k] + last.slip[mirror]) / (dx * dv)
+            }
         })
         .collect();
-    let plus: Vec<f64> = stick.iter().map(|s| 0.5 * s / ds).collect();
-    let minus: Vec<f64> = plus.iter().rev().copied().collect();
+    let share = if symmetric { 0.5 } else { 1.0 };
+    let plus: Vec<f64> = first.stick.iter().map(|s| share * s / ds).collect();
+    let minus: Vec<f64> = last.stick.iter().rev().map(|s| share * s / ds).collect();
     let edges = |lo: f64, d: f64, n: usize| (0..=n).map(|k| lo + k as f64 * d).collect::<Vec<f64>>();
+    let back = frames[frames.len() - 1];
     Density {
-        x_edges: edges(-(half.0 as f64) * dx, dx, nx),
-        v_edges: edges(-(half.1 as f64 + 0.5) * dv, dv, nv),
+        x_edges: edges(-(hx as f64) * dx, dx, nx),
+        v_edges: edges(-(hw as f64 + 0.5) * dv, dv, nv),
         slip: lab,
-        stick_edges: [edges(f.hold_lo(), ds, CELLS), edges(-f.hold_hi(), ds, CELLS)],
+        stick_edges: [edges(frames[0].hold_lo(), ds, CELLS), edges(-back.hold_hi(), ds, CELLS)],
         stick: [plus, minus],
-        v0: f.v0,
-        outside,
+        velocities: [frames[0].v0, -back.v0],
+        outside: occ.iter().map(|o| o.outside).sum(),
         stick_survival,
     }
 }
 
-/// P(D > t) = Σ w e^{−λt} 1{t < d(x_e)} / Σ w over the stick entries (x_e, w): a stick entered
-/// at x_e ends at the earlier of the next flip (memoryless: Exp(λ) from the entry) and the
-/// breakaway after d(x_e) = (x_b − x_e)/v0 — the conditional estimator of the tails analysis,
-/// here on the stationary entry law.
-pub(super) fn survival(f: &Frame, entries: &[(f64, f64)]) -> Vec<(f64, f64)> {
-    let total: f64 = entries.iter().map(|e| e.1).sum();
-    let mut held: Vec<(f64, f64)> = entries.iter().map(|&(x, w)| ((f.hold_hi() - x) / f.v0, w)).collect();
-    held.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // the weight of the entries held past t, from the longest down
-    let top = 2.0 * f.cs / f.v0;
-    let mut out = Vec::with_capacity(SURVIVAL_POINTS);
-    let (mut k, mut beyond) = (held.len(), 0.0);
-    for j in (0..SURVIVAL_POINTS).rev() {
-        let t = top * j as f64 / (SURVIVAL_POINTS - 1) as f64;
-        while k > 0 && held[k - 1].0 > t {
-            k -= 1;
-            beyond += held[k].1;
+/// P(D > t) = Σ w e^{−λ_s t} 1{t < d_s(x_e)} / Σ w over the stick entries (s, x_e, w) of the
+/// belt states s: a stick entered at x_e ends at the earlier of the next flip (memoryless:
+/// Exp(λ_s) from the entry) and the breakaway after d_s(x_e) = (x_b − x_e)/v_s — the
+/// conditional estimator of the tails analysis, here on the stationary entry law.
+pub(super) fn survival(frames: &[Frame], entries: &[(usize, f64, f64)]) -> Vec<(f64, f64)> {
+    let total: f64 = entries.iter().map(|e| e.2).sum();
+    let top = frames.iter().map(|f| 2.0 * f.cs / f.v0).fold(0.0, f64::max);
+    let mut out = vec![0.0; SURVIVAL_POINTS];
+    let times: Vec<f64> = (0..SURVIVAL_POINTS).map(|j| top * j as f64 / (SURVIVAL_POINTS - 1) as f64).collect();
+    for (s, f) in frames.iter().enumerate() {
+        let mut held: Vec<(f64, f64)> = entries.iter().filter(|e| e.0 == s).map(|&(_, x, w)| ((f.hold_hi() - x) / f.v0, w)).collect();
+        held.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // the weight of the entries held past t, from the longest down
+        let (mut k, mut beyond) = (held.len(), 0.0);
+        for j in (0..SURVIVAL_POINTS).rev() {
+            let t = times[j];
+            while k > 0 && held[k - 1].0 > t {
+                k -= 1;
+                beyond += held[k].1;
+            }
+            out[j] += (-f.lambda * t).exp() * beyond / total;
         }
-        out.push((t, (-f.lambda * t).exp() * beyond / total));
     }
-    out.reverse();
-    out
+    times.into_iter().zip(out).collect()
 }

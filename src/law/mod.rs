@@ -29,6 +29,16 @@
 //! either way the same periodic continuation for every breakaway, summed once in closed form
 //! over its repetitions (`chain::continuation`).
 //!
+//! **The telegraph belt** (forward at v_f, left at rate λ_f; reverse at −v_r, left at λ_r):
+//! the two states are no longer one frame by symmetry. Each has its own frame (the belt at +v_s
+//! there, flips at λ_s; the reverse frame reflected, X = −x), and a flip, still the point
+//! reflection (X, V) → (−X, −V), carries a state into the other state's frame. The chain's
+//! post-flip measure then lives on one mesh per state ([`chain::Chain`]): a step walks state s's
+//! measure in its frame and deposits what the flips leave into the other state's. Each state is
+//! entered once per cycle of the belt, whose mean length is 1/λ_f + 1/λ_r, so the per-cycle sums
+//! of the tallies over both states times ρ = 1/(1/λ_f + 1/λ_r) are rates per second (one state:
+//! ρ = λ), and each state's measure is renormalised to 1.
+//!
 //! **The dashpot** (c > 0, γ = c/m): the Coulomb slip is the damped linear oscillator
 //! Ẍ = σ a_k − ω² X − γ Ẋ about the same centres, a spiral in the plane instead of a circle, in
 //! the closed forms of [`crate::physics::damped`] (whose first return to belt speed is bracketed
@@ -72,8 +82,8 @@
 //! extrapolation from the coarser pair as its error.
 //!
 //! **Where it holds**: Coulomb friction (μ_s ≥ μ_k), any dashpot c ≥ 0, no viscous friction, k > 0,
-//! the symmetric belt (or a telegraph belt with equal rates and speeds), λ > 0, fixed
-//! parameters. Anything else is refused with the reason.
+//! the symmetric or the telegraph belt, every flip rate > 0, fixed parameters. Anything else
+//! is refused with the reason.
 
 mod anderson;
 pub(crate) mod chain;
@@ -114,8 +124,9 @@ pub const QUANTITIES: [&str; 8] = [
     "mean_cycle",
 ];
 
-/// The frame of a scene, or why the method does not hold for it.
-pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
+/// The frames of a scene's belt states (one for the symmetric belt, two for an asymmetric
+/// telegraph belt: forward, reverse; [`chain::Chain`]), or why the method does not hold for it.
+pub(crate) fn frames(scene: &Scene) -> Result<Vec<Frame>, String> {
     if !scene.random.is_empty() {
         return Err("parameters are drawn per realization (the long-run law is computed for fixed parameters)".into());
     }
@@ -129,14 +140,17 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
     if p.stiffness <= 0.0 {
         return Err("model.stiffness is 0: without a spring there is no stick region to return to (the stick ends only by a flip)".into());
     }
-    let (speed, rate) = match &scene.belt.process {
-        Process::Symmetric(s) => (s.speed, s.switch_rate),
-        Process::Telegraph(t) if t.forward_speed == t.reverse_speed && t.forward_rate == t.reverse_rate => (t.forward_speed, t.forward_rate),
-        Process::Telegraph(_) => return Err("the telegraph belt is asymmetric: only the symmetric belt is implemented".into()),
+    // (speed, rate, the key of the rate) per belt state
+    let states = match &scene.belt.process {
+        Process::Symmetric(s) => vec![(s.speed, s.switch_rate, "belt.switch_rate")],
+        Process::Telegraph(t) if t.forward_speed == t.reverse_speed && t.forward_rate == t.reverse_rate => {
+            vec![(t.forward_speed, t.forward_rate, "belt.switch_rate")]
+        }
+        Process::Telegraph(t) => vec![(t.forward_speed, t.forward_rate, "belt.switch_rate"), (t.reverse_speed, t.reverse_rate, "belt.reverse_switch_rate")],
         other => return Err(format!("the belt is \"{}\", not a two-state flip process", other.name())),
     };
-    if rate <= 0.0 {
-        return Err("belt.switch_rate is 0: without flips the motion is deterministic and has no stationary law".into());
+    if let Some((_, _, key)) = states.iter().find(|s| !(s.1 > 0.0)) {
+        return Err(format!("{key} is 0: without flips the motion is deterministic and has no stationary law"));
     }
     let u = p.per_unit_mass();
     if u.breakaway <= 0.0 {
@@ -148,7 +162,11 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
         return Err("the kinetic friction is below 1e-6 of the static friction (mu_k / mu_s): not supported".into());
     }
     let damped = (u.gamma > 0.0).then(|| <crate::physics::Damped as crate::physics::SlipForm>::new(&u));
-    let f = Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate, damped };
+    states.iter().map(|&(speed, rate, _)| checked(Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate, damped })).collect()
+}
+
+/// A belt state's frame, if the grid and the walks can hold it.
+fn checked(f: Frame) -> Result<Frame, String> {
     // The grid must resolve both lengths of the plane, the belt's velocity scale w0 = v0/ω and
     // the stick region's half-width c_s, and a walk crosses belt speed about w0/c_k times before
     // it sticks (each crossing loses 2 c_k of amplitude): outside this range the grid or the
@@ -169,18 +187,19 @@ pub(crate) fn frame(scene: &Scene) -> Result<Frame, String> {
 pub struct Level {
     /// nodes per c_s + w0 (the grid spacing is about (c_s + w0)/n)
     pub n: u32,
-    /// the grid spacing [m, in the plane (X, V/ω)] ([`ladder`])
+    /// the grid spacing of the first belt state's mesh [m, in the plane (X, V/ω)] ([`ladder`])
     pub h: f64,
     /// the values, in the order of [`QUANTITIES`]
     pub values: [f64; 8],
     /// power iterations to the fixed point
     pub iterations: u32,
-    /// mass per flip leaving the grid's box (renormalised away)
+    /// mass per cycle of the belt (per flip for the symmetric belt) leaving the grids' boxes
+    /// (renormalised away)
     pub lost: f64,
     /// the last iteration's change of the measure (L1)
     pub change: f64,
-    /// λ (T_stick + T_slip): the share of the time to the next flip the walks accounted for
-    /// (1 but for the mass lost and the walks' horizon e^{−41.4})
+    /// ρ Σ_s (T_stick + T_slip): the share of the time the walks accounted for (1 but for the
+    /// mass lost and the walks' horizon e^{−41.4}; ρ the belt's cycles per second)
     pub covered: f64,
 }
 
@@ -191,72 +210,120 @@ const TOLERANCE: f64 = 1e-12;
 /// The iteration limit (the chain mixes in a few flips: ~40 iterations reach the tolerance).
 const MAX_ITERATIONS: u32 = 1000;
 
+/// A resolution: n, and the grid spacing of each belt state's mesh ([`ladder`]).
+pub type Rung = (u32, Vec<f64>);
+
 /// The resolutions of a solve whose finest is `finest`, coarsest first, `count` of them, each
-/// half as fine as the next: (n, h) with h = w0 / rows, rows a whole number (the rows of nodes
-/// are then at whole multiples of h, and the density's cells hold whole rows) and the grids
-/// nested (h doubles exactly: Richardson's extrapolation needs the ratio), about (c_s + w0)/n.
-pub(crate) fn ladder(frame: Frame, finest: u32, count: u32) -> Result<Vec<(u32, f64)>, String> {
+/// half as fine as the next: n and, per belt state, h = w0 / rows, rows a whole number (the
+/// rows of nodes are then at whole multiples of h, and the density's cells hold whole rows) and
+/// the grids nested (h doubles exactly: Richardson's extrapolation needs the ratio), about
+/// (c_s + w0)/n.
+pub(crate) fn ladder(frames: &[Frame], finest: u32, count: u32) -> Result<Vec<Rung>, String> {
     let step = 1u32 << (count - 1);
-    let rows = (f64::from(finest) * frame.w0 / (frame.cs + frame.w0) / f64::from(step)).ceil().max(1.0) * f64::from(step);
-    let out: Vec<(u32, f64)> = (0..count).rev().map(|k| (finest >> k, frame.w0 / rows * f64::from(1u32 << k))).collect();
-    // the measure is held on nodes h apart: the flow between two flips must carry a state
-    // across a good part of that (a stick moves v0/λ on average), or the walks end about where
-    // they began and the measure stays on its nodes (λ = 10^6 on the paper scene did not
-    // converge in 1000 iterations)
-    let travel = frame.v0 / frame.lambda;
-    if out[0].1 > 4.0 * travel {
-        return Err(format!(
-            "the mass moves about v0/lambda = {travel:.2e} m between belt flips, less than a quarter of the coarsest grid spacing {:.2e} m: raise --resolution (up to 320) or simulate instead",
-            out[0].1
-        ));
+    let mut out: Vec<Rung> = (0..count).rev().map(|k| (finest >> k, Vec::new())).collect();
+    for frame in frames {
+        let rows = (f64::from(finest) * frame.w0 / (frame.cs + frame.w0) / f64::from(step)).ceil().max(1.0) * f64::from(step);
+        for (k, rung) in (0..count).rev().zip(out.iter_mut()) {
+            rung.1.push(frame.w0 / rows * f64::from(1u32 << k));
+        }
+        // the measure is held on nodes h apart: the flow between two flips must carry a state
+        // across a good part of that (a stick moves v0/λ on average), or the walks end about
+        // where they began and the measure stays on its nodes (λ = 10^6 on the paper scene did
+        // not converge in 1000 iterations)
+        let (travel, coarsest) = (frame.v0 / frame.lambda, *out[0].1.last().expect("a spacing"));
+        if coarsest > 4.0 * travel {
+            return Err(format!(
+                "the mass moves about v0/lambda = {travel:.2e} m between belt flips, less than a quarter of the coarsest grid spacing {coarsest:.2e} m: raise --resolution (up to 320) or simulate instead"
+            ));
+        }
     }
     Ok(out)
 }
 
-/// Solve for the stationary law at resolution n, grid spacing h ([`ladder`]); `step` hears
+/// Solve for the stationary law at resolution n, grid spacings h ([`ladder`]); `step` hears
 /// each iteration's number and change.
-pub(crate) fn solve(frame: Frame, (n, h): (u32, f64), with_density: bool, step: &mut dyn FnMut(u32, f64)) -> Result<(Level, Option<density::Density>), String> {
-    let mesh = Mesh::new(frame, h, frame.box_half());
-    let cont = chain::continuation(&mesh);
-    let mut nu = chain::Measure::zero(&mesh, cont.samples.len());
-    let share = 1.0 / nu.line.len() as f64;
-    nu.line.iter_mut().for_each(|m| *m = share);
-    let (mut tally, mut iterations, mut change, mut lost) = (Tally::default(), 0, f64::INFINITY, 0.0);
+pub(crate) fn solve(frames: &[Frame], (n, h): &Rung, with_density: bool, step: &mut dyn FnMut(u32, f64)) -> Result<(Level, Option<density::Density>), String> {
+    let chain = chain::Chain::new(frames.iter().zip(h).map(|(f, &h)| Mesh::new(*f, h, f.box_half())).collect());
+    let mut nu = chain.zero();
+    for m in nu.iter_mut() {
+        let share = 1.0 / m.line.len() as f64;
+        m.line.iter_mut().for_each(|m| *m = share);
+    }
+    let (mut tallies, mut iterations, mut change) = (Vec::new(), 0, f64::INFINITY);
     // The step is linear (but for the renormalisation) and its slowest modes are an oscillating
     // pair of modulus ≈ 0.8 per flip on the paper scene (the stick position's walk over the
     // stick region): plain power iteration needs ~120 steps to 1e-12; Anderson mixing over the
-    // last `DEPTH` steps (a GMRES in disguise for a linear map) removes those modes.
+    // last `DEPTH` steps (a GMRES in disguise for a linear map) removes those modes. Each
+    // state's measure is one flip into it per cycle of the belt: each is renormalised to 1.
     let mut anderson = anderson::Anderson::new(DEPTH);
+    let flat = |nu: &[chain::Measure]| nu.iter().flat_map(|m| m.flat()).collect::<Vec<f64>>();
     while iterations < MAX_ITERATIONS && change > TOLERANCE {
-        let (mut next, t) = chain::step(&mesh, &cont, &nu);
-        lost = t.lost;
-        tally = t;
-        next.scale(1.0 / next.total());
-        change = next.distance(&nu);
+        let (mut next, t) = chain::step(&chain, &nu);
+        tallies = t;
+        next.iter_mut().for_each(|m| m.scale(1.0 / m.total()));
+        change = next.iter().zip(&nu).map(|(a, b)| a.distance(b)).sum();
         iterations += 1;
         step(iterations, change);
-        let mixed = anderson.mix(nu.flat(), next.flat());
-        nu.set_flat(&mixed);
-        nu.scale(1.0 / nu.total());
+        let mixed = anderson.mix(flat(&nu), flat(&next));
+        let mut rest = &mixed[..];
+        for m in nu.iter_mut() {
+            let (mine, more) = rest.split_at(m.flat_len());
+            m.set_flat(mine);
+            m.scale(1.0 / m.total());
+            rest = more;
+        }
     }
     if change > TOLERANCE {
         return Err(format!("the stationary measure did not converge at resolution {n} ({iterations} iterations, last change {change:.1e})"));
     }
-    let level =
-        Level { n, h, values: quantities(&tally, frame.lambda), iterations, lost, change, covered: frame.lambda * (tally.stick_time + tally.slip_time) };
-    Ok((level, with_density.then(|| density::occupation(&mesh, &cont, &nu))))
+    let (values, covered, lost) = quantities(&tallies, frames);
+    let level = Level { n: *n, h: h[0], values, iterations, lost, change, covered };
+    Ok((level, with_density.then(|| density::occupation(&chain, &nu))))
 }
 
-/// The quantities from the tallies (module docs).
-fn quantities(t: &Tally, lambda: f64) -> [f64; 8] {
+/// The quantities from the tallies of each state's walks, per unit mass of its measure (module
+/// docs): each state is entered once per cycle of the belt, a cycle lasts Σ 1/λ_s on average,
+/// so a sum over the states per cycle times ρ = 1/Σ(1/λ_s) is a rate per second (ρ = λ for one
+/// state, taken as λ: 1/(1/λ) can differ in the last bit). Returns the values, the share of the
+/// time the walks accounted for, ρ Σ (T_stick + T_slip) (1 but for the mass lost and the walks'
+/// horizon e^{−41.4}), and the mass lost per cycle.
+fn quantities(tallies: &[Tally], frames: &[Frame]) -> ([f64; 8], f64, f64) {
+    let rho = if frames.len() == 1 { frames[0].lambda } else { 1.0 / frames.iter().map(|f| 1.0 / f.lambda).sum::<f64>() };
+    let t = tallies.iter().fold(Tally::default(), |mut a, b| {
+        a.add(b, 1.0);
+        a
+    });
     let n = t.entries;
     let (d, h) = (t.d1 / n, t.slip_time / n);
-    [lambda * t.stick_time, d, h, t.d2 / n - d * d, 2.0 * t.slip_age_time / n - h * h, lambda * n, t.breakaways / n, d + h]
+    let values = [rho * t.stick_time, d, h, t.d2 / n - d * d, 2.0 * t.slip_age_time / n - h * h, rho * n, t.breakaways / n, d + h];
+    (values, rho * (t.stick_time + t.slip_time), t.lost)
 }
 
 /// The long-run law of a scene at `count` resolutions up to `finest` ([`ladder`]), or why it
 /// cannot be computed (module docs).
 pub fn stationary(scene: &Scene, finest: u32, count: u32) -> Result<Vec<Level>, String> {
-    let frame = frame(scene)?;
-    ladder(frame, finest, count)?.into_iter().map(|r| Ok(solve(frame, r, false, &mut |_, _| {})?.0)).collect()
+    let frames = frames(scene)?;
+    ladder(&frames, finest, count)?.iter().map(|r| Ok(solve(&frames, r, false, &mut |_, _| {})?.0)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper scene's one belt frame forced through the two-state chain (one mesh per state,
+    /// both the same frame) must give the one-state values: the alternation, the per-state
+    /// renormalisation and the per-cycle rates (ρ = 1/(1/λ + 1/λ) per cycle of two flips) reduce
+    /// to the one-state chain's.
+    #[test]
+    fn two_equal_belt_states_give_the_one_state_values() {
+        let sc = crate::scenario::Scenario::resolve(None, &[]).unwrap();
+        let one = frames(&sc.scene().unwrap()).unwrap();
+        let two = [one[0], one[0]];
+        let a = solve(&one, &ladder(&one, 16, 1).unwrap()[0], false, &mut |_, _| {}).unwrap().0;
+        let b = solve(&two, &ladder(&two, 16, 1).unwrap()[0], false, &mut |_, _| {}).unwrap().0;
+        for (q, (x, y)) in QUANTITIES.iter().zip(a.values.iter().zip(b.values)) {
+            assert!((x - y).abs() <= 1e-9 * x.abs(), "{q}: one state {x}, two states {y}");
+        }
+        assert!((a.covered - b.covered).abs() < 1e-12, "{} {}", a.covered, b.covered);
+    }
 }

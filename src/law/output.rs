@@ -64,20 +64,20 @@ pub fn run(
     sticks_progress: &mut dyn FnMut(u32, f64),
 ) -> Result<(Vec<Level>, Vec<sticks::Row>, Option<String>), LawError> {
     let scene = scenario.scene()?;
-    let frame = super::frame(&scene).map_err(LawError::Refused)?;
-    let ladder = super::ladder(frame, finest, LEVELS).map_err(LawError::Refused)?;
-    sticks::check(scenario, frame, &ladder).map_err(LawError::Refused)?;
+    let frames = super::frames(&scene).map_err(LawError::Refused)?;
+    let ladder = super::ladder(&frames, finest, LEVELS).map_err(LawError::Refused)?;
+    sticks::check(scenario, &frames, &ladder).map_err(LawError::Refused)?;
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
     let (mut levels, mut density) = (Vec::new(), None);
-    for &(n, h) in &ladder {
-        let start = std::time::Instant::now();
-        let (level, d) = super::solve(frame, (n, h), n == finest, &mut |i, change| step(n, i, change)).map_err(LawError::Failed)?;
+    for rung in &ladder {
+        let (n, start) = (rung.0, std::time::Instant::now());
+        let (level, d) = super::solve(&frames, rung, n == finest, &mut |i, change| step(n, i, change)).map_err(LawError::Failed)?;
         progress(&level, start.elapsed().as_secs_f64());
         levels.push(level);
         density = d.or(density);
     }
     let density = density.expect("the finest resolution computes the density");
-    let after = sticks::solve(scenario, frame, &ladder, sticks_progress).map_err(LawError::Failed)?;
+    let after = sticks::solve(scenario, &frames, &ladder, sticks_progress).map_err(LawError::Failed)?;
     let rows = sticks::rows(&after);
     let warning = after.last().and_then(|(_, s)| sticks::window_warning(s.next_start, scenario.run.duration));
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
@@ -154,13 +154,13 @@ fn stationary_table(levels: &[Level]) -> Table {
 /// `convergence.parquet`: resolution, h, quantity, value, iterations, lost — one row per
 /// resolution and long-run quantity, then per resolution and Table 1 statistic (`mean_T_1`,
 /// `variance_T_1`, …; iterations null).
-fn convergence_table(levels: &[Level], ladder: &[(u32, f64)], sticks: &[(f64, super::passage::Sequence)]) -> Table {
+fn convergence_table(levels: &[Level], ladder: &[super::Rung], sticks: &[(f64, super::passage::Sequence)]) -> Table {
     // (resolution, h, quantity, value, iterations, lost)
     let mut rows: Vec<(u32, f64, String, f64, Option<i64>, f64)> = levels
         .iter()
         .flat_map(|l| QUANTITIES.iter().zip(l.values).map(move |(q, v)| (l.n, l.h, q.to_string(), v, Some(i64::from(l.iterations)), l.lost)))
         .collect();
-    for (&(n, _), (h, s)) in ladder.iter().zip(sticks) {
+    for (&(n, _), (h, s)) in ladder.iter().map(|r| (r.0, ())).collect::<Vec<_>>().iter().zip(sticks) {
         for (v, k, (mean, variance)) in sticks::values(s) {
             rows.push((n, *h, format!("mean_{v}_{k}"), mean, None, s.lost));
             rows.push((n, *h, format!("variance_{v}_{k}"), variance, None, s.lost));
@@ -187,7 +187,7 @@ fn density_table(d: &Density) -> Table {
             rows.push(("slip", x, v, d.slip[i * vs.len() + j]));
         }
     }
-    for (k, (line, v)) in d.stick.iter().zip([d.v0, -d.v0]).enumerate() {
+    for (k, (line, v)) in d.stick.iter().zip(d.velocities).enumerate() {
         rows.extend(d.stick_centres(k).into_iter().zip(line).map(|(x, &p)| ("stick", x, v, p)));
     }
     let mut t = Table::default();
@@ -239,7 +239,7 @@ fn density_figure(d: &Density) -> Figure {
         title: "while stuck (on the belt)".into(),
         x_label: "x [m]".into(),
         y_label: "density [1/m]".into(),
-        lines: vec![line(0, format!("velocity = +{} m/s", d.v0), 0), line(1, format!("velocity = -{} m/s", d.v0), 1)],
+        lines: vec![line(0, format!("velocity = +{} m/s", d.velocities[0]), 0), line(1, format!("velocity = {} m/s", d.velocities[1]), 1)],
         ..Default::default()
     };
     Figure {

@@ -82,9 +82,9 @@ fn add(a: &mut Clock, b: Clock, f: f64) {
     a.iter_mut().zip(b).for_each(|(x, y)| *x += f * y);
 }
 
-/// The states a passage starts from (every later state is on the grid, [`passage`]): belt-line
-/// nodes (a flip during a stick at y: the slip from (−y, −v0)), the breakaway (x_b, v0) and
-/// the starts, with their clocks.
+/// The states a passage starts from in one belt state (every later state is on the grid,
+/// [`passage`]): line nodes (a flip during a stick of the state before, at y: the slip from
+/// (−y, −v0) in this frame), the breakaway (x_b, v0) and the starts, with their clocks.
 #[derive(Debug, Clone)]
 struct Cloud {
     line: Vec<Clock>,
@@ -92,19 +92,30 @@ struct Cloud {
     starts: Vec<(Slip, Clock)>,
 }
 
+/// The state a flip from s leads to among n ([`super::chain::Chain`]).
+fn next(n: usize, s: usize) -> usize {
+    (s + 1) % n
+}
+
+/// The state whose flips lead to d among n.
+fn prev(n: usize, d: usize) -> usize {
+    (d + n - 1) % n
+}
+
 impl Cloud {
-    fn zero(mesh: &Mesh) -> Cloud {
-        Cloud { line: vec![[0.0; 5]; mesh.n_line + 1], breakaway: [0.0; 5], starts: Vec::new() }
+    /// The empty cloud of every state of `meshes`.
+    fn zero(meshes: &[Mesh]) -> Vec<Cloud> {
+        (0..meshes.len()).map(|d| Cloud { line: vec![[0.0; 5]; meshes[prev(meshes.len(), d)].n_line + 1], breakaway: [0.0; 5], starts: Vec::new() }).collect()
     }
 
-    /// Every atom: its slip state and clock.
-    fn atoms(&self, mesh: &Mesh) -> Vec<(Slip, Clock)> {
-        let f = mesh.frame;
+    /// Every atom of state d's cloud: its slip state (in d's frame) and clock.
+    fn atoms(&self, meshes: &[Mesh], d: usize) -> Vec<(Slip, Clock)> {
+        let (f, from) = (meshes[d].frame, &meshes[prev(meshes.len(), d)]);
         let mut out: Vec<(Slip, Clock)> = self.starts.clone();
         for (k, &c) in self.line.iter().enumerate() {
             if c[0] > 1e-300 {
-                let y = f.hold_lo() + k as f64 * mesh.h_line;
-                out.push((Slip::at(-y, -f.v0, f.v0), c));
+                let y = from.frame.hold_lo() + k as f64 * from.h_line;
+                out.push((Slip::at(-y, -from.frame.v0, f.v0), c));
             }
         }
         if self.breakaway[0] > 1e-300 {
@@ -114,10 +125,12 @@ impl Cloud {
     }
 }
 
-/// One step's walks: the next post-flip states, the stick entries (per belt-line node, the
-/// entry position x_e split linearly) and the mass deposited outside the grid.
+/// One step's walks on `src`: the next post-flip states on `dst`'s grid (the next belt state),
+/// the stick entries (per stick node of `src`, the entry position x_e split linearly) and the
+/// mass deposited outside the grid.
 struct Pass<'a> {
-    mesh: &'a Mesh,
+    src: &'a Mesh,
+    dst: &'a Mesh,
     /// the grid's clocks
     next: &'a mut [Clock],
     entries: &'a mut [Clock],
@@ -128,7 +141,7 @@ struct Pass<'a> {
 impl Pass<'_> {
     /// A flip at (x, v): the reflected state's nodes get `clock`.
     fn put(&mut self, x: f64, v: f64, clock: Clock) {
-        match self.mesh.corners(-x, -v) {
+        match self.dst.corners(-x, -v) {
             Some(corners) => corners.into_iter().for_each(|(k, w)| add(&mut self.next[k], clock, w)),
             None => self.lost += clock[0],
         }
@@ -137,17 +150,17 @@ impl Pass<'_> {
 
 impl Visitor for Pass<'_> {
     fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, _age: f64) {
-        let lambda = self.mesh.frame.lambda;
+        let lambda = self.src.frame.lambda;
         let w = lambda * decay(lambda, t, t + dt);
         self.put(x, v, later(self.clock, w, t, centroid(lambda, dt), second_moment(lambda, dt)));
     }
 
     fn periodic(&mut self, start: Slip, t: f64, _age: f64, period: f64) {
-        let f = self.mesh.frame;
+        let f = self.src.frame;
         let lambda = f.lambda;
         let (a0, a1, a2) = repeats(lambda * period);
         let m = self.clock;
-        for (offset, dt, (x, v)) in f.period_samples(start, period, self.mesh.h) {
+        for (offset, dt, (x, v)) in f.period_samples(start, period, self.src.h) {
             let s = t + offset;
             let w = lambda * decay(lambda, s, s + dt);
             let (c, u2) = (centroid(lambda, dt), second_moment(lambda, dt));
@@ -159,7 +172,7 @@ impl Visitor for Pass<'_> {
     }
 
     fn stick(&mut self, x_e: f64, t: f64) {
-        let (mesh, f) = (self.mesh, self.mesh.frame);
+        let (mesh, f) = (self.src, self.src.frame);
         let clock = later(self.clock, (-f.lambda * t).exp(), t, 0.0, 0.0);
         let fy = ((x_e - f.hold_lo()) / mesh.h_line).clamp(0.0, mesh.n_line as f64);
         let k = (fy as usize).min(mesh.n_line - 1);
@@ -171,7 +184,7 @@ impl Visitor for Pass<'_> {
     fn breakaway_slip(&mut self, t: f64, age: f64) {
         // (μ_s = μ_k: the slip touches the belt line at the breakaway point and goes on around
         // the same circle, once per period 2π/ω, until a flip)
-        let f = self.mesh.frame;
+        let f = self.src.frame;
         self.periodic(f.breakaway(), t, age, TAU / f.omega);
     }
 }
@@ -181,13 +194,13 @@ impl Visitor for Pass<'_> {
 const TOLERANCE: f64 = 1e-12;
 const MAX_ITERATIONS: u32 = 1000;
 
-/// Walk `atoms` once: their post-flip deposits on the grid, their stick entries and the mass
-/// lost off the grid (in fixed chunks, summed in order: the same for any number of threads).
-/// `scratch` holds the chunks' grids across calls (allocating them afresh each time cost a
-/// third of the run in page faults).
-fn walk_all(mesh: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<Vec<Clock>>) -> (Vec<Clock>, Vec<Clock>, f64) {
+/// Walk `atoms` of `src` once: their post-flip deposits on `dst`'s grid, their stick entries
+/// (on `src`'s stick nodes) and the mass lost off the grid (in fixed chunks, summed in order:
+/// the same for any number of threads). `scratch` holds the chunks' grids across calls
+/// (allocating them afresh each time cost a third of the run in page faults).
+fn walk_all(src: &Mesh, dst: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<Vec<Clock>>) -> (Vec<Clock>, Vec<Clock>, f64) {
     use rayon::prelude::*;
-    let nodes = mesh.nx * mesh.nw;
+    let nodes = dst.nx * dst.nw;
     let size = atoms.len().div_ceil(CHUNKS).max(1);
     scratch.resize_with(CHUNKS, || vec![[0.0; 5]; nodes]);
     let parts: Vec<(Vec<Clock>, f64)> = atoms
@@ -195,11 +208,11 @@ fn walk_all(mesh: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<Vec<Clock>>)
         .zip(scratch.par_iter_mut())
         .map(|(chunk, grid)| {
             grid.fill([0.0; 5]);
-            let mut got = vec![[0.0; 5]; mesh.n_line + 1];
-            let mut pass = Pass { mesh, next: grid, entries: &mut got, clock: [0.0; 5], lost: 0.0 };
+            let mut got = vec![[0.0; 5]; src.n_line + 1];
+            let mut pass = Pass { src, dst, next: grid, entries: &mut got, clock: [0.0; 5], lost: 0.0 };
             for &(z, clock) in chunk {
                 pass.clock = clock;
-                mesh.frame.walk(z, 0.0, mesh.h, mesh.horizon, &mut pass);
+                src.frame.walk(z, 0.0, src.h, src.horizon, &mut pass);
             }
             let lost = pass.lost;
             (got, lost)
@@ -214,7 +227,7 @@ fn walk_all(mesh: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<Vec<Clock>>)
             out.iter_mut().zip(&g[c * SPAN..]).for_each(|(a, &b)| add(a, b, 1.0));
         }
     });
-    let (mut entries, mut lost) = (vec![[0.0; 5]; mesh.n_line + 1], 0.0);
+    let (mut entries, mut lost) = (vec![[0.0; 5]; src.n_line + 1], 0.0);
     for (got, l) in &parts {
         entries.iter_mut().zip(got).for_each(|(a, &b)| add(a, b, 1.0));
         lost += l;
@@ -222,46 +235,76 @@ fn walk_all(mesh: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<Vec<Clock>>)
     (grid, entries, lost)
 }
 
-/// The first passage from `first` (module docs): its stick entries' clocks are added to
-/// `entries`; returns the mass lost off the grid.
+/// Walk every state's atoms once: the grids of the next post-flip states (state s's walks land
+/// on state s + 1's grid), each state's stick entries, and the mass lost. `scratch` per state.
+fn walk_states(meshes: &[Mesh], atoms: &[Vec<(Slip, Clock)>], scratch: &mut [Vec<Vec<Clock>>]) -> (Vec<Vec<Clock>>, Vec<Vec<Clock>>, f64) {
+    let n = meshes.len();
+    let mut grids: Vec<Vec<Clock>> = meshes.iter().map(|_| Vec::new()).collect();
+    let (mut entries, mut lost) = (Vec::with_capacity(n), 0.0);
+    for (s, atoms) in atoms.iter().enumerate() {
+        let d = next(n, s);
+        let (grid, got, l) = walk_all(&meshes[s], &meshes[d], atoms, &mut scratch[d]);
+        grids[d] = grid;
+        entries.push(got);
+        lost += l;
+    }
+    (grids, entries, lost)
+}
+
+/// The first passage from the clouds `first` of the states of `meshes` (module docs): each
+/// state's stick entries' clocks are added to `entries`; returns the mass lost off the grid.
 ///
 /// Every flip leaves its state on the grid, so the occupation measure of the post-flip states,
 /// x = Σ_{j≥1} K^j μ0 (K the kernel with sticks absorbing, μ0 = `first`), solves the fixed point
 /// x = K μ0 + K x, and the entries are A μ0 + A x (A: the absorption of a walk). The Neumann
 /// series converges like 0.66^j on the paper scene (72 steps to 1e-13); Anderson mixing, as for
 /// the stationary measure, needs a third of that.
-fn passage(mesh: &Mesh, first: Cloud, entries: &mut [Clock]) -> Result<f64, String> {
-    let mut scratch = Vec::new();
-    let (k0, a0, lost0) = walk_all(mesh, &first.atoms(mesh), &mut scratch);
+fn passage(meshes: &[Mesh], first: Vec<Cloud>, entries: &mut [Vec<Clock>]) -> Result<f64, String> {
+    let mut scratch: Vec<Vec<Vec<Clock>>> = meshes.iter().map(|_| Vec::new()).collect();
+    let atoms0: Vec<Vec<(Slip, Clock)>> = first.iter().enumerate().map(|(d, c)| c.atoms(meshes, d)).collect();
+    let (k0, a0, lost0) = walk_states(meshes, &atoms0, &mut scratch);
     // the mixing's unit of time: the first walks' mean time (the moments then weigh alike)
-    let (m0, m1) = k0.iter().chain(&a0).fold((0.0, 0.0), |(a, b), c| (a + c[0], b + c[1]));
+    let (m0, m1) = k0.iter().flatten().chain(a0.iter().flatten()).fold((0.0, 0.0), |(a, b), c| (a + c[0], b + c[1]));
     let unit = if m0 > 0.0 && m1 > 0.0 { m1 / m0 } else { 1.0 };
-    let flat = |x: &[Clock]| x.iter().flat_map(|c| [c[0], c[1] / unit, c[2] / (unit * unit), c[3] / unit, c[4] / (unit * unit)]).collect::<Vec<f64>>();
+    let flat = |x: &[Vec<Clock>]| {
+        x.iter().flatten().flat_map(|c| [c[0], c[1] / unit, c[2] / (unit * unit), c[3] / unit, c[4] / (unit * unit)]).collect::<Vec<f64>>()
+    };
     let mut x = k0.clone();
     let mut anderson = super::anderson::Anderson::new(super::DEPTH);
     let mut change = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
-        let atoms: Vec<(Slip, Clock)> = (0..mesh.nx)
-            .flat_map(|i| (0..mesh.nw).map(move |j| (i, j)))
-            .filter_map(|(i, j)| {
-                let c = x[i * mesh.nw + j];
-                c.iter().any(|v| v.abs() > 1e-300).then(|| (mesh.node(i, j), c))
+        let atoms: Vec<Vec<(Slip, Clock)>> = meshes
+            .iter()
+            .zip(&x)
+            .map(|(mesh, x)| {
+                (0..mesh.nx)
+                    .flat_map(|i| (0..mesh.nw).map(move |j| (i, j)))
+                    .filter_map(|(i, j)| {
+                        let c = x[i * mesh.nw + j];
+                        c.iter().any(|v| v.abs() > 1e-300).then(|| (mesh.node(i, j), c))
+                    })
+                    .collect()
             })
             .collect();
-        let (kx, ax, lost) = walk_all(mesh, &atoms, &mut scratch);
-        let g: Vec<Clock> = k0
+        let (kx, ax, lost) = walk_states(meshes, &atoms, &mut scratch);
+        let g: Vec<Vec<Clock>> = k0
             .iter()
             .zip(&kx)
-            .map(|(a, b)| {
-                let mut c = *a;
-                add(&mut c, *b, 1.0);
-                c
+            .map(|(k0, kx)| {
+                k0.iter()
+                    .zip(kx)
+                    .map(|(a, b)| {
+                        let mut c = *a;
+                        add(&mut c, *b, 1.0);
+                        c
+                    })
+                    .collect()
             })
             .collect();
         change = (0..5)
             .map(|c| {
-                let size: f64 = g.iter().map(|v| v[c].abs()).sum();
-                let diff: f64 = g.iter().zip(&x).map(|(a, b)| (a[c] - b[c]).abs()).sum();
+                let size: f64 = g.iter().flatten().map(|v| v[c].abs()).sum();
+                let diff: f64 = g.iter().flatten().zip(x.iter().flatten()).map(|(a, b)| (a[c] - b[c]).abs()).sum();
                 if size > 0.0 {
                     diff / size
                 } else {
@@ -271,19 +314,25 @@ fn passage(mesh: &Mesh, first: Cloud, entries: &mut [Clock]) -> Result<f64, Stri
             .fold(0.0, f64::max);
         if change <= TOLERANCE {
             for (e, (a, b)) in entries.iter_mut().zip(a0.iter().zip(&ax)) {
-                add(e, *a, 1.0);
-                add(e, *b, 1.0);
+                for (e, (a, b)) in e.iter_mut().zip(a.iter().zip(b)) {
+                    add(e, *a, 1.0);
+                    add(e, *b, 1.0);
+                }
             }
             return Ok(lost0 + lost);
         }
         let mixed = anderson.mix(flat(&x), flat(&g));
-        x = mixed.chunks(5).map(|c| [c[0], c[1] * unit, c[2] * unit * unit, c[3] * unit, c[4] * unit * unit]).collect();
+        let mut rest = mixed.chunks(5).map(|c| [c[0], c[1] * unit, c[2] * unit * unit, c[3] * unit, c[4] * unit * unit]);
+        for xs in x.iter_mut() {
+            xs.iter_mut().for_each(|v| *v = rest.next().expect("the mixed vector's length"));
+        }
     }
     Err(format!("the passage to the next stick did not converge in {MAX_ITERATIONS} iterations (last change {change:.1e})"))
 }
 
 /// What sticks entered with clocks (a measure of the entries) do: Σ mass, Σ mass E[D],
 /// Σ mass E[D²], Σ mass P(breakaway), and the clocks at their ends (their t the stick's end L).
+#[derive(Default)]
 struct Held {
     mass: f64,
     d1: f64,
@@ -292,29 +341,47 @@ struct Held {
     ends: Clock,
 }
 
-/// Sticks entered at (x_e, clocks) end (module docs): their exits are added to `out`, t running
-/// on and a restarted.
-fn leave(mesh: &Mesh, entries: impl Iterator<Item = (f64, Clock)>, out: &mut Cloud) -> Held {
+impl Held {
+    fn add(&mut self, o: &Held) {
+        self.mass += o.mass;
+        self.d1 += o.d1;
+        self.d2 += o.d2;
+        self.breakaway += o.breakaway;
+        add(&mut self.ends, o.ends, 1.0);
+    }
+
+    /// (mean, variance) of the duration.
+    fn duration(&self) -> MeanVar {
+        let mean = self.d1 / self.mass;
+        (mean, self.d2 / self.mass - mean * mean)
+    }
+}
+
+/// Sticks of state s entered at (x_e, clocks) end (module docs): their exits are added to the
+/// clouds — a flip to the next state's line, a breakaway to s's own — t running on and a
+/// restarted.
+fn leave(meshes: &[Mesh], s: usize, entries: impl Iterator<Item = (f64, Clock)>, clouds: &mut [Cloud]) -> Held {
+    let (mesh, d) = (&meshes[s], next(meshes.len(), s));
     let f = mesh.frame;
     let lambda = f.lambda;
-    let mut held = Held { mass: 0.0, d1: 0.0, d2: 0.0, breakaway: 0.0, ends: [0.0; 5] };
+    let mut held = Held::default();
     for (x_e, m) in entries {
-        let d = (f.hold_hi() - x_e).max(0.0) / f.v0;
-        let x = lambda * d;
+        let d_hold = (f.hold_hi() - x_e).max(0.0) / f.v0;
+        let x = lambda * d_hold;
         held.mass += m[0];
         held.d1 += m[0] * -(-x).exp_m1() / lambda;
         held.d2 += m[0] * 2.0 * one_minus_exp_poly(x) / (lambda * lambda);
         for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
             let w = lambda * decay(lambda, offset, offset + dt);
             let clock = restart(later(m, w, offset, centroid(lambda, dt), second_moment(lambda, dt)));
-            add(&mut out.line[k], clock, 1.0 - frac);
-            add(&mut out.line[k + 1], clock, frac);
+            add(&mut clouds[d].line[k], clock, 1.0 - frac);
+            add(&mut clouds[d].line[k + 1], clock, frac);
             add(&mut held.ends, clock, 1.0);
         }
         let e = (-x).exp();
         held.breakaway += m[0] * e;
-        let clock = restart(later(m, e, d, 0.0, 0.0));
-        add(&mut out.breakaway, clock, 1.0);
+        let clock = restart(later(m, e, d_hold, 0.0, 0.0));
+        add(&mut clouds[s].breakaway, clock, 1.0);
         add(&mut held.ends, clock, 1.0);
     }
     held
@@ -384,30 +451,34 @@ fn total(v: &[Clock]) -> Clock {
     })
 }
 
-/// The first `count` sticks after the weighted `starts` (weights summing to 1; stuck starts
-/// have a current stick first), on a grid of spacing h over the box `half` ([`half_width`]):
-/// count + 1 first passages, each from the exits of the sticks before.
-pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)], count: usize) -> Result<Sequence, String> {
-    let mesh = Mesh::new(frame, h, half);
-    let mut cloud = Cloud::zero(&mesh);
-    let mut stuck = Vec::new();
-    for &(start, w) in starts {
+/// The first `count` sticks after the weighted `starts` (belt state, start, weight; weights
+/// summing to 1; stuck starts have a current stick first), on grids of spacings `h` (per belt
+/// state of `frames`) over the box `half` ([`half_width`]): count + 1 first passages, each from
+/// the exits of the sticks before.
+pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, Start, f64)], count: usize) -> Result<Sequence, String> {
+    let meshes: Vec<Mesh> = frames.iter().zip(h).map(|(f, &h)| Mesh::new(*f, h, half)).collect();
+    let n = meshes.len();
+    let mut clouds = Cloud::zero(&meshes);
+    let mut stuck: Vec<Vec<(f64, Clock)>> = vec![Vec::new(); n];
+    for &(s, start, w) in starts {
         match start {
-            Start::Slip(z) => cloud.starts.push((z, [w, 0.0, 0.0, 0.0, 0.0])),
-            Start::Stuck(x) => stuck.push((x, [w, 0.0, 0.0, 0.0, 0.0])),
+            Start::Slip(z) => clouds[s].starts.push((z, [w, 0.0, 0.0, 0.0, 0.0])),
+            Start::Stuck(x) => stuck[s].push((x, [w, 0.0, 0.0, 0.0, 0.0])),
         }
     }
-    let current = (!stuck.is_empty()).then(|| {
-        let held = leave(&mesh, stuck.into_iter(), &mut cloud);
-        let mean = held.d1 / held.mass;
-        (mean, held.d2 / held.mass - mean * mean)
+    let current = stuck.iter().any(|v| !v.is_empty()).then(|| {
+        let mut held = Held::default();
+        for (s, v) in stuck.into_iter().enumerate() {
+            held.add(&leave(&meshes, s, v.into_iter(), &mut clouds));
+        }
+        held.duration()
     });
-    let node = |k: usize| frame.hold_lo() + k as f64 * mesh.h_line;
+    let node = |s: usize, k: usize| meshes[s].frame.hold_lo() + k as f64 * meshes[s].h_line;
     let (mut sticks, mut lost, mut first_survival, mut next_start) = (Vec::<Stick>::new(), 0.0, Vec::new(), (f64::NAN, f64::NAN));
     for k in 0..=count {
-        let mut entries = vec![[0.0; 5]; mesh.n_line + 1];
-        lost += passage(&mesh, cloud, &mut entries)?;
-        let all = total(&entries);
+        let mut entries: Vec<Vec<Clock>> = meshes.iter().map(|m| vec![[0.0; 5]; m.n_line + 1]).collect();
+        lost += passage(&meshes, clouds, &mut entries)?;
+        let all = total(&entries.concat());
         if let Some(before) = sticks.last_mut() {
             before.slip = moments(all, 3);
         }
@@ -416,18 +487,15 @@ pub(crate) fn sequence(frame: Frame, h: f64, half: f64, starts: &[(Start, f64)],
             break;
         }
         if k == 0 {
-            first_survival = super::density::survival(&frame, &entries.iter().enumerate().map(|(k, c)| (node(k), c[0])).collect::<Vec<_>>());
+            let points: Vec<(usize, f64, f64)> = entries.iter().enumerate().flat_map(|(s, e)| e.iter().enumerate().map(move |(k, c)| (s, node(s, k), c[0]))).collect();
+            first_survival = super::density::survival(frames, &points);
         }
-        cloud = Cloud::zero(&mesh);
-        let held = leave(&mesh, entries.iter().enumerate().map(|(k, &c)| (node(k), c)), &mut cloud);
-        let mean = held.d1 / held.mass;
-        sticks.push(Stick {
-            start: moments(all, 1),
-            duration: (mean, held.d2 / held.mass - mean * mean),
-            end: moments(held.ends, 1),
-            slip: (f64::NAN, f64::NAN),
-            breakaway: held.breakaway / held.mass,
-        });
+        clouds = Cloud::zero(&meshes);
+        let mut held = Held::default();
+        for (s, e) in entries.iter().enumerate() {
+            held.add(&leave(&meshes, s, e.iter().enumerate().map(|(k, &c)| (node(s, k), c)), &mut clouds));
+        }
+        sticks.push(Stick { start: moments(all, 1), duration: held.duration(), end: moments(held.ends, 1), slip: (f64::NAN, f64::NAN), breakaway: held.breakaway / held.mass });
     }
     Ok(Sequence { current, sticks, lost, first_survival, next_start })
 }
@@ -485,7 +553,7 @@ mod tests {
         let r = f.ck - 0.5;
         let (tau, x_a) = ((f.w0 / r).asin() / f.omega, f.ck - (r * r - f.w0 * f.w0).sqrt());
         let start = Start::Slip(Slip::at(0.5, 0.0, f.v0));
-        let got = sequence(f, 0.05, half_width(f, start), &[(start, 1.0)], 2).unwrap();
+        let got = sequence(&[f], &[0.05], half_width(f, start), &[(0, start, 1.0)], 2).unwrap();
         let s = got.sticks[0];
         close(s.start.0, tau, "E T_1");
         close(s.duration.0, held(x_a), "E D_1");
@@ -503,7 +571,7 @@ mod tests {
         assert!(got.current.is_none() && got.lost == 0.0);
         // stuck at 0: the stick holds for c_s/v0, the breakaway slip, a stick at 2c_k − c_s
         let start = Start::Stuck(0.0);
-        let got = sequence(f, 0.05, half_width(f, start), &[(start, 1.0)], 1).unwrap();
+        let got = sequence(&[f], &[0.05], half_width(f, start), &[(0, start, 1.0)], 1).unwrap();
         let s = got.sticks[0];
         close(got.current.unwrap().0, held(0.0), "E R");
         close(s.start.0, held(0.0) + after_breakaway, "E T_1 (stuck)");

@@ -22,19 +22,28 @@ fn exact(p: &Prediction, variable: &str) -> (f64, f64, f64) {
     (r.mean, r.variance, r.error)
 }
 
-/// From a slipping and from a stuck state on the paper scene, on μ_s = 0.6 and stuck on the damped
-/// scene (c = 0.5 N·s/m): every exact mean
+/// From a slipping and from a stuck state on the paper scene, on μ_s = 0.6, stuck on the damped
+/// scene (c = 0.5 N·s/m) and on the asymmetric belt (stuck on the reverse belt, slipping on the
+/// forward one): every exact mean
 /// and variance within 4.5 standard errors (plus its own error estimate) of 30,000 futures
 /// simulated from the state, their τ, D, H and breakaway read off the records here.
 #[test]
 fn exact_agrees_with_futures_from_the_same_state() {
-    for (sets, (x, v, stuck)) in [(vec![], (0.5, 0.0, false)), (vec![], (0.3, 1.0, true)), (vec!["model.static_friction_coefficient=0.6"], (-1.0, 2.5, false)), (vec!["model.damping=0.5"], (0.2, 1.0, true))]
-    {
+    let asymmetric = vec!["belt.reverse_speed=0.5", "belt.reverse_switch_rate=2"];
+    for (sets, (x, v, belt, stuck)) in [
+        (vec![], (0.5, 0.0, 1.0, false)),
+        (vec![], (0.3, 1.0, 1.0, true)),
+        (vec!["model.static_friction_coefficient=0.6"], (-1.0, 2.5, 1.0, false)),
+        (vec!["model.damping=0.5"], (0.2, 1.0, 1.0, true)),
+        (asymmetric.clone(), (0.4, -0.5, -0.5, true)),
+        (asymmetric.clone(), (-0.8, 0.3, 1.0, false)),
+    ] {
         let mut all: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
         let sc = scenario(&sets);
-        let p = run(&sc, State { x, velocity: v, belt: 1.0, stuck }, Options { resolution: 24, futures: None, horizon: None }, None, &mut |_| {}).unwrap();
+        let p = run(&sc, State { x, velocity: v, belt, stuck }, Options { resolution: 24, futures: None, horizon: None }, None, &mut |_| {}).unwrap();
         assert!(p.exact_refused.is_none() && p.rows.iter().all(|r| r.method == "exact"));
         all.extend([format!("initial_conditions.position=[{x:?}, {x:?}]"), format!("initial_conditions.velocity=[{v:?}, {v:?}]"), "run.duration=15".into()]);
+        all.push(format!("belt.initial_sign={}", if belt > 0.0 { 1 } else { -1 }));
         let futures = crate::common::scenario(&all.iter().map(String::as_str).collect::<Vec<_>>());
         let k = usize::from(stuck);
         let (mut remaining, mut tau, mut d, mut h, mut b) = (vec![], vec![], vec![], vec![], vec![]);
