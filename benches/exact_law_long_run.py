@@ -22,6 +22,7 @@ SCENES = {
     "paper": [],
     "mu_s = 0.6": ["--set", "model.static_friction_coefficient=0.6"],
     "damped c = 0.5": ["--set", "model.damping=0.5"],
+    "asymmetric belt": ["--set", "belt.reverse_speed=0.5", "--set", "belt.reverse_switch_rate=2"],
 }
 
 QUANTITIES = ["stick_fraction", "mean_stick_duration", "mean_slip_duration", "var_stick_duration",

@@ -217,14 +217,22 @@ pub type Rung = (u32, Vec<f64>);
 /// half as fine as the next: n and, per belt state, h = w0 / rows, rows a whole number (the
 /// rows of nodes are then at whole multiples of h, and the density's cells hold whole rows) and
 /// the grids nested (h doubles exactly: Richardson's extrapolation needs the ratio), about
-/// (c_s + w0)/n.
+/// (c_s + w0)/n; a later state shares the first's h where its w0 is a whole number of them.
 pub(crate) fn ladder(frames: &[Frame], finest: u32, count: u32) -> Result<Vec<Rung>, String> {
     let step = 1u32 << (count - 1);
     let mut out: Vec<Rung> = (0..count).rev().map(|k| (finest >> k, Vec::new())).collect();
+    let mut first: Option<f64> = None;
     for frame in frames {
         let rows = (f64::from(finest) * frame.w0 / (frame.cs + frame.w0) / f64::from(step)).ceil().max(1.0) * f64::from(step);
+        // a later belt state whose belt line falls on a whole row of the first state's finest
+        // grid shares its spacings (its rows are then on the density's cells too: no stripes)
+        let finest_h = match first {
+            Some(h0) if ((frame.w0 / h0).round() - frame.w0 / h0).abs() < 1e-9 * (frame.w0 / h0) && frame.w0 / h0 >= 0.5 => h0,
+            _ => frame.w0 / rows,
+        };
+        first.get_or_insert(finest_h);
         for (k, rung) in (0..count).rev().zip(out.iter_mut()) {
-            rung.1.push(frame.w0 / rows * f64::from(1u32 << k));
+            rung.1.push(finest_h * f64::from(1u32 << k));
         }
         // the measure is held on nodes h apart: the flow between two flips must carry a state
         // across a good part of that (a stick moves v0/λ on average), or the walks end about
