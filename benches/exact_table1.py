@@ -5,7 +5,9 @@ Runs `exact-law` on the paper scenario (or the scene `--set` makes of it; timed)
 (timed), then compares every mean and variance of T_k, L_k, D_k, H_k (k = 1..6): Monte Carlo over
 the realizations that reached the k-th stick (a duration only if it ended before t_a), its
 standard error (the variance's from the fourth central moment), and z = (exact − MC) /
-sqrt(SE² + error²). Prints a Markdown table and the largest |z|.
+sqrt(SE² + error²). Prints a Markdown table and the largest |z|; then the same for D_k's law
+(survival.parquet): P(D_k > t) at reproduce's tail times against the share of the k-th sticks
+(ended before t_a) that last longer, with its binomial standard error.
 
 usage: python3 benches/exact_table1.py [BINARY] [--realizations N] [--seed S] [--resolution R] [--keep DIR]
        [--set KEY=VALUE ...]
@@ -56,4 +58,24 @@ with tempfile.TemporaryDirectory() as scratch:
             zv = (e["variance"] - var) / math.hypot(se_v, e["variance_error"])
             worst = max(worst, abs(zm), abs(zv))
             print(f"| {v}_{k} | {e['mean']:.6f} ± {e['error']:.1e} | {m:.6f} ± {se_m:.1e} | {zm:+.2f} | {e['variance']:.6f} ± {e['variance_error']:.1e} | {var:.6f} ± {se_v:.1e} | {zv:+.2f} |")
+    print(f"\nlargest |z|: {worst:.2f}")
+
+    sv = pl.read_parquet(f"{tmp}/law/survival.parquet")
+    times = [0.5, 1.0, 1.5, 2.0, 2.4]
+    print("\n| P(D_k > t) | " + " | ".join(f"t = {t} s: exact | Monte Carlo | z" for t in times) + " |")
+    print("|---|" + "---:|---:|---:|" * len(times))
+    worst = 0.0
+    for k in range(1, 7):
+        d = (df.select(pl.col("stick_duration").list.get(k - 1, null_on_oob=True).alias("d"), pl.col("n_stick").alias("n"), pl.col("last_truncated").alias("cut"))
+             .filter(~((pl.col("n") == k) & pl.col("cut"))).select(pl.col("d").drop_nulls()))
+        counts = d.select(pl.len().alias("n"), *[(pl.col("d") > t).sum().alias(str(t)) for t in times]).collect().row(0, named=True)
+        cells = []
+        for t in times:
+            e = sv.filter((pl.col("index") == k) & (pl.col("t") == t)).row(0, named=True)
+            share = counts[str(t)] / counts["n"]
+            se = math.sqrt(max(share, 1.0 / counts["n"]) * (1.0 - share) / counts["n"])
+            z = (e["survival"] - share) / math.hypot(se, e["error"])
+            worst = max(worst, abs(z))
+            cells.append(f"{e['survival']:.3e} ± {e['error']:.0e} | {share:.3e} ± {se:.0e} | {z:+.2f}")
+        print(f"| D_{k} | " + " | ".join(cells) + " |")
     print(f"\nlargest |z|: {worst:.2f}")

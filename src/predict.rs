@@ -1,6 +1,6 @@
 //! `stickslip predict`: the next stick from a given state — the time to its start, its duration,
 //! the slip after it and whether it ends by breakaway — computed without sampling where the
-//! scene allows ([`crate::law::passage`]: Coulomb friction with or without a dashpot, the symmetric belt,
+//! scene allows ([`crate::law::passage`]: Coulomb friction with or without a dashpot, the symmetric or telegraph belt,
 //! fixed parameters) and by conditional Monte Carlo everywhere: futures simulated from the same
 //! state with the scenario's solver (the same realizations, seeds and generator as `simulate`,
 //! from the point initial condition and the belt in the given state).
@@ -258,7 +258,8 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
     row("stick_duration", &|s| s.sticks[0].duration.0, &|s| s.sticks[0].duration.1);
     row("slip_duration", &|s| s.sticks[0].slip.0, &|s| s.sticks[0].slip.1);
     row("breakaway", &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
-    let survival = solved.pop().map(|s| s.1.first_survival).unwrap_or_default();
+    let times = crate::law::density::survival_times(frames, &[]);
+    let survival = solved.pop().map(|s| s.1.stick_law(frames, 0, &times).into_iter().map(|(t, p, _)| (t, p)).collect()).unwrap_or_default();
     Ok((rows, survival))
 }
 

@@ -113,6 +113,10 @@ struct Content {
     /// ours: (variable, exact mean ± error, ours [95 %], inside?, the same for the variance);
     /// empty without `--exact`
     exact: Vec<[String; 7]>,
+    /// D_k's law without sampling (`exact-law`'s `survival.parquet`) beside our product-limit
+    /// curve of D_k at the times both have: (P(D_k > t), exact ± error, ours [95 %], inside?);
+    /// empty without `--exact`, or when either lacks the curves
+    exact_tails: Vec<[String; 4]>,
     figures: Vec<(String, PathBuf)>,
 }
 
@@ -217,6 +221,51 @@ fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>, ReportErro
         let [a, b, c] = side(mean[k], me[k], 0);
         let [d, e, f] = side(var[k], ve[k], 1);
         out.push([r.label.clone(), a, b, c, d, e, f]);
+    }
+    Ok(out)
+}
+
+/// The exact rows beside the product-limit curves (`Content::exact_tails`): P(D_k > t) at every
+/// t > 0 where `exact-law`'s D_k curve and the analysis' Kaplan–Meier curve of D_k both have a
+/// point (the asked times, `--tail-times`, which both add to their grids). A row is inside when
+/// the exact value's error bar meets our 95 % band.
+fn exact_tail_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> {
+    let (ours, theirs) = (adir.join("survival.parquet"), law.join("survival.parquet"));
+    if !ours.exists() || !theirs.exists() {
+        return Ok(Vec::new());
+    }
+    let columns = [("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')];
+    let read = |path: &Path, extra: &[(&'static str, char)]| {
+        Table::read_checked(path, &[&columns[..], extra].concat()).map_err(|e| ReportError::Read { path: path.to_owned(), message: e.to_string() })
+    };
+    let (a, e) = (read(&ours, &[])?, read(&theirs, &[("error", 'f')])?);
+    let points = |t: &Table, method: &str| -> Vec<(i64, f64, f64, Option<f64>, Option<f64>, Option<f64>)> {
+        let (var, idx, m, time, sv, lo, hi) = (
+            t.strings("variable").unwrap_or_default(),
+            t.ints("index").unwrap_or_default(),
+            t.strings("method").unwrap_or_default(),
+            t.floats("t").unwrap_or_default(),
+            t.floats("survival").unwrap_or_default(),
+            t.floats("lo").unwrap_or_default(),
+            t.floats("hi").unwrap_or_default(),
+        );
+        let err = t.floats("error").unwrap_or_default();
+        (0..t.height())
+            .filter(|&r| var[r] == "D" && m[r] == method)
+            .filter_map(|r| Some((idx[r]?, time[r]?, sv[r]?, lo[r], hi[r], err.get(r).copied().flatten())))
+            .collect()
+    };
+    let ours = points(&a, "kaplan_meier");
+    let sig = |x: f64| crate::figures::format::significant(x, 4);
+    let mut out = Vec::new();
+    for (k, t, x, _, _, err) in points(&e, "exact").into_iter().filter(|p| p.1 > 0.0) {
+        let Some(&(_, _, y, lo, hi, _)) = ours.iter().find(|p| p.0 == k && p.1 == t) else { continue };
+        let err = err.unwrap_or(0.0);
+        let (band, inside) = match (lo, hi) {
+            (Some(lo), Some(hi)) => (format!("{} [{} – {}]", sig(y), sig(lo), sig(hi)), if x + err >= lo && x - err <= hi { "✓" } else { "✗" }),
+            _ => (format!("{} (no band)", sig(y)), ""),
+        };
+        out.push([format!("P(D_{k} > {} s)", crate::scenario::short(t)), format!("{} ± {err:.1e}", sig(x)), band, inside.to_string()]);
     }
     Ok(out)
 }
@@ -326,6 +375,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>) -> 
         scenario: sc.to_toml(),
         paper,
         exact: exact.map_or(Ok(Vec::new()), |law| exact_rows(law, &table1))?,
+        exact_tails: exact.map_or(Ok(Vec::new()), |law| exact_tail_rows(law, adir))?,
         table1,
         growth,
         renewal,
@@ -361,6 +411,8 @@ fn solver_settings(sc: &crate::scenario::Scenario) -> String {
 }
 
 const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];
+const EXACT_TAILS_HEAD: [&str; 4] = ["", "exact", "product limit, ours [95 %]", ""];
+const EXACT_TAILS_LEGEND: &str = "The law of each stick's duration D_k without sampling (exact-law's survival.parquet: the law of the stick's entry position, then the flip or the breakaway) beside our Kaplan–Meier curve of D_k. ✓: the exact value (± its error) meets our 95 % band.";
 const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it).";
 
 const TABLE1_HEAD: [&str; 7] = ["variable", "n", "mean", "variance", "mode", "skewness", "kurtosis"];
@@ -447,15 +499,23 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
             "<h2>Table 1 without sampling</h2>\n<p>{EXACT_LEGEND}</p>\n<table>\n<tr>{}</tr>\n",
             EXACT_HEAD.iter().map(|x| format!("<th>{x}</th>")).collect::<String>()
         );
+        let td = |x: &String| match x.as_str() {
+            "✓" => "<td class=\"ok\">✓</td>".to_string(),
+            "✗" => "<td class=\"off\">✗</td>".to_string(),
+            _ => format!("<td>{}</td>", escape(x)),
+        };
         for r in &c.exact {
-            let td = |x: &String| match x.as_str() {
-                "✓" => "<td class=\"ok\">✓</td>".to_string(),
-                "✗" => "<td class=\"off\">✗</td>".to_string(),
-                _ => format!("<td>{}</td>", escape(x)),
-            };
             let _ = writeln!(h, "<tr><td class=\"l\">{}</td>{}</tr>", escape(&r[0]), r[1..].iter().map(td).collect::<String>());
         }
         h += "</table>\n";
+        if !c.exact_tails.is_empty() {
+            let _ =
+                write!(h, "<p>{EXACT_TAILS_LEGEND}</p>\n<table>\n<tr>{}</tr>\n", EXACT_TAILS_HEAD.iter().map(|x| format!("<th>{x}</th>")).collect::<String>());
+            for r in &c.exact_tails {
+                let _ = writeln!(h, "<tr><td class=\"l\">{}</td>{}</tr>", escape(&r[0]), r[1..].iter().map(td).collect::<String>());
+            }
+            h += "</table>\n";
+        }
     }
     h += "<h2>Growth with the index (Fig. 7) and the renewal check</h2>\n<table>\n<tr><th>fit</th><th>slope [95 %]</th><th>slope se</th><th>intercept</th><th>R²</th></tr>\n";
     for g in &c.growth {
@@ -517,6 +577,12 @@ fn markdown(c: &Content, figdir: &Path) -> String {
         let _ = write!(m, "\n## Table 1 without sampling\n\n{EXACT_LEGEND}\n\n| {} |\n|{}\n", EXACT_HEAD.join(" | "), "---|".repeat(EXACT_HEAD.len()));
         for r in &c.exact {
             let _ = writeln!(m, "| {} |", r.join(" | "));
+        }
+        if !c.exact_tails.is_empty() {
+            let _ = write!(m, "\n{EXACT_TAILS_LEGEND}\n\n| {} |\n|{}\n", EXACT_TAILS_HEAD.join(" | "), "---|".repeat(EXACT_TAILS_HEAD.len()));
+            for r in &c.exact_tails {
+                let _ = writeln!(m, "| {} |", r.join(" | "));
+            }
         }
     }
     m += "\n## Growth and renewal check\n\n| fit | slope | slope se | intercept | R² |\n|---|---|---|---|---|\n";

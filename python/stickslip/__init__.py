@@ -24,7 +24,7 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 from . import _stickslip
 from ._stickslip import Table
@@ -224,14 +224,24 @@ def sensitivity(
 
 
 def exact_law(
-    scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], resolution: int = 80, set: Optional[Mapping[str, Any]] = None, progress: bool = False
+    scenario: Scenario = None,
+    *,
+    out: Union[str, "os.PathLike[str]"],
+    resolution: int = 80,
+    tail_times: Optional[Sequence[float]] = None,
+    set: Optional[Mapping[str, Any]] = None,
+    progress: bool = False,
 ) -> Dict[str, Table]:
     """The law without sampling (``stickslip exact-law``) written into ``out``; returns its tables
     by name: ``stationary`` (the long run), ``moments`` (Table 1's means and variances of T_k,
-    L_k, D_k, H_k), ``convergence``, ``density``, ``stick_survival``."""
+    L_k, D_k, H_k), ``survival`` (the law of D_k: P(D_k > t) and its density, on a grid with
+    ``tail_times`` added; default reproduce's), ``convergence``, ``density``, ``stick_survival``."""
+    times = [] if tail_times is None else ["--tail-times", ",".join(repr(float(t)) for t in tail_times)]
     with tempfile.TemporaryDirectory() as tmp:
         quiet = [] if progress else ["--quiet"]
-        _run_stage(["stickslip", *quiet, "exact-law", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--resolution", str(resolution)], progress)
+        _run_stage(
+            ["stickslip", *quiet, "exact-law", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--resolution", str(resolution), *times], progress
+        )
     return {p.stem: _stickslip.read_parquet(str(p)) for p in sorted(Path(out).glob("*.parquet"))}
 
 

@@ -168,10 +168,12 @@ def test_tradeoff_and_sensitivity_return_the_cli_tables(tmp_path: Path) -> None:
 
 
 def test_exact_law_and_predict_return_the_cli_tables(tmp_path: Path) -> None:
-    law = stickslip.exact_law(out=tmp_path / "law", resolution=16)
+    law = stickslip.exact_law(out=tmp_path / "law", resolution=16, tail_times=[0.75])
     m = pl.DataFrame(law["moments"])
     assert m.equals(pl.read_parquet(tmp_path / "law" / "moments.parquet")) and m.height == 24
-    assert set(law) >= {"stationary", "moments", "convergence", "density", "stick_survival"}
+    assert set(law) >= {"stationary", "moments", "convergence", "density", "stick_survival", "survival"}
+    d = pl.DataFrame(law["survival"])
+    assert set(d["index"]) == set(range(1, 7)) and d.filter(pl.col("t") == 0.75).height == 6
     p = pl.DataFrame(stickslip.predict((0.5, 0.0, 1.0), resolution=16, futures=2000))
     assert set(p["method"]) == {"exact", "monte_carlo"} and "time_to_stick" in set(p["variable"])
     with pytest.raises(ValueError, match="not a state of this belt"):

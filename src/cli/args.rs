@@ -139,6 +139,10 @@ pub struct ExactLawArgs {
     /// memory and 8 to 16 times that time).
     #[arg(long, value_name = "N", default_value_t = 80)]
     pub resolution: u32,
+    /// Times t [s] at which D_k's law P(D_k > t) (survival.parquet) is also evaluated, beside its
+    /// grid; the default is reproduce's, which analyze's survival curves of the paper scene share.
+    #[arg(long, value_name = "T,...", value_delimiter = ',', default_values_t = crate::analysis::tails::PAPER_TAIL_TIMES)]
+    pub tail_times: Vec<f64>,
 }
 
 /// Arguments of `predict`.

@@ -162,6 +162,9 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
     if !(8..=320).contains(&args.resolution) {
         return Err(usage(format!("--resolution {}: must be between 8 and 320", args.resolution)));
     }
+    if let Some(t) = args.tail_times.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
+        return Err(usage(format!("--tail-times {t}: must be a finite time >= 0 s")));
+    }
     check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     scenario.check()?;
@@ -183,7 +186,8 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
             eprintln!("sticks 1-{} from the initial conditions, resolution {n:>3}: {seconds:.1} s", crate::law::sticks::STICKS);
         }
     };
-    let (levels, rows, warning) = crate::law::run(&scenario, args.resolution, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
+    let (levels, rows, warning) =
+        crate::law::run(&scenario, args.resolution, &args.tail_times, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
         println!();

@@ -68,7 +68,16 @@ impl Mesh {
         let n_line = ((2.0 * frame.cs / (h / 4.0)).ceil() as usize).max(2);
         let nb = ((half + frame.w0) / h).ceil() as usize + 2;
         let na = ((half - frame.w0).max(0.0) / h).ceil() as usize + 2;
-        Mesh { frame, h, nx: 2 * (half / h).ceil() as usize, nw: nb + na, nb, h_line: 2.0 * frame.cs / n_line as f64, n_line, horizon: super::flow::HORIZON_DECAYS / frame.lambda }
+        Mesh {
+            frame,
+            h,
+            nx: 2 * (half / h).ceil() as usize,
+            nw: nb + na,
+            nb,
+            h_line: 2.0 * frame.cs / n_line as f64,
+            n_line,
+            horizon: super::flow::HORIZON_DECAYS / frame.lambda,
+        }
     }
 
     /// The slip state of node (i, j).

@@ -157,8 +157,19 @@ fn occupy(chain: &Chain, s: usize, nu: &Measure, rate: f64, size: f64, half: (us
     // passes repeat, each e^{−λP} later
     let (mut b_slip, mut b_stick, mut b_out) = (vec![0.0; cells], vec![0.0; CELLS], 0.0);
     let (mut b_entries, mut entries) = (Vec::new(), Vec::new());
-    let mut pass =
-        Occupy { f, spacing: mesh.h, rate, size, half, slip: &mut b_slip, stick: &mut b_stick, outside: &mut b_out, m: 1.0, follow: 0.0, entries: &mut b_entries };
+    let mut pass = Occupy {
+        f,
+        spacing: mesh.h,
+        rate,
+        size,
+        half,
+        slip: &mut b_slip,
+        stick: &mut b_stick,
+        outside: &mut b_out,
+        m: 1.0,
+        follow: 0.0,
+        entries: &mut b_entries,
+    };
     f.walk(f.breakaway(), 0.0, mesh.h, f64::INFINITY, &mut pass);
     let repeat = 1.0 / (1.0 - pass.follow);
     let mut occ =
@@ -220,28 +231,92 @@ pub(crate) fn occupation(chain: &Chain, nu: &[Measure]) -> Density {
     }
 }
 
+/// The times of a stick duration's curves: [`SURVIVAL_POINTS`] from 0 to the longest holding
+/// time (the stick region's width over the slowest belt speed), with `extra` (finite, ≥ 0)
+/// merged in, sorted.
+pub(crate) fn survival_times(frames: &[Frame], extra: &[f64]) -> Vec<f64> {
+    let top = frames.iter().map(|f| 2.0 * f.cs / f.v0).fold(0.0, f64::max);
+    let mut times: Vec<f64> = (0..SURVIVAL_POINTS).map(|j| top * j as f64 / (SURVIVAL_POINTS - 1) as f64).collect();
+    times.extend(extra.iter().copied().filter(|t| t.is_finite() && *t >= 0.0));
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    times
+}
+
 /// P(D > t) = Σ w e^{−λ_s t} 1{t < d_s(x_e)} / Σ w over the stick entries (s, x_e, w) of the
 /// belt states s: a stick entered at x_e ends at the earlier of the next flip (memoryless:
 /// Exp(λ_s) from the entry) and the breakaway after d_s(x_e) = (x_b − x_e)/v_s — the
 /// conditional estimator of the tails analysis, here on the stationary entry law.
 pub(super) fn survival(frames: &[Frame], entries: &[(usize, f64, f64)]) -> Vec<(f64, f64)> {
+    let times = survival_times(frames, &[]);
+    let s = survival_at(frames, entries, &times);
+    times.into_iter().zip(s).collect()
+}
+
+/// [`survival`] at the increasing `times`.
+fn survival_at(frames: &[Frame], entries: &[(usize, f64, f64)], times: &[f64]) -> Vec<f64> {
     let total: f64 = entries.iter().map(|e| e.2).sum();
-    let top = frames.iter().map(|f| 2.0 * f.cs / f.v0).fold(0.0, f64::max);
-    let mut out = vec![0.0; SURVIVAL_POINTS];
-    let times: Vec<f64> = (0..SURVIVAL_POINTS).map(|j| top * j as f64 / (SURVIVAL_POINTS - 1) as f64).collect();
+    let mut out = vec![0.0; times.len()];
     for (s, f) in frames.iter().enumerate() {
-        let mut held: Vec<(f64, f64)> = entries.iter().filter(|e| e.0 == s).map(|&(_, x, w)| ((f.hold_hi() - x) / f.v0, w)).collect();
-        held.sort_by(|a, b| a.0.total_cmp(&b.0));
-        // the weight of the entries held past t, from the longest down
-        let (mut k, mut beyond) = (held.len(), 0.0);
-        for j in (0..SURVIVAL_POINTS).rev() {
-            let t = times[j];
-            while k > 0 && held[k - 1].0 > t {
-                k -= 1;
-                beyond += held[k].1;
-            }
-            out[j] += (-f.lambda * t).exp() * beyond / total;
+        for (o, w) in out.iter_mut().zip(held_past(*f, entries.iter().filter(|e| e.0 == s).map(|e| (e.1, e.2)), times)) {
+            *o += w / total;
         }
     }
-    times.into_iter().zip(out).collect()
+    out
+}
+
+/// e^{−λt} times the weight of the entries (x_e, w) of one belt state held past each of the
+/// increasing `times` (holding time (x_b − x_e)/v0 > t), from the longest down.
+fn held_past(f: Frame, entries: impl Iterator<Item = (f64, f64)>, times: &[f64]) -> Vec<f64> {
+    let mut held: Vec<(f64, f64)> = entries.map(|(x, w)| ((f.hold_hi() - x) / f.v0, w)).collect();
+    held.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (mut k, mut beyond, mut out) = (held.len(), 0.0, vec![0.0; times.len()]);
+    for j in (0..times.len()).rev() {
+        let t = times[j];
+        while k > 0 && held[k - 1].0 > t {
+            k -= 1;
+            beyond += held[k].1;
+        }
+        out[j] = (-f.lambda * t).exp() * beyond;
+    }
+    out
+}
+
+/// The law of a stick's duration D from the law of its entry position held on each belt
+/// state's line nodes x_j = x_lo + j h_s, j = 0 … n (`lines[s]`: h_s and the weights w_{s,j},
+/// as a passage absorbs them), at the increasing `times`: (t, P(D > t), f(t)), with
+/// d_s(x) = (x_b − x)/v_s the holding time and W = Σ w,
+///
+/// ```text
+///     P(D > t) = Σ_s e^{−λ_s t} W_s(d_s > t) / W
+///     f(t)     = Σ_s e^{−λ_s t} [λ_s W_s(d_s > t) + v_s g_s(x_b − v_s t)] / W
+/// ```
+///
+/// (a stick held past t ends there by a flip at rate λ_s; one entered at x = x_b − v_s t ends by
+/// the breakaway, Jacobian v_s), g_s the piecewise-linear entry density through w_{s,j}/h_s
+/// (2 w/h at the two end nodes, which hold half a cell: g_s integrates to W_s). The survival
+/// counts each node's weight at its own holding time, the density spreads it over the node's
+/// cell: the two agree to O(h), as the entry law itself.
+pub(crate) fn stick_law(frames: &[Frame], lines: &[(f64, Vec<f64>)], times: &[f64]) -> Vec<(f64, f64, f64)> {
+    let total: f64 = lines.iter().flat_map(|l| l.1.iter()).sum();
+    let (mut survival, mut density) = (vec![0.0; times.len()], vec![0.0; times.len()]);
+    for (f, (h, w)) in frames.iter().zip(lines) {
+        let beyond = held_past(*f, w.iter().enumerate().map(|(j, &w)| (f.hold_lo() + j as f64 * h, w)), times);
+        let n = w.len().saturating_sub(1);
+        let node = |j: usize| if j == 0 || j == n { 2.0 * w[j] / h } else { w[j] / h };
+        for (j, &t) in times.iter().enumerate() {
+            // the entry density at x_b − v t (the breakaway at t)
+            let u = (f.hold_hi() - f.v0 * t - f.hold_lo()) / h;
+            let g = if n == 0 || !(0.0..=n as f64).contains(&u) {
+                0.0
+            } else {
+                let i = (u.floor() as usize).min(n - 1);
+                let a = u - i as f64;
+                (1.0 - a) * node(i) + a * node(i + 1)
+            };
+            survival[j] += beyond[j] / total;
+            density[j] += (f.lambda * beyond[j] + (-f.lambda * t).exp() * f.v0 * g) / total;
+        }
+    }
+    times.iter().zip(survival.into_iter().zip(density)).map(|(&t, (s, d))| (t, s, d)).collect()
 }

@@ -471,8 +471,14 @@ mod tests {
 
     #[test]
     fn the_damped_walk_sticks_where_an_independent_integration_does() {
-        for (mu_s, x, v, below) in [(0.51, -2.0, 0.0, true), (0.51, -3.5, -2.0, true), (0.51, 0.4, -0.8, true), (0.51, -0.9, -1.0, true), (0.51, 3.0, 2.5, false), (1.2, 0.0, 0.0, true)]
-        {
+        for (mu_s, x, v, below) in [
+            (0.51, -2.0, 0.0, true),
+            (0.51, -3.5, -2.0, true),
+            (0.51, 0.4, -0.8, true),
+            (0.51, -0.9, -1.0, true),
+            (0.51, 3.0, 2.5, false),
+            (1.2, 0.0, 0.0, true),
+        ] {
             // (from (−5, 0) it passes belt speed twice and then slips below it for good: the
             // second arrival, at 1.236 > x_b = 1.1245, leaves a spiral of radius ≈ w0 that the
             // dashpot shrinks — no stick; the last case is the μ_s > μ_k breakaway slip)

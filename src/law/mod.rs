@@ -162,7 +162,12 @@ pub(crate) fn frames(scene: &Scene) -> Result<Vec<Frame>, String> {
         return Err("the kinetic friction is below 1e-6 of the static friction (mu_k / mu_s): not supported".into());
     }
     let damped = (u.gamma > 0.0).then(|| <crate::physics::Damped as crate::physics::SlipForm>::new(&u));
-    states.iter().map(|&(speed, rate, _)| checked(Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate, damped })).collect()
+    states
+        .iter()
+        .map(|&(speed, rate, _)| {
+            checked(Frame { omega: u.omega, v0: speed, w0: speed / u.omega, ck: u.kinetic / u.omega2, cs: u.breakaway / u.omega2, lambda: rate, damped })
+        })
+        .collect()
 }
 
 /// A belt state's frame, if the grid and the walks can hold it.

@@ -54,10 +54,12 @@ pub const LEVELS: u32 = 3;
 
 /// Solve the scenario's stationary law at [`LEVELS`] resolutions up to `finest` and write `out` (replaced
 /// when complete); `progress` hears each resolution's result as it is done, `step` each
-/// iteration (resolution, iteration, change of the measure).
+/// iteration (resolution, iteration, change of the measure). D_k's law (`survival.parquet`) is
+/// evaluated on a grid of times with `tail_times` [s] added.
 pub fn run(
     scenario: &Scenario,
     finest: u32,
+    tail_times: &[f64],
     out: &Path,
     progress: &mut dyn FnMut(&Level, f64),
     step: &mut dyn FnMut(u32, u32, f64),
@@ -79,6 +81,7 @@ pub fn run(
     let density = density.expect("the finest resolution computes the density");
     let after = sticks::solve(scenario, &frames, &ladder, sticks_progress).map_err(LawError::Failed)?;
     let rows = sticks::rows(&after);
+    let laws = sticks::survival_rows(&frames, &after, &super::density::survival_times(&frames, tail_times));
     let warning = after.last().and_then(|(_, s)| sticks::window_warning(s.next_start, scenario.run.duration));
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
     stationary_table(&levels).write_parquet(&staged.path().join("stationary.parquet")).map_err(|e| werr("stationary.parquet", &e))?;
@@ -91,6 +94,7 @@ pub fn run(
     survival.write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
     crate::figures::render::save(&density_figure(&density), staged.path()).map_err(|e| werr("stationary_density.png", &e))?;
     moments_table(&rows).write_parquet(&staged.path().join("moments.parquet")).map_err(|e| werr("moments.parquet", &e))?;
+    survival_table(&laws).write_parquet(&staged.path().join("survival.parquet")).map_err(|e| werr("survival.parquet", &e))?;
     staged.commit()?;
     Ok((levels, rows, warning))
 }
@@ -104,6 +108,25 @@ fn moments_table(rows: &[sticks::Row]) -> Table {
         .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
         .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
         .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error)).collect()));
+    t
+}
+
+/// `survival.parquet`, in analyze's columns (`variable` D, `index` k, `method` exact, `t`,
+/// `survival` = P(D_k > t), `lo`, `hi`: the value ∓ its error estimate, within [0, 1]) with
+/// `error`, `density` and `density_error`.
+fn survival_table(rows: &[sticks::SurvivalRow]) -> Table {
+    let f = |g: &dyn Fn(&sticks::SurvivalRow) -> f64| Col::Float(rows.iter().map(|r| Some(g(r))).collect());
+    let mut t = Table::default();
+    t.push("variable", Col::Str(rows.iter().map(|_| "D".to_string()).collect()))
+        .push("index", Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
+        .push("method", Col::Str(rows.iter().map(|_| "exact".to_string()).collect()))
+        .push("t", f(&|r| r.t))
+        .push("survival", f(&|r| r.survival))
+        .push("lo", f(&|r| (r.survival - r.error).max(0.0)))
+        .push("hi", f(&|r| (r.survival + r.error).min(1.0)))
+        .push("error", f(&|r| r.error))
+        .push("density", f(&|r| r.density))
+        .push("density_error", f(&|r| r.density_error));
     t
 }
 

@@ -266,9 +266,8 @@ fn passage(meshes: &[Mesh], first: Vec<Cloud>, entries: &mut [Vec<Clock>]) -> Re
     // the mixing's unit of time: the first walks' mean time (the moments then weigh alike)
     let (m0, m1) = k0.iter().flatten().chain(a0.iter().flatten()).fold((0.0, 0.0), |(a, b), c| (a + c[0], b + c[1]));
     let unit = if m0 > 0.0 && m1 > 0.0 { m1 / m0 } else { 1.0 };
-    let flat = |x: &[Vec<Clock>]| {
-        x.iter().flatten().flat_map(|c| [c[0], c[1] / unit, c[2] / (unit * unit), c[3] / unit, c[4] / (unit * unit)]).collect::<Vec<f64>>()
-    };
+    let flat =
+        |x: &[Vec<Clock>]| x.iter().flatten().flat_map(|c| [c[0], c[1] / unit, c[2] / (unit * unit), c[3] / unit, c[4] / (unit * unit)]).collect::<Vec<f64>>();
     let mut x = k0.clone();
     let mut anderson = super::anderson::Anderson::new(super::DEPTH);
     let mut change = f64::INFINITY;
@@ -422,8 +421,16 @@ pub(crate) struct Sequence {
     pub next_start: MeanVar,
     /// the mass lost off the grid (of 1)
     pub lost: f64,
-    /// P(D_1 > t) at points t from 0 to the longest holding time 2c_s/v0
-    pub first_survival: Vec<(f64, f64)>,
+    /// per stick k, the law of its entry position: per belt state the line's node spacing and
+    /// the weights absorbed on its nodes ([`super::density::stick_law`] gives D_k's law)
+    pub entries: Vec<Vec<(f64, Vec<f64>)>>,
+}
+
+impl Sequence {
+    /// P(D_k > t) and the density of D_k at the increasing `times` (k from 0: the first stick).
+    pub(crate) fn stick_law(&self, frames: &[Frame], k: usize, times: &[f64]) -> Vec<(f64, f64, f64)> {
+        super::density::stick_law(frames, &self.entries[k], times)
+    }
 }
 
 /// The box the grid covers for starts out to (X, V): the stationary chain's, widened to hold the
@@ -474,7 +481,7 @@ pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize,
         held.duration()
     });
     let node = |s: usize, k: usize| meshes[s].frame.hold_lo() + k as f64 * meshes[s].h_line;
-    let (mut sticks, mut lost, mut first_survival, mut next_start) = (Vec::<Stick>::new(), 0.0, Vec::new(), (f64::NAN, f64::NAN));
+    let (mut sticks, mut lost, mut laws, mut next_start) = (Vec::<Stick>::new(), 0.0, Vec::new(), (f64::NAN, f64::NAN));
     for k in 0..=count {
         let mut entries: Vec<Vec<Clock>> = meshes.iter().map(|m| vec![[0.0; 5]; m.n_line + 1]).collect();
         lost += passage(&meshes, clouds, &mut entries)?;
@@ -486,18 +493,21 @@ pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize,
             next_start = moments(all, 1);
             break;
         }
-        if k == 0 {
-            let points: Vec<(usize, f64, f64)> = entries.iter().enumerate().flat_map(|(s, e)| e.iter().enumerate().map(move |(k, c)| (s, node(s, k), c[0]))).collect();
-            first_survival = super::density::survival(frames, &points);
-        }
+        laws.push(entries.iter().zip(&meshes).map(|(e, m)| (m.h_line, e.iter().map(|c| c[0]).collect())).collect());
         clouds = Cloud::zero(&meshes);
         let mut held = Held::default();
         for (s, e) in entries.iter().enumerate() {
             held.add(&leave(&meshes, s, e.iter().enumerate().map(|(k, &c)| (node(s, k), c)), &mut clouds));
         }
-        sticks.push(Stick { start: moments(all, 1), duration: held.duration(), end: moments(held.ends, 1), slip: (f64::NAN, f64::NAN), breakaway: held.breakaway / held.mass });
+        sticks.push(Stick {
+            start: moments(all, 1),
+            duration: held.duration(),
+            end: moments(held.ends, 1),
+            slip: (f64::NAN, f64::NAN),
+            breakaway: held.breakaway / held.mass,
+        });
     }
-    Ok(Sequence { current, sticks, lost, first_survival, next_start })
+    Ok(Sequence { current, sticks, lost, entries: laws, next_start })
 }
 
 #[cfg(test)]

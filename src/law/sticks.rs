@@ -115,6 +115,39 @@ pub(crate) fn rows(levels: &[(f64, Sequence)]) -> Vec<Row> {
         .collect()
 }
 
+/// One point of D_k's law (`survival.parquet`): P(D_k > t) and the density of D_k at t,
+/// extrapolated from the ladder's resolutions with their error estimates ([`super::guarded`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurvivalRow {
+    /// k, 1-based
+    pub index: u32,
+    /// t [s]
+    pub t: f64,
+    /// P(D_k > t), in [0, 1]
+    pub survival: f64,
+    /// its estimated discretisation error
+    pub error: f64,
+    /// the density of D_k at t [1/s] (≥ 0)
+    pub density: f64,
+    /// its estimated discretisation error
+    pub density_error: f64,
+}
+
+/// D_k's law (k = 1 … [`STICKS`]) at the increasing `times` from sequences at the ladder's
+/// spacings (coarsest first): [`passage::Sequence::stick_law`] per level, extrapolated per point.
+pub(crate) fn survival_rows(frames: &[Frame], levels: &[(f64, Sequence)], times: &[f64]) -> Vec<SurvivalRow> {
+    let mut out = Vec::new();
+    for k in 0..STICKS {
+        let laws: Vec<(f64, Vec<(f64, f64, f64)>)> = levels.iter().map(|(h, s)| (*h, s.stick_law(frames, k, times))).collect();
+        for (j, &t) in times.iter().enumerate() {
+            let (survival, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].1)).collect::<Vec<_>>());
+            let (density, density_error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].2)).collect::<Vec<_>>());
+            out.push(SurvivalRow { index: k as u32 + 1, t, survival: survival.clamp(0.0, 1.0), error, density: density.max(0.0), density_error });
+        }
+    }
+    out
+}
+
 /// Whether the scenario's initial law can start the sequence ([`check_starts`] at the coarsest
 /// spacing: the check depends on the initial conditions only).
 pub(crate) fn check(scenario: &Scenario, frames: &[Frame], ladder: &[Rung]) -> Result<(), String> {

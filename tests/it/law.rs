@@ -5,6 +5,7 @@
 use std::f64::consts::PI;
 
 use stickslip::law::{stationary, Level, QUANTITIES};
+use stickslip::simulation::ensemble::Outcome;
 use stickslip::simulation::events::StickEnd;
 
 use crate::common::{outcomes, scenario};
@@ -227,6 +228,12 @@ fn the_command_writes_its_tables_and_refuses_a_viscous_scene() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("viscous") && err.lines().count() == 1, "{err}");
     assert!(!tmp.path().join("d").exists());
+    // a tail time that is not a time: refused before anything is solved
+    let o = crate::common::stickslip(&["exact-law", "--out", "d", "--tail-times", "0.5,-1", "-q"], tmp.path());
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--tail-times -1") && err.lines().count() == 1, "{err}");
+    assert!(!tmp.path().join("d").exists());
 }
 
 /// The chain's steps sum their atoms in fixed chunks, in order: the values do not depend on
@@ -276,7 +283,8 @@ fn the_asymmetric_table_from_the_initial_conditions_agrees_with_monte_carlo() {
 fn table_agrees(sets: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(sets);
-    let (_, rows, _) = stickslip::law::run(&sc, 20, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _| {}).unwrap();
+    let times = [0.05, 0.2, 0.5, 1.0];
+    let (_, rows, _) = stickslip::law::run(&sc, 20, &times, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _| {}).unwrap();
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
         &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')],
@@ -312,10 +320,56 @@ fn table_agrees(sets: &[&str]) {
             r.variance_error
         );
     }
+    survival_agrees(&tmp.path().join("e/survival.parquet"), &runs, &times, &format!("{sets:?}"));
+}
+
+/// D_k's law in `survival.parquet` (k ≤ 6): P(D_k > t) at the asked times against the share of
+/// the realizations' k-th sticks (ended before t_a) that last longer, within 4.5 binomial standard
+/// errors plus its error estimate; and the density against the survival: between two
+/// consecutive asked times a < b, the trapezoidal ∫_a^b f dt over the curve's grid equals
+/// S(a) − S(b) within 2e-3 plus both points' errors (the survival holds each entry at its
+/// node's holding time, the density spreads it over the node's cell).
+fn survival_agrees(path: &std::path::Path, runs: &[Outcome], times: &[f64], what: &str) {
+    let t = stickslip::table::Table::read_checked(
+        path,
+        &[("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f'), ("error", 'f'), ("density", 'f')],
+    )
+    .unwrap();
+    let (index, time, surv, err, dens) =
+        (t.ints("index").unwrap(), t.floats("t").unwrap(), t.floats("survival").unwrap(), t.floats("error").unwrap(), t.floats("density").unwrap());
+    for k in 1..=6i64 {
+        let rows: Vec<usize> = (0..t.height()).filter(|&r| index[r] == Some(k)).collect();
+        assert!(rows.len() > 1000, "{what} D_{k}: {} points", rows.len());
+        let at = |x: f64| *rows.iter().find(|&&r| time[r] == Some(x)).unwrap_or_else(|| panic!("{what} D_{k}: no point at t = {x}"));
+        let durations: Vec<f64> = runs
+            .iter()
+            .filter_map(|o| o.record.stick_end.get(k as usize - 1).filter(|end| **end != StickEnd::Horizon).map(|_| o.record.stick_duration[k as usize - 1]))
+            .collect();
+        let n = durations.len() as f64;
+        for &x in times {
+            let r = at(x);
+            let (exact, e) = (surv[r].unwrap(), err[r].unwrap());
+            let share = durations.iter().filter(|&&d| d > x).count() as f64 / n;
+            let se = (exact.max(1.0 / n) * (1.0 - exact) / n).sqrt();
+            assert!((exact - share).abs() <= 4.5 * se + e, "{what}: P(D_{k} > {x}) exact {exact} ± {e}, Monte Carlo {share} ± {se}");
+        }
+        for w in times.windows(2) {
+            let (a, b) = (at(w[0]), at(w[1]));
+            let integral: f64 = (a..b).map(|r| 0.5 * (dens[r].unwrap() + dens[r + 1].unwrap()) * (time[r + 1].unwrap() - time[r].unwrap())).sum();
+            let drop = surv[a].unwrap() - surv[b].unwrap();
+            assert!(
+                (integral - drop).abs() <= 2e-3 + err[a].unwrap() + err[b].unwrap(),
+                "{what} D_{k}: ∫ f over [{}, {}] = {integral}, S drops by {drop}",
+                w[0],
+                w[1]
+            );
+        }
+    }
 }
 
 /// `report --exact LAWDIR` puts the exact means and variances beside Table 1's intervals: one
-/// row per T_k, L_k, D_k, H_k, each judged against our interval.
+/// row per T_k, L_k, D_k, H_k, each judged against our interval; and P(D_k > t) beside our
+/// product-limit bands.
 #[test]
 fn the_report_shows_the_exact_values_beside_the_intervals() {
     let tmp = tempfile::tempdir().unwrap();
@@ -331,5 +385,13 @@ fn the_report_shows_the_exact_values_beside_the_intervals() {
         section.lines().filter(|l| l.starts_with("| T_") || l.starts_with("| L_") || l.starts_with("| D_") || l.starts_with("| H_")).collect();
     assert_eq!(rows.len(), 24, "{section}");
     assert!(rows.iter().all(|r| r.matches('✓').count() + r.matches('✗').count() == 2), "{rows:?}");
+    // D_k's law beside the product-limit curves at reproduce's five tail times, which exact-law
+    // adds to its grid by default: 6 × 5 rows, each judged where our curve has a band (3,000
+    // realizations give bands at 0.5 and 1 s: 12 rows, of which a correct law meets about 95 %)
+    let tails: Vec<&str> = section.lines().filter(|l| l.starts_with("| P(D_")).collect();
+    assert_eq!(tails.len(), 30, "{section}");
+    assert!(tails.iter().all(|r| r.contains("no band") || r.matches('✓').count() + r.matches('✗').count() == 1), "{tails:?}");
+    let judged = tails.iter().filter(|r| !r.contains("no band")).count();
+    assert!(judged >= 12 && tails.iter().filter(|r| r.contains('✓')).count() >= judged - 2, "{tails:?}");
     assert!(std::fs::read_to_string(tmp.path().join("x.html")).unwrap().contains("<h2>Table 1 without sampling</h2>"));
 }
