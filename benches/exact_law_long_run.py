@@ -12,7 +12,7 @@ value ± its error, the Monte Carlo estimate and interval, and whether the exact
 
 usage: python3 benches/exact_law_long_run.py [BINARY] [--realizations N] [--horizon T] [--burn B]
        [--resolution R] [--seed S] [--keep DIR] [--only SCENE ...]
-(pinned: polars==2.1.0; the binary defaults to target/release/stickslip)
+(pinned: polars==2.1.0 and numpy==2.4.6, which polars' to_numpy needs; the binary defaults to target/release/stickslip)
 """
 import argparse, math, os, shutil, subprocess, sys, tempfile, time
 

@@ -191,7 +191,9 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         table(&rows).write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
         if let Some(s) = &survival {
             let mut t = Table::default();
-            t.push("t", Col::Float(s.iter().map(|p| Some(p.0)).collect())).push("survival", Col::Float(s.iter().map(|p| Some(p.1)).collect()));
+            t.push("t", Col::Float(s.iter().map(|p| Some(p.0)).collect()))
+                .push("survival", Col::Float(s.iter().map(|p| Some(p.1)).collect()))
+                .push("density", Col::Float(s.iter().map(|p| Some(p.2)).collect()));
             t.write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
         }
         staged.commit()?;
@@ -238,8 +240,8 @@ fn exact_start(frame: Frame, state: State, sign: i32) -> Result<Start, String> {
 }
 
 /// The exact rows from three resolutions (extrapolated, with the error estimate), and the stick
-/// duration's survival curve at the finest.
-fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: Start) -> Result<(Vec<Row>, Vec<(f64, f64)>), String> {
+/// duration's law at the finest: (t, P(D > t), its density).
+fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: Start) -> Result<(Vec<Row>, Vec<(f64, f64, f64)>), String> {
     let half = frames.iter().map(|f| f.box_half()).fold(passage::half_width(frames[at], start), f64::max);
     let mut solved = Vec::new();
     for (_, h) in ladder {
@@ -259,7 +261,7 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
     row("slip_duration", &|s| s.sticks[0].slip.0, &|s| s.sticks[0].slip.1);
     row("breakaway", &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
     let times = crate::law::density::survival_times(frames, &[]);
-    let survival = solved.pop().map(|s| s.1.stick_law(frames, 0, &times).into_iter().map(|(t, p, _)| (t, p)).collect()).unwrap_or_default();
+    let survival = solved.pop().map(|s| s.1.stick_law(frames, 0, &times)).unwrap_or_default();
     Ok((rows, survival))
 }
 

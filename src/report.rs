@@ -120,6 +120,54 @@ struct Content {
     figures: Vec<(String, PathBuf)>,
 }
 
+/// One point of a `survival.parquet` (analyze's, or exact-law's, which has `error` and no `n`).
+struct SurvivalPoint {
+    variable: String,
+    index: Option<i64>,
+    method: String,
+    t: Option<f64>,
+    survival: Option<f64>,
+    lo: Option<f64>,
+    hi: Option<f64>,
+    n: Option<i64>,
+    error: Option<f64>,
+}
+
+/// The points of the `survival.parquet` at `path`, its columns checked (with `extra` ones);
+/// None when there is no such file.
+fn survival_points(path: &Path, extra: &[(&str, char)]) -> Result<Option<Vec<SurvivalPoint>>, ReportError> {
+    if !path.exists() {
+        return Ok(None);
+    }
+    let columns = [("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')];
+    let s = Table::read_checked(path, &[&columns[..], extra].concat()).map_err(|e| ReportError::Read { path: path.to_owned(), message: e.to_string() })?;
+    let (var, idx, method, t, sv, lo, hi) = (
+        s.strings("variable").unwrap_or_default(),
+        s.ints("index").unwrap_or_default(),
+        s.strings("method").unwrap_or_default(),
+        s.floats("t").unwrap_or_default(),
+        s.floats("survival").unwrap_or_default(),
+        s.floats("lo").unwrap_or_default(),
+        s.floats("hi").unwrap_or_default(),
+    );
+    let (n, error) = (s.ints("n").unwrap_or_default(), s.floats("error").unwrap_or_default());
+    Ok(Some(
+        (0..s.height())
+            .map(|r| SurvivalPoint {
+                variable: var[r].clone(),
+                index: idx[r],
+                method: method[r].clone(),
+                t: t[r],
+                survival: sv[r],
+                lo: lo[r],
+                hi: hi[r],
+                n: n.get(r).copied().flatten(),
+                error: error.get(r).copied().flatten(),
+            })
+            .collect(),
+    ))
+}
+
 /// The tails' rows of the report: P(D > t) at each asked time by the three methods
 /// (`survival.parquet`, pooled), then the breakaway fraction and the exceedances
 /// (`tails.parquet`); empty when the analysis has no tails.
@@ -134,8 +182,7 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
     let Some(e) = read("tails.parquet", &[("statistic", 's'), ("threshold", 'f'), ("value", 'f'), ("lo", 'f'), ("hi", 'f'), ("n", 'i')])? else {
         return Ok(Vec::new());
     };
-    let s =
-        read("survival.parquet", &[("variable", 's'), ("index", 'i'), ("method", 's'), ("n", 'i'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')])?;
+    let s = survival_points(&adir.join("survival.parquet"), &[("n", 'i')])?;
     let sig = |x: f64| crate::figures::format::significant(x, 4);
     let shown = |v: Option<f64>, lo: Option<f64>, hi: Option<f64>| match (v, lo, hi) {
         (Some(v), Some(lo), Some(hi)) => format!("{} [{} – {}]", sig(v), sig(lo), sig(hi)),
@@ -153,21 +200,11 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
     let mut out = Vec::new();
     // P(D > t) at the asked times (the longest stick's thresholds are those times)
     if let Some(s) = &s {
-        let (var, idx, method, sn, t, sv, slo, shi) = (
-            s.strings("variable").unwrap_or_default(),
-            s.ints("index").unwrap_or_default(),
-            s.strings("method").unwrap_or_default(),
-            s.ints("n").unwrap_or_default(),
-            s.floats("t").unwrap_or_default(),
-            s.floats("survival").unwrap_or_default(),
-            s.floats("lo").unwrap_or_default(),
-            s.floats("hi").unwrap_or_default(),
-        );
         for r in (0..e.height()).filter(|&r| stat[r] == "longest_stick") {
             for m in ["kaplan_meier", "naive", "conditional"] {
-                if let Some(q) = (0..s.height()).find(|&q| var[q] == "D" && idx[q].is_none() && method[q] == m && t[q] == threshold[r]) {
-                    let label = format!("P(D > {} s), {}", t[q].map_or("–".into(), short), m.replace('_', "-"));
-                    out.push([label, shown(sv[q], slo[q], shi[q]), format!("{} sticks", sn[q].unwrap_or(0))]);
+                if let Some(q) = s.iter().find(|q| q.variable == "D" && q.index.is_none() && q.method == m && q.t == threshold[r]) {
+                    let label = format!("P(D > {} s), {}", q.t.map_or("–".into(), short), m.replace('_', "-"));
+                    out.push([label, shown(q.survival, q.lo, q.hi), format!("{} sticks", q.n.unwrap_or(0))]);
                 }
             }
         }
@@ -230,38 +267,17 @@ fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>, ReportErro
 /// point (the asked times, `--tail-times`, which both add to their grids). A row is inside when
 /// the exact value's error bar meets our 95 % band.
 fn exact_tail_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> {
-    let (ours, theirs) = (adir.join("survival.parquet"), law.join("survival.parquet"));
-    if !ours.exists() || !theirs.exists() {
+    let (Some(ours), Some(exact)) = (survival_points(&adir.join("survival.parquet"), &[])?, survival_points(&law.join("survival.parquet"), &[("error", 'f')])?)
+    else {
         return Ok(Vec::new());
-    }
-    let columns = [("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')];
-    let read = |path: &Path, extra: &[(&'static str, char)]| {
-        Table::read_checked(path, &[&columns[..], extra].concat()).map_err(|e| ReportError::Read { path: path.to_owned(), message: e.to_string() })
     };
-    let (a, e) = (read(&ours, &[])?, read(&theirs, &[("error", 'f')])?);
-    let points = |t: &Table, method: &str| -> Vec<(i64, f64, f64, Option<f64>, Option<f64>, Option<f64>)> {
-        let (var, idx, m, time, sv, lo, hi) = (
-            t.strings("variable").unwrap_or_default(),
-            t.ints("index").unwrap_or_default(),
-            t.strings("method").unwrap_or_default(),
-            t.floats("t").unwrap_or_default(),
-            t.floats("survival").unwrap_or_default(),
-            t.floats("lo").unwrap_or_default(),
-            t.floats("hi").unwrap_or_default(),
-        );
-        let err = t.floats("error").unwrap_or_default();
-        (0..t.height())
-            .filter(|&r| var[r] == "D" && m[r] == method)
-            .filter_map(|r| Some((idx[r]?, time[r]?, sv[r]?, lo[r], hi[r], err.get(r).copied().flatten())))
-            .collect()
-    };
-    let ours = points(&a, "kaplan_meier");
     let sig = |x: f64| crate::figures::format::significant(x, 4);
     let mut out = Vec::new();
-    for (k, t, x, _, _, err) in points(&e, "exact").into_iter().filter(|p| p.1 > 0.0) {
-        let Some(&(_, _, y, lo, hi, _)) = ours.iter().find(|p| p.0 == k && p.1 == t) else { continue };
-        let err = err.unwrap_or(0.0);
-        let (band, inside) = match (lo, hi) {
+    for e in exact.iter().filter(|e| e.variable == "D" && e.method == "exact" && e.t.is_some_and(|t| t > 0.0)) {
+        let Some(q) = ours.iter().find(|q| q.variable == "D" && q.method == "kaplan_meier" && q.index == e.index && q.t == e.t) else { continue };
+        let (Some(k), Some(t), Some(x), Some(y)) = (e.index, e.t, e.survival, q.survival) else { continue };
+        let err = e.error.unwrap_or(0.0);
+        let (band, inside) = match (q.lo, q.hi) {
             (Some(lo), Some(hi)) => (format!("{} [{} – {}]", sig(y), sig(lo), sig(hi)), if x + err >= lo && x - err <= hi { "✓" } else { "✗" }),
             _ => (format!("{} (no band)", sig(y)), ""),
         };

@@ -115,8 +115,9 @@ pub(crate) fn rows(levels: &[(f64, Sequence)]) -> Vec<Row> {
         .collect()
 }
 
-/// One point of D_k's law (`survival.parquet`): P(D_k > t) and the density of D_k at t,
-/// extrapolated from the ladder's resolutions with their error estimates ([`super::guarded`]).
+/// One point of D_k's law (`survival.parquet`): P(D_k > t), extrapolated from the ladder's
+/// resolutions, and the density of D_k at t at the finest, each with its error estimate
+/// ([`super::guarded`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurvivalRow {
     /// k, 1-based
@@ -134,15 +135,19 @@ pub struct SurvivalRow {
 }
 
 /// D_k's law (k = 1 … [`STICKS`]) at the increasing `times` from sequences at the ladder's
-/// spacings (coarsest first): [`passage::Sequence::stick_law`] per level, extrapolated per point.
+/// spacings (coarsest first): [`passage::Sequence::stick_law`] per level, per point.
 pub(crate) fn survival_rows(frames: &[Frame], levels: &[(f64, Sequence)], times: &[f64]) -> Vec<SurvivalRow> {
     let mut out = Vec::new();
     for k in 0..STICKS {
         let laws: Vec<(f64, Vec<(f64, f64, f64)>)> = levels.iter().map(|(h, s)| (*h, s.stick_law(frames, k, times))).collect();
         for (j, &t) in times.iter().enumerate() {
             let (survival, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].1)).collect::<Vec<_>>());
-            let (density, density_error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].2)).collect::<Vec<_>>());
-            out.push(SurvivalRow { index: k as u32 + 1, t, survival: survival.clamp(0.0, 1.0), error, density: density.max(0.0), density_error });
+            // the density at the finest level (non-negative, of mass 1: an extrapolation of
+            // entry densities spread over cells of three widths can overshoot where the law is
+            // narrower than the coarse cells), with the extrapolation's error as its estimate
+            let density = laws.last().map_or(0.0, |(_, l)| l[j].2);
+            let (_, density_error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].2)).collect::<Vec<_>>());
+            out.push(SurvivalRow { index: k as u32 + 1, t, survival: survival.clamp(0.0, 1.0), error, density, density_error });
         }
     }
     out
@@ -218,7 +223,8 @@ mod tests {
         .unwrap();
         let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
         let ladder = super::super::ladder(&frames, 16, 3).unwrap();
-        let rows = rows(&solve(&sc, &frames, &ladder, &mut |_, _| {}).unwrap());
+        let solved = solve(&sc, &frames, &ladder, &mut |_, _| {}).unwrap();
+        let rows = rows(&solved);
         let (omega, v0, w0) = (2.0f64, 1.0, 0.5);
         let (ck, cs) = (0.51 * 9.8 / 4.0, 0.6 * 9.8 / 4.0);
         let r: f64 = ck - 0.5;
@@ -233,6 +239,16 @@ mod tests {
                 let got = rows.iter().find(|r| r.variable == v && r.index == k).unwrap();
                 assert!((got.mean - x).abs() < 1e-3 * x, "{v}_{k}: {} against {x}", got.mean);
             }
+            // D_k's law: (almost) surely held for `held` — P(D_k > t) ≈ 1 before, 0 after, and
+            // the density's mass near it (within the coarsest level's two line nodes, 0.25 s)
+            let times = [held - 0.3, held + 0.3];
+            let law: Vec<SurvivalRow> = survival_rows(&frames, &solved, &super::super::density::survival_times(&frames, &times));
+            let at = |x: f64| law.iter().find(|r| r.index == k && r.t == x).unwrap().survival;
+            assert!(at(times[0]) > 0.999 && at(times[1]) < 1e-3, "D_{k}: P(D > {held} ∓ 0.3) = {}, {}", at(times[0]), at(times[1]));
+            let mine: Vec<&SurvivalRow> = law.iter().filter(|r| r.index == k).collect();
+            let near: f64 =
+                mine.windows(2).filter(|w| w[0].t >= times[0] && w[1].t <= times[1]).map(|w| 0.5 * (w[0].density + w[1].density) * (w[1].t - w[0].t)).sum();
+            assert!((near - 1.0).abs() < 1e-2, "D_{k}: the density's mass within 0.3 s of {held}: {near}");
             t += held + slip;
         }
     }
