@@ -427,7 +427,7 @@ fn solver_settings(sc: &crate::scenario::Scenario) -> String {
 }
 
 const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];
-const EXACT_TAILS_HEAD: [&str; 4] = ["", "exact", "product limit, ours [95 %]", ""];
+const EXACT_TAILS_HEAD: [&str; 4] = ["quantity", "exact", "product limit, ours [95 %]", ""];
 const EXACT_TAILS_LEGEND: &str = "The law of each stick's duration D_k without sampling (exact-law's survival.parquet: the law of the stick's entry position, then the flip or the breakaway) beside our Kaplan–Meier curve of D_k. ✓: the exact value (± its error) meets our 95 % band.";
 const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it).";
 
