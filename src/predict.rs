@@ -190,11 +190,7 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: staged.path().join(name), message: e.to_string() };
         table(&rows).write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
         if let Some(s) = &survival {
-            let mut t = Table::default();
-            t.push("t", Col::Float(s.iter().map(|p| Some(p.0)).collect()))
-                .push("survival", Col::Float(s.iter().map(|p| Some(p.1)).collect()))
-                .push("density", Col::Float(s.iter().map(|p| Some(p.2)).collect()));
-            t.write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
+            crate::law::survival_table(s).write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
         }
         staged.commit()?;
     }
@@ -240,8 +236,8 @@ fn exact_start(frame: Frame, state: State, sign: i32) -> Result<Start, String> {
 }
 
 /// The exact rows from three resolutions (extrapolated, with the error estimate), and the stick
-/// duration's law at the finest: (t, P(D > t), its density).
-fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: Start) -> Result<(Vec<Row>, Vec<(f64, f64, f64)>), String> {
+/// duration's law, as `exact-law`'s D_1 ([`crate::law::sticks::survival_rows`]).
+fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: Start) -> Result<(Vec<Row>, Vec<crate::law::sticks::SurvivalRow>), String> {
     let half = frames.iter().map(|f| f.box_half()).fold(passage::half_width(frames[at], start), f64::max);
     let mut solved = Vec::new();
     for (_, h) in ladder {
@@ -260,8 +256,7 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
     row("stick_duration", &|s| s.sticks[0].duration.0, &|s| s.sticks[0].duration.1);
     row("slip_duration", &|s| s.sticks[0].slip.0, &|s| s.sticks[0].slip.1);
     row("breakaway", &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
-    let times = crate::law::density::survival_times(frames, &[]);
-    let survival = solved.pop().map(|s| s.1.stick_law(frames, 0, &times)).unwrap_or_default();
+    let survival = crate::law::sticks::survival_rows(frames, &solved, &crate::law::density::survival_times(frames, &[]));
     Ok((rows, survival))
 }
 

@@ -93,8 +93,8 @@ mod output;
 pub(crate) mod passage;
 pub mod sticks;
 
-pub(crate) use output::guarded;
 pub use output::{estimates, markdown, run, LawError, LEVELS};
+pub(crate) use output::{guarded, survival_table};
 
 use crate::physics::Law;
 use crate::simulation::belt::Process;

@@ -114,7 +114,7 @@ fn moments_table(rows: &[sticks::Row]) -> Table {
 /// `survival.parquet`, in analyze's columns (`variable` D, `index` k, `method` exact, `t`,
 /// `survival` = P(D_k > t), `lo`, `hi`: the value ∓ its error estimate, within [0, 1]) with
 /// `error`, `density` (at the finest resolution, [`sticks::SurvivalRow`]) and `density_error`.
-fn survival_table(rows: &[sticks::SurvivalRow]) -> Table {
+pub(crate) fn survival_table(rows: &[sticks::SurvivalRow]) -> Table {
     let f = |g: &dyn Fn(&sticks::SurvivalRow) -> f64| Col::Float(rows.iter().map(|r| Some(g(r))).collect());
     let mut t = Table::default();
     t.push("variable", Col::Str(rows.iter().map(|_| "D".to_string()).collect()))

@@ -134,11 +134,12 @@ pub struct SurvivalRow {
     pub density_error: f64,
 }
 
-/// D_k's law (k = 1 … [`STICKS`]) at the increasing `times` from sequences at the ladder's
-/// spacings (coarsest first): [`passage::Sequence::stick_law`] per level, per point.
+/// D_k's law for every stick the sequences follow (k = 1 … [`STICKS`] for Table 1, k = 1 for
+/// `predict`) at the increasing `times`, from sequences at the ladder's spacings (coarsest
+/// first): [`passage::Sequence::stick_law`] per level, per point.
 pub(crate) fn survival_rows(frames: &[Frame], levels: &[(f64, Sequence)], times: &[f64]) -> Vec<SurvivalRow> {
     let mut out = Vec::new();
-    for k in 0..STICKS {
+    for k in 0..levels.first().map_or(0, |(_, s)| s.entries.len()) {
         let laws: Vec<(f64, Vec<(f64, f64, f64)>)> = levels.iter().map(|(h, s)| (*h, s.stick_law(frames, k, times))).collect();
         for (j, &t) in times.iter().enumerate() {
             let (survival, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].1)).collect::<Vec<_>>());

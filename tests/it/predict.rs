@@ -142,3 +142,36 @@ fn refusals_are_one_line_and_the_output_does_not_depend_on_threads() {
         assert!(!tmp.path().join("o").exists(), "{args:?} left an output");
     }
 }
+
+/// `predict --out`'s `stick_survival.parquet` is `exact-law`'s D law for the next stick: P(D > 0)
+/// = 1, non-increasing, 0 past the longest holding time, and its integral — between the right
+/// and the left Riemann sums of a non-increasing curve, widened by the points' error estimates —
+/// is the exact mean of the stick's duration in `prediction.parquet` (E[D] = ∫ P(D > t) dt).
+#[test]
+fn the_next_sticks_survival_curve_integrates_to_its_mean_duration() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = stickslip(&["predict", "--state", "0.5,0,1", "--resolution", "16", "--futures", "100", "--out", "p", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let sv = stickslip::table::Table::read_checked(
+        &tmp.path().join("p/stick_survival.parquet"),
+        &[("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("error", 'f'), ("density", 'f')],
+    )
+    .unwrap();
+    let (t, s, e): (Vec<f64>, Vec<f64>, Vec<f64>) = (
+        sv.floats("t").unwrap().iter().map(|x| x.unwrap()).collect(),
+        sv.floats("survival").unwrap().iter().map(|x| x.unwrap()).collect(),
+        sv.floats("error").unwrap().iter().map(|x| x.unwrap()).collect(),
+    );
+    assert!((s[0] - 1.0).abs() < 1e-9 && *s.last().unwrap() == 0.0, "{} … {}", s[0], s.last().unwrap());
+    assert!(s.windows(2).zip(e.windows(2)).all(|(w, d)| w[1] <= w[0] + d[0] + d[1] + 1e-12));
+    let dt: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    let right: f64 = s[1..].iter().zip(&dt).map(|(x, d)| x * d).sum();
+    let left: f64 = s[..s.len() - 1].iter().zip(&dt).map(|(x, d)| x * d).sum();
+    let slack: f64 = e.iter().zip(dt.iter().chain([&0.0])).map(|(x, d)| x * d).sum();
+    let p =
+        stickslip::table::Table::read_checked(&tmp.path().join("p/prediction.parquet"), &[("variable", 's'), ("method", 's'), ("mean", 'f'), ("error", 'f')])
+            .unwrap();
+    let r = (0..p.height()).find(|&r| p.strings("variable").unwrap()[r] == "stick_duration" && p.strings("method").unwrap()[r] == "exact").unwrap();
+    let (mean, err) = (p.floats("mean").unwrap()[r].unwrap(), p.floats("error").unwrap()[r].unwrap());
+    assert!(right - slack - err <= mean && mean <= left + slack + err, "E[D] = {mean} ± {err} outside [{right}, {left}] ± {slack}");
+}
