@@ -1,0 +1,62 @@
+//! The report's sections from `exact-law` (`report --exact LAWDIR`): Table 1's means and
+//! variances without sampling beside ours, and D_k's law beside our product-limit curves.
+
+use std::path::Path;
+
+use super::{survival_points, ReportError};
+use crate::analysis::paper::Row;
+use crate::table::Table;
+
+pub(super) const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];
+pub(super) const EXACT_TAILS_HEAD: [&str; 4] = ["quantity", "exact", "product limit, ours [95 %]", ""];
+pub(super) const EXACT_TAILS_LEGEND: &str = "The law of each stick's duration D_k without sampling (exact-law's survival.parquet: the law of the stick's entry position, then the flip or the breakaway) beside our Kaplan–Meier curve of D_k. ✓: the exact value (± its error) meets our 95 % band.";
+pub(super) const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it).";
+
+/// The exact rows beside Table 1 (`Content::exact`): every T_k, L_k, D_k, H_k that both have.
+/// A cell is inside when the exact value's error bar meets our 95 % interval.
+pub(super) fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>, ReportError> {
+    let path = law.join("moments.parquet");
+    let t = Table::read_checked(&path, &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')])
+        .map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
+    let (vars, idx) = (t.strings("variable").unwrap_or_default(), t.ints("index").unwrap_or_default());
+    let col = |c: &str| t.floats(c).unwrap_or_default();
+    let (mean, var, me, ve) = (col("mean"), col("variance"), col("error"), col("variance_error"));
+    let mut out = Vec::new();
+    for r in table1 {
+        let Some(k) = (0..vars.len()).find(|&k| idx[k].is_some_and(|i| format!("{}_{i}", vars[k]) == r.label)) else { continue };
+        let side = |x: Option<f64>, e: Option<f64>, cell: usize| -> [String; 3] {
+            let (x, e) = (x.unwrap_or(f64::NAN), e.unwrap_or(f64::NAN));
+            let c = &r.cells[cell];
+            let inside = c.interval.map(|(lo, hi)| x + e >= lo && x - e <= hi);
+            [format!("{x:.5} ± {e:.1e}"), c.text(4), inside.map_or(String::new(), |i| if i { "✓".into() } else { "✗".into() })]
+        };
+        let [a, b, c] = side(mean[k], me[k], 0);
+        let [d, e, f] = side(var[k], ve[k], 1);
+        out.push([r.label.clone(), a, b, c, d, e, f]);
+    }
+    Ok(out)
+}
+
+/// The exact rows beside the product-limit curves (`Content::exact_tails`): P(D_k > t) at every
+/// t > 0 where `exact-law`'s D_k curve and the analysis' Kaplan–Meier curve of D_k both have a
+/// point (the asked times, `--tail-times`, which both add to their grids). A row is inside when
+/// the exact value's error bar meets our 95 % band.
+pub(super) fn exact_tail_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> {
+    let (Some(ours), Some(exact)) = (survival_points(&adir.join("survival.parquet"), &[])?, survival_points(&law.join("survival.parquet"), &[("error", 'f')])?)
+    else {
+        return Ok(Vec::new());
+    };
+    let sig = |x: f64| crate::figures::format::significant(x, 4);
+    let mut out = Vec::new();
+    for e in exact.iter().filter(|e| e.variable == "D" && e.method == "exact" && e.t.is_some_and(|t| t > 0.0)) {
+        let Some(q) = ours.iter().find(|q| q.variable == "D" && q.method == "kaplan_meier" && q.index == e.index && q.t == e.t) else { continue };
+        let (Some(k), Some(t), Some(x), Some(y)) = (e.index, e.t, e.survival, q.survival) else { continue };
+        let err = e.error.unwrap_or(0.0);
+        let (band, inside) = match (q.lo, q.hi) {
+            (Some(lo), Some(hi)) => (format!("{} [{} – {}]", sig(y), sig(lo), sig(hi)), if x + err >= lo && x - err <= hi { "✓" } else { "✗" }),
+            _ => (format!("{} (no band)", sig(y)), ""),
+        };
+        out.push([format!("P(D_{k} > {} s)", crate::scenario::short(t)), format!("{} ± {err:.1e}", sig(x)), band, inside.to_string()]);
+    }
+    Ok(out)
+}
