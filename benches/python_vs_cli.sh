@@ -1,6 +1,6 @@
 #!/bin/sh
 # The Python package against the CLI, 10^6 paper realizations to a dataset directory, paired:
-#   farm-bench -n 7 --vs "sh benches/python_vs_cli.sh cli" -- sh benches/python_vs_cli.sh python
+#   for i in 1 2 3 4 5 6 7; do /usr/bin/time -f %e sh benches/python_vs_cli.sh python; /usr/bin/time -f %e sh benches/python_vs_cli.sh cli; done
 # PYTHON: an interpreter with the package installed (default python3); STICKSLIP: the CLI binary
 # (default: cargo's, through CARGO_TARGET_DIR or target/).
 set -e
