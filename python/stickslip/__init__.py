@@ -229,14 +229,19 @@ def exact_law(
     out: Union[str, "os.PathLike[str]"],
     resolution: int = 80,
     tail_times: Optional[Sequence[float]] = None,
+    counts: Optional[int] = None,
     set: Optional[Mapping[str, Any]] = None,
     progress: bool = False,
 ) -> Dict[str, Table]:
     """The law without sampling (``stickslip exact-law``) written into ``out``; returns its tables
     by name: ``stationary`` (the long run), ``moments`` (Table 1's means and variances of T_k,
     L_k, D_k, H_k), ``survival`` (the law of D_k: P(D_k > t) and its density, on a grid with
-    ``tail_times`` added; default reproduce's), ``convergence``, ``density``, ``stick_survival``."""
+    ``tail_times`` added; default reproduce's), ``convergence``, ``density``, ``stick_survival``;
+    with ``counts`` = N (a resolution, 8 to 320; minutes), also ``counts`` (P(S_T = n) and
+    P(S_L = n)) and the S_T, S_L rows of ``moments``."""
     times = [] if tail_times is None else ["--tail-times", ",".join(repr(float(t)) for t in tail_times)]
+    if counts is not None:
+        times += ["--counts", str(int(counts))]
     with tempfile.TemporaryDirectory() as tmp:
         quiet = [] if progress else ["--quiet"]
         _run_stage(

@@ -52,12 +52,14 @@ pub enum Command {
     /// randomness (pick-freeze, N·(d+3) realizations); writes DIR/sobol.parquet, sobol.png, sobol.md.
     Sensitivity(SensitivityArgs),
     /// The law without sampling: the long-run stick fraction, the mean and variance of the stick
-    /// and slip durations, sticks per second and the breakaway fraction, and the paper's Table 1
-    /// (means and variances of T_k, L_k, D_k, H_k, k <= 6, from the initial conditions), computed
-    /// from the process' equations (no Monte Carlo) at three resolutions, extrapolated, with an
-    /// error estimate; writes DIR/stationary.parquet, DIR/moments.parquet, DIR/convergence.parquet,
-    /// the stationary density and its figure. Scenes: Coulomb friction (mu_s >= mu_k) without
-    /// damping, the symmetric belt, fixed parameters.
+    /// and slip durations, sticks per second and the breakaway fraction, the paper's Table 1
+    /// (means and variances of T_k, L_k, D_k, H_k, k <= 6, from the initial conditions), the law
+    /// of each stick's duration D_k and, with --counts, the laws of S_T and S_L, computed from the
+    /// process' equations (no Monte Carlo) at three resolutions, extrapolated, with an error
+    /// estimate; writes DIR/stationary.parquet, DIR/moments.parquet, DIR/survival.parquet,
+    /// DIR/convergence.parquet (with --counts DIR/counts.parquet), the stationary density and its
+    /// figure. Scenes: Coulomb friction (mu_s >= mu_k) with or without a dashpot, the symmetric or
+    /// telegraph belt, fixed parameters.
     ExactLaw(ExactLawArgs),
     /// The next stick from a given state: the law (mean, standard deviation) of the time to its
     /// start, its duration, the slip after it and whether it ends by breakaway — computed without
@@ -143,6 +145,13 @@ pub struct ExactLawArgs {
     /// grid; the default is reproduce's, which analyze's survival curves of the paper scene share.
     #[arg(long, value_name = "T,...", value_delimiter = ',', default_values_t = crate::analysis::tails::PAPER_TAIL_TIMES)]
     pub tail_times: Vec<f64>,
+    /// Also the laws of the counts S_T and S_L (P(S = n), mean, variance: counts.parquet and
+    /// moments.parquet), at resolutions N/4, N/2, N of their own (8 to 320). They follow every
+    /// stick that can start in [0, t_a] (about 35 on the paper scene) and carry a Laplace
+    /// transform, so they cost far more than Table 1: on 2 cores N = 8 takes about 3 minutes
+    /// and reaches about 1e-4 relative on the paper scene's mean.
+    #[arg(long, value_name = "N")]
+    pub counts: Option<u32>,
 }
 
 /// Arguments of `predict`.

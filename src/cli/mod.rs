@@ -165,6 +165,9 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
     if let Some(t) = args.tail_times.iter().find(|t| !(t.is_finite() && **t >= 0.0)) {
         return Err(usage(format!("--tail-times {t}: must be a finite time >= 0 s")));
     }
+    if let Some(n) = args.counts.filter(|n| !(8..=320).contains(n)) {
+        return Err(usage(format!("--counts {n}: must be between 8 and 320")));
+    }
     check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     scenario.check()?;
@@ -176,22 +179,31 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
             eprintln!("{}resolution {:>3}: {} iterations, {seconds:.1} s", if live { "\r\x1b[K" } else { "" }, l.n, l.iterations);
         }
     };
-    let mut step = |n: u32, i: u32, change: f64| {
-        if live {
-            eprint!("\r\x1b[Kresolution {n:>3}: iteration {i}, change {change:.1e}");
+    // (the counts' sequence reports its sticks here: k and P(T_k <= t_a), after Table 1's)
+    let counting = std::cell::Cell::new(false);
+    let mut step = |n: u32, i: u32, x: f64| {
+        if live && counting.get() {
+            eprint!("\r\x1b[KS_T and S_L, resolution {n:>3}: stick {i}, P(T_k <= t_a) = {x:.1e}");
+        } else if live {
+            eprint!("\r\x1b[Kresolution {n:>3}: iteration {i}, change {x:.1e}");
         }
     };
-    let mut sticks = |n: u32, seconds: f64| {
+    let mut sticks = |what: &str, n: u32, seconds: f64| {
+        counting.set(true);
         if !quiet {
-            eprintln!("sticks 1-{} from the initial conditions, resolution {n:>3}: {seconds:.1} s", crate::law::sticks::STICKS);
+            eprintln!("{}{what} from the initial conditions, resolution {n:>3}: {seconds:.1} s", if live { "\r\x1b[K" } else { "" });
         }
     };
-    let (levels, rows, warning) =
-        crate::law::run(&scenario, args.resolution, &args.tail_times, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
+    let opts = crate::law::Options { finest: args.resolution, tail_times: args.tail_times.clone(), counts: args.counts };
+    let (levels, rows, counts, warning) = crate::law::run(&scenario, &opts, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
         println!();
         print!("{}", crate::law::sticks::markdown(&rows));
+        if !counts.is_empty() {
+            println!();
+            print!("{}", crate::law::counts::markdown(&counts));
+        }
         if let Some(w) = warning {
             eprintln!("{w}");
         }

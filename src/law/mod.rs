@@ -87,13 +87,15 @@
 
 mod anderson;
 pub(crate) mod chain;
+pub(crate) mod clock;
+pub mod counts;
 pub mod density;
 pub(crate) mod flow;
 mod output;
 pub(crate) mod passage;
 pub mod sticks;
 
-pub use output::{estimates, markdown, run, LawError, LEVELS};
+pub use output::{estimates, markdown, run, Found, LawError, Options, LEVELS};
 pub(crate) use output::{guarded, survival_table};
 
 use crate::physics::Law;

@@ -52,23 +52,45 @@ impl crate::blame::Blame for LawError {
 /// The resolutions `exact-law` solves at: a quarter of the finest, a half, itself.
 pub const LEVELS: u32 = 3;
 
+/// What `exact-law` computes beyond the long run: the resolution of the long run and Table 1
+/// (`finest`), the times added to D_k's law, and the finest resolution of the counts' laws
+/// (S_T, S_L; none: not computed).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// the finest resolution of the long run and Table 1
+    pub finest: u32,
+    /// times [s] added to D_k's law
+    pub tail_times: Vec<f64>,
+    /// the finest resolution of the counts' laws, or none
+    pub counts: Option<u32>,
+}
+
+/// What `exact-law` found: the long run's levels, Table 1's rows (with S_T and S_L when
+/// counted), the counts' laws and the window's warning.
+pub type Found = (Vec<Level>, Vec<sticks::Row>, Vec<super::counts::CountRow>, Option<String>);
+
 /// Solve the scenario's stationary law at [`LEVELS`] resolutions up to `finest` and write `out` (replaced
 /// when complete); `progress` hears each resolution's result as it is done, `step` each
-/// iteration (resolution, iteration, change of the measure). D_k's law (`survival.parquet`) is
-/// evaluated on a grid of times with `tail_times` [s] added.
+/// iteration (resolution, iteration, change of the measure; for the counts: resolution, stick
+/// k, P(T_k ≤ t_a)), `sticks_progress` each sequence (what, resolution, seconds). D_k's law (`survival.parquet`) is evaluated on a grid of times
+/// with `tail_times` [s] added; with `counts`, the laws of S_T and S_L are written to
+/// `counts.parquet` and their means and variances added to `moments.parquet`.
 pub fn run(
     scenario: &Scenario,
-    finest: u32,
-    tail_times: &[f64],
+    opts: &Options,
     out: &Path,
     progress: &mut dyn FnMut(&Level, f64),
     step: &mut dyn FnMut(u32, u32, f64),
-    sticks_progress: &mut dyn FnMut(u32, f64),
-) -> Result<(Vec<Level>, Vec<sticks::Row>, Option<String>), LawError> {
+    sticks_progress: &mut dyn FnMut(&str, u32, f64),
+) -> Result<Found, LawError> {
+    let (finest, tail_times, counts) = (opts.finest, &opts.tail_times, opts.counts);
     let scene = scenario.scene()?;
     let frames = super::frames(&scene).map_err(LawError::Refused)?;
     let ladder = super::ladder(&frames, finest, LEVELS).map_err(LawError::Refused)?;
     sticks::check(scenario, &frames, &ladder).map_err(LawError::Refused)?;
+    if counts.is_some() {
+        super::counts::check(&frames, scenario.run.duration).map_err(LawError::Refused)?;
+    }
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
     let (mut levels, mut density) = (Vec::new(), None);
     for rung in &ladder {
@@ -79,8 +101,19 @@ pub fn run(
         density = d.or(density);
     }
     let density = density.expect("the finest resolution computes the density");
-    let after = sticks::solve(scenario, &frames, &ladder, sticks_progress).map_err(LawError::Failed)?;
-    let rows = sticks::rows(&after);
+    let after = sticks::solve(scenario, &frames, &ladder, &mut |n, s| sticks_progress("sticks 1-6", n, s)).map_err(LawError::Failed)?;
+    let mut rows = sticks::rows(&after);
+    let counts = match counts {
+        Some(n) => {
+            let ladder = super::ladder(&frames, n, LEVELS).map_err(LawError::Refused)?;
+            let solved =
+                super::counts::solve(scenario, &frames, &ladder, &mut |n, s| sticks_progress("S_T and S_L", n, s), &mut |n, k, p| step(n, k as u32, p))
+                    .map_err(LawError::Failed)?;
+            super::counts::rows(&solved)
+        }
+        None => (Vec::new(), Vec::new()),
+    };
+    rows.extend(counts.1);
     let laws = sticks::survival_rows(&frames, &after, &super::density::survival_times(&frames, tail_times));
     let warning = after.last().and_then(|(_, s)| sticks::window_warning(s.next_start, scenario.run.duration));
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
@@ -95,19 +128,33 @@ pub fn run(
     crate::figures::render::save(&density_figure(&density), staged.path()).map_err(|e| werr("stationary_density.png", &e))?;
     moments_table(&rows).write_parquet(&staged.path().join("moments.parquet")).map_err(|e| werr("moments.parquet", &e))?;
     survival_table(&laws).write_parquet(&staged.path().join("survival.parquet")).map_err(|e| werr("survival.parquet", &e))?;
+    if opts.counts.is_some() {
+        counts_table(&counts.0).write_parquet(&staged.path().join("counts.parquet")).map_err(|e| werr("counts.parquet", &e))?;
+    }
     staged.commit()?;
-    Ok((levels, rows, warning))
+    Ok((levels, rows, counts.0, warning))
 }
 
 /// `moments.parquet`: variable, index, mean, variance, error (of the mean), variance_error.
+/// (S_T and S_L, whose rows have index 0, have a null index, as in analyze's.)
 fn moments_table(rows: &[sticks::Row]) -> Table {
     let mut t = Table::default();
     t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
+        .push("index", Col::Int(rows.iter().map(|r| (r.index > 0).then_some(i64::from(r.index))).collect()))
         .push("mean", Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
         .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
         .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
         .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error)).collect()));
+    t
+}
+
+/// `counts.parquet`: variable (S_T, S_L), value n, probability P(S = n), error.
+fn counts_table(rows: &[super::counts::CountRow]) -> Table {
+    let mut t = Table::default();
+    t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
+        .push("value", Col::Int(rows.iter().map(|r| Some(i64::from(r.value))).collect()))
+        .push("probability", Col::Float(rows.iter().map(|r| Some(r.probability)).collect()))
+        .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()));
     t
 }
 

@@ -46,50 +46,23 @@
 use std::f64::consts::TAU;
 
 use super::chain::{Mesh, CHUNKS};
-use super::flow::{centroid, decay, second_moment, Frame, Slip, Visitor};
+use super::clock::{Clocks, Moments};
+use super::flow::{decay, Frame, Slip, Visitor};
 use super::one_minus_exp_poly;
 
-/// An atom's clocks: its mass; ∫ t dμ and ∫ t² dμ, t the time since the origin; ∫ a dμ and
-/// ∫ a² dμ, a the time since the last stick ended (since the origin before the first) [1, s,
-/// s², s, s²].
-pub(crate) type Clock = [f64; 5];
-
-/// The clocks `m` moved later by a random delay δ (independent of them), given its total
-/// weight k0, k0 E[δ] and k0 E[δ²]: E(A + δ)² = E A² + 2 E δ E A + E δ².
-fn shift(m: Clock, k0: f64, k1: f64, k2: f64) -> Clock {
-    [k0 * m[0], k0 * m[1] + k1 * m[0], k0 * m[2] + 2.0 * k1 * m[1] + k2 * m[0], k0 * m[3] + k1 * m[0], k0 * m[4] + 2.0 * k1 * m[3] + k2 * m[0]]
-}
-
-/// The clocks `m` later by s + u (u on [0, dt) ∝ e^{−λu}, mean c, second moment q), weight w
-/// (module docs).
-fn later(m: Clock, w: f64, s: f64, c: f64, q: f64) -> Clock {
-    shift(m, w, w * (s + c), w * (s * s + 2.0 * s * c + q))
-}
-
-/// Σ_{j≥0} q^j, Σ j q^j, Σ j² q^j for q = e^{−x} (x = λP > 0): 1/(1 − q), q/(1 − q)²,
-/// q(1 + q)/(1 − q)³, with 1 − q = −expm1(−x) (no cancellation for small x).
-fn repeats(x: f64) -> (f64, f64, f64) {
-    let (q, one_minus_q) = ((-x).exp(), -(-x).exp_m1());
-    (1.0 / one_minus_q, q / one_minus_q.powi(2), q * (1.0 + q) / one_minus_q.powi(3))
-}
-
-/// The clocks with a restarted: a stick has just ended.
-fn restart(m: Clock) -> Clock {
-    [m[0], m[1], m[2], 0.0, 0.0]
-}
-
-fn add(a: &mut Clock, b: Clock, f: f64) {
-    a.iter_mut().zip(b).for_each(|(x, y)| *x += f * y);
-}
+/// An atom's clocks for Table 1: its mass; ∫ t dμ and ∫ t² dμ, t the time since the origin;
+/// ∫ a dμ and ∫ a² dμ, a the time since the last stick ended (since the origin before the
+/// first) [1, s, s², s, s²] ([`super::clock`]).
+pub(crate) type Clock = Moments;
 
 /// The states a passage starts from in one belt state (every later state is on the grid,
 /// [`passage`]): line nodes (a flip during a stick of the state before, at y: the slip from
 /// (−y, −v0) in this frame), the breakaway (x_b, v0) and the starts, with their clocks.
 #[derive(Debug, Clone)]
-struct Cloud {
-    line: Vec<Clock>,
-    breakaway: Clock,
-    starts: Vec<(Slip, Clock)>,
+struct Cloud<C> {
+    line: Vec<C>,
+    breakaway: C,
+    starts: Vec<(Slip, C)>,
 }
 
 /// The state a flip from s leads to among n ([`super::chain::Chain`]).
@@ -102,23 +75,23 @@ fn prev(n: usize, d: usize) -> usize {
     (d + n - 1) % n
 }
 
-impl Cloud {
+impl<C: Clocks> Cloud<C> {
     /// The empty cloud of every state of `meshes`.
-    fn zero(meshes: &[Mesh]) -> Vec<Cloud> {
-        (0..meshes.len()).map(|d| Cloud { line: vec![[0.0; 5]; meshes[prev(meshes.len(), d)].n_line + 1], breakaway: [0.0; 5], starts: Vec::new() }).collect()
+    fn zero(meshes: &[Mesh]) -> Vec<Cloud<C>> {
+        (0..meshes.len()).map(|d| Cloud { line: vec![C::zero(); meshes[prev(meshes.len(), d)].n_line + 1], breakaway: C::zero(), starts: Vec::new() }).collect()
     }
 
     /// Every atom of state d's cloud: its slip state (in d's frame) and clock.
-    fn atoms(&self, meshes: &[Mesh], d: usize) -> Vec<(Slip, Clock)> {
+    fn atoms(&self, meshes: &[Mesh], d: usize) -> Vec<(Slip, C)> {
         let (f, from) = (meshes[d].frame, &meshes[prev(meshes.len(), d)]);
-        let mut out: Vec<(Slip, Clock)> = self.starts.clone();
+        let mut out: Vec<(Slip, C)> = self.starts.clone();
         for (k, &c) in self.line.iter().enumerate() {
-            if c[0] > 1e-300 {
+            if c.mass() > 1e-300 {
                 let y = from.frame.hold_lo() + k as f64 * from.h_line;
                 out.push((Slip::at(-y, -from.frame.v0, f.v0), c));
             }
         }
-        if self.breakaway[0] > 1e-300 {
+        if self.breakaway.mass() > 1e-300 {
             out.push((f.breakaway(), self.breakaway));
         }
         out
@@ -128,57 +101,53 @@ impl Cloud {
 /// One step's walks on `src`: the next post-flip states on `dst`'s grid (the next belt state),
 /// the stick entries (per stick node of `src`, the entry position x_e split linearly) and the
 /// mass deposited outside the grid.
-struct Pass<'a> {
+struct Pass<'a, C: Clocks> {
+    ctx: &'a C::Ctx,
     src: &'a Mesh,
     dst: &'a Mesh,
     /// the grid's clocks
-    next: &'a mut [Clock],
-    entries: &'a mut [Clock],
-    clock: Clock,
+    next: &'a mut [C],
+    entries: &'a mut [C],
+    clock: C,
     lost: f64,
 }
 
-impl Pass<'_> {
+impl<C: Clocks> Pass<'_, C> {
     /// A flip at (x, v): the reflected state's nodes get `clock`.
-    fn put(&mut self, x: f64, v: f64, clock: Clock) {
+    fn put(&mut self, x: f64, v: f64, clock: C) {
         match self.dst.corners(-x, -v) {
-            Some(corners) => corners.into_iter().for_each(|(k, w)| add(&mut self.next[k], clock, w)),
-            None => self.lost += clock[0],
+            Some(corners) => corners.into_iter().for_each(|(k, w)| self.next[k].add(&clock, w)),
+            None => self.lost += clock.mass(),
         }
     }
 }
 
-impl Visitor for Pass<'_> {
+impl<C: Clocks> Visitor for Pass<'_, C> {
     fn slip(&mut self, x: f64, v: f64, t: f64, dt: f64, _age: f64) {
         let lambda = self.src.frame.lambda;
         let w = lambda * decay(lambda, t, t + dt);
-        self.put(x, v, later(self.clock, w, t, centroid(lambda, dt), second_moment(lambda, dt)));
+        self.put(x, v, self.clock.later(self.ctx, w, t, lambda, dt));
     }
 
     fn periodic(&mut self, start: Slip, t: f64, _age: f64, period: f64) {
         let f = self.src.frame;
         let lambda = f.lambda;
-        let (a0, a1, a2) = repeats(lambda * period);
         let m = self.clock;
         for (offset, dt, (x, v)) in f.period_samples(start, period, self.src.h) {
             let s = t + offset;
             let w = lambda * decay(lambda, s, s + dt);
-            let (c, u2) = (centroid(lambda, dt), second_moment(lambda, dt));
-            // Σ_j q^j × (the clock later by s + jP + u)
-            let first = a0 * (s + c) + period * a1;
-            let second = a0 * (s * s + 2.0 * s * c + u2) + 2.0 * period * a1 * (s + c) + period * period * a2;
-            self.put(x, v, shift(m, w * a0, w * first, w * second));
+            self.put(x, v, m.repeating(self.ctx, w, s, lambda, dt, period));
         }
     }
 
     fn stick(&mut self, x_e: f64, t: f64) {
         let (mesh, f) = (self.src, self.src.frame);
-        let clock = later(self.clock, (-f.lambda * t).exp(), t, 0.0, 0.0);
+        let clock = self.clock.later(self.ctx, (-f.lambda * t).exp(), t, f.lambda, 0.0);
         let fy = ((x_e - f.hold_lo()) / mesh.h_line).clamp(0.0, mesh.n_line as f64);
         let k = (fy as usize).min(mesh.n_line - 1);
         let frac = fy - k as f64;
-        add(&mut self.entries[k], clock, 1.0 - frac);
-        add(&mut self.entries[k + 1], clock, frac);
+        self.entries[k].add(&clock, 1.0 - frac);
+        self.entries[k + 1].add(&clock, frac);
     }
 
     fn breakaway_slip(&mut self, t: f64, age: f64) {
@@ -198,18 +167,18 @@ const MAX_ITERATIONS: u32 = 1000;
 /// (on `src`'s stick nodes) and the mass lost off the grid (in fixed chunks, summed in order:
 /// the same for any number of threads). `scratch` holds the chunks' grids across calls
 /// (allocating them afresh each time cost a third of the run in page faults).
-fn walk_all(src: &Mesh, dst: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<Vec<Clock>>) -> (Vec<Clock>, Vec<Clock>, f64) {
+fn walk_all<C: Clocks>(ctx: &C::Ctx, src: &Mesh, dst: &Mesh, atoms: &[(Slip, C)], scratch: &mut Vec<Vec<C>>) -> (Vec<C>, Vec<C>, f64) {
     use rayon::prelude::*;
     let nodes = dst.nx * dst.nw;
     let size = atoms.len().div_ceil(CHUNKS).max(1);
-    scratch.resize_with(CHUNKS, || vec![[0.0; 5]; nodes]);
-    let parts: Vec<(Vec<Clock>, f64)> = atoms
+    scratch.resize_with(CHUNKS, || vec![C::zero(); nodes]);
+    let parts: Vec<(Vec<C>, f64)> = atoms
         .par_chunks(size)
         .zip(scratch.par_iter_mut())
         .map(|(chunk, grid)| {
-            grid.fill([0.0; 5]);
-            let mut got = vec![[0.0; 5]; src.n_line + 1];
-            let mut pass = Pass { src, dst, next: grid, entries: &mut got, clock: [0.0; 5], lost: 0.0 };
+            grid.fill(C::zero());
+            let mut got = vec![C::zero(); src.n_line + 1];
+            let mut pass = Pass { ctx, src, dst, next: grid, entries: &mut got, clock: C::zero(), lost: 0.0 };
             for &(z, clock) in chunk {
                 pass.clock = clock;
                 src.frame.walk(z, 0.0, src.h, src.horizon, &mut pass);
@@ -220,16 +189,16 @@ fn walk_all(src: &Mesh, dst: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<V
         .collect();
     // each node's sum over the chunks in their order, the nodes in parallel
     let used = &scratch[..parts.len()];
-    let mut grid = vec![[0.0; 5]; nodes];
+    let mut grid = vec![C::zero(); nodes];
     const SPAN: usize = 4096;
     grid.par_chunks_mut(SPAN).enumerate().for_each(|(c, out)| {
         for g in used {
-            out.iter_mut().zip(&g[c * SPAN..]).for_each(|(a, &b)| add(a, b, 1.0));
+            out.iter_mut().zip(&g[c * SPAN..]).for_each(|(a, b)| a.add(b, 1.0));
         }
     });
-    let (mut entries, mut lost) = (vec![[0.0; 5]; src.n_line + 1], 0.0);
+    let (mut entries, mut lost) = (vec![C::zero(); src.n_line + 1], 0.0);
     for (got, l) in &parts {
-        entries.iter_mut().zip(got).for_each(|(a, &b)| add(a, b, 1.0));
+        entries.iter_mut().zip(got).for_each(|(a, b)| a.add(b, 1.0));
         lost += l;
     }
     (grid, entries, lost)
@@ -237,13 +206,13 @@ fn walk_all(src: &Mesh, dst: &Mesh, atoms: &[(Slip, Clock)], scratch: &mut Vec<V
 
 /// Walk every state's atoms once: the grids of the next post-flip states (state s's walks land
 /// on state s + 1's grid), each state's stick entries, and the mass lost. `scratch` per state.
-fn walk_states(meshes: &[Mesh], atoms: &[Vec<(Slip, Clock)>], scratch: &mut [Vec<Vec<Clock>>]) -> (Vec<Vec<Clock>>, Vec<Vec<Clock>>, f64) {
+fn walk_states<C: Clocks>(ctx: &C::Ctx, meshes: &[Mesh], atoms: &[Vec<(Slip, C)>], scratch: &mut [Vec<Vec<C>>]) -> (Vec<Vec<C>>, Vec<Vec<C>>, f64) {
     let n = meshes.len();
-    let mut grids: Vec<Vec<Clock>> = meshes.iter().map(|_| Vec::new()).collect();
+    let mut grids: Vec<Vec<C>> = meshes.iter().map(|_| Vec::new()).collect();
     let (mut entries, mut lost) = (Vec::with_capacity(n), 0.0);
     for (s, atoms) in atoms.iter().enumerate() {
         let d = next(n, s);
-        let (grid, got, l) = walk_all(&meshes[s], &meshes[d], atoms, &mut scratch[d]);
+        let (grid, got, l) = walk_all(ctx, &meshes[s], &meshes[d], atoms, &mut scratch[d]);
         grids[d] = grid;
         entries.push(got);
         lost += l;
@@ -259,20 +228,24 @@ fn walk_states(meshes: &[Mesh], atoms: &[Vec<(Slip, Clock)>], scratch: &mut [Vec
 /// x = K μ0 + K x, and the entries are A μ0 + A x (A: the absorption of a walk). The Neumann
 /// series converges like 0.66^j on the paper scene (72 steps to 1e-13); Anderson mixing, as for
 /// the stationary measure, needs a third of that.
-fn passage(meshes: &[Mesh], first: Vec<Cloud>, entries: &mut [Vec<Clock>]) -> Result<f64, String> {
-    let mut scratch: Vec<Vec<Vec<Clock>>> = meshes.iter().map(|_| Vec::new()).collect();
-    let atoms0: Vec<Vec<(Slip, Clock)>> = first.iter().enumerate().map(|(d, c)| c.atoms(meshes, d)).collect();
-    let (k0, a0, lost0) = walk_states(meshes, &atoms0, &mut scratch);
+fn passage<C: Clocks>(ctx: &C::Ctx, meshes: &[Mesh], first: Vec<Cloud<C>>, entries: &mut [Vec<C>]) -> Result<f64, String> {
+    let mut scratch: Vec<Vec<Vec<C>>> = meshes.iter().map(|_| Vec::new()).collect();
+    let atoms0: Vec<Vec<(Slip, C)>> = first.iter().enumerate().map(|(d, c)| c.atoms(meshes, d)).collect();
+    let (k0, a0, lost0) = walk_states(ctx, meshes, &atoms0, &mut scratch);
     // the mixing's unit of time: the first walks' mean time (the moments then weigh alike)
-    let (m0, m1) = k0.iter().flatten().chain(a0.iter().flatten()).fold((0.0, 0.0), |(a, b), c| (a + c[0], b + c[1]));
+    let (m0, m1) = k0.iter().flatten().chain(a0.iter().flatten()).fold((0.0, 0.0), |(a, b), c| (a + c.mass(), b + c.time_sum()));
     let unit = if m0 > 0.0 && m1 > 0.0 { m1 / m0 } else { 1.0 };
-    let flat =
-        |x: &[Vec<Clock>]| x.iter().flatten().flat_map(|c| [c[0], c[1] / unit, c[2] / (unit * unit), c[3] / unit, c[4] / (unit * unit)]).collect::<Vec<f64>>();
+    let flat = |x: &[Vec<C>], unit: f64| {
+        let mut out = Vec::with_capacity(x.iter().map(Vec::len).sum::<usize>() * C::len(ctx));
+        x.iter().flatten().for_each(|c| c.write(unit, &mut out));
+        out
+    };
+    let width = C::len(ctx);
     let mut x = k0.clone();
     let mut anderson = super::anderson::Anderson::new(super::DEPTH);
     let mut change = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
-        let atoms: Vec<Vec<(Slip, Clock)>> = meshes
+        let atoms: Vec<Vec<(Slip, C)>> = meshes
             .iter()
             .zip(&x)
             .map(|(mesh, x)| {
@@ -280,13 +253,13 @@ fn passage(meshes: &[Mesh], first: Vec<Cloud>, entries: &mut [Vec<Clock>]) -> Re
                     .flat_map(|i| (0..mesh.nw).map(move |j| (i, j)))
                     .filter_map(|(i, j)| {
                         let c = x[i * mesh.nw + j];
-                        c.iter().any(|v| v.abs() > 1e-300).then(|| (mesh.node(i, j), c))
+                        c.nonzero().then(|| (mesh.node(i, j), c))
                     })
                     .collect()
             })
             .collect();
-        let (kx, ax, lost) = walk_states(meshes, &atoms, &mut scratch);
-        let g: Vec<Vec<Clock>> = k0
+        let (kx, ax, lost) = walk_states(ctx, meshes, &atoms, &mut scratch);
+        let g: Vec<Vec<C>> = k0
             .iter()
             .zip(&kx)
             .map(|(k0, kx)| {
@@ -294,16 +267,17 @@ fn passage(meshes: &[Mesh], first: Vec<Cloud>, entries: &mut [Vec<Clock>]) -> Re
                     .zip(kx)
                     .map(|(a, b)| {
                         let mut c = *a;
-                        add(&mut c, *b, 1.0);
+                        c.add(b, 1.0);
                         c
                     })
                     .collect()
             })
             .collect();
-        change = (0..5)
+        let (gs, xs) = (flat(&g, 1.0), flat(&x, 1.0));
+        change = (0..width)
             .map(|c| {
-                let size: f64 = g.iter().flatten().map(|v| v[c].abs()).sum();
-                let diff: f64 = g.iter().flatten().zip(x.iter().flatten()).map(|(a, b)| (a[c] - b[c]).abs()).sum();
+                let size: f64 = gs.iter().skip(c).step_by(width).map(|v| v.abs()).sum();
+                let diff: f64 = gs.iter().skip(c).step_by(width).zip(xs.iter().skip(c).step_by(width)).map(|(a, b)| (a - b).abs()).sum();
                 if size > 0.0 {
                     diff / size
                 } else {
@@ -314,14 +288,14 @@ fn passage(meshes: &[Mesh], first: Vec<Cloud>, entries: &mut [Vec<Clock>]) -> Re
         if change <= TOLERANCE {
             for (e, (a, b)) in entries.iter_mut().zip(a0.iter().zip(&ax)) {
                 for (e, (a, b)) in e.iter_mut().zip(a.iter().zip(b)) {
-                    add(e, *a, 1.0);
-                    add(e, *b, 1.0);
+                    e.add(a, 1.0);
+                    e.add(b, 1.0);
                 }
             }
             return Ok(lost0 + lost);
         }
-        let mixed = anderson.mix(flat(&x), flat(&g));
-        let mut rest = mixed.chunks(5).map(|c| [c[0], c[1] * unit, c[2] * unit * unit, c[3] * unit, c[4] * unit * unit]);
+        let mixed = anderson.mix(flat(&x, unit), flat(&g, unit));
+        let mut rest = mixed.chunks(width).map(|c| C::read(ctx, unit, c));
         for xs in x.iter_mut() {
             xs.iter_mut().for_each(|v| *v = rest.next().expect("the mixed vector's length"));
         }
@@ -331,22 +305,25 @@ fn passage(meshes: &[Mesh], first: Vec<Cloud>, entries: &mut [Vec<Clock>]) -> Re
 
 /// What sticks entered with clocks (a measure of the entries) do: Σ mass, Σ mass E[D],
 /// Σ mass E[D²], Σ mass P(breakaway), and the clocks at their ends (their t the stick's end L).
-#[derive(Default)]
-struct Held {
-    mass: f64,
-    d1: f64,
-    d2: f64,
-    breakaway: f64,
-    ends: Clock,
+pub(crate) struct Held<C> {
+    pub mass: f64,
+    pub d1: f64,
+    pub d2: f64,
+    pub breakaway: f64,
+    pub ends: C,
 }
 
-impl Held {
-    fn add(&mut self, o: &Held) {
+impl<C: Clocks> Held<C> {
+    fn new() -> Held<C> {
+        Held { mass: 0.0, d1: 0.0, d2: 0.0, breakaway: 0.0, ends: C::zero() }
+    }
+
+    fn add(&mut self, o: &Held<C>) {
         self.mass += o.mass;
         self.d1 += o.d1;
         self.d2 += o.d2;
         self.breakaway += o.breakaway;
-        add(&mut self.ends, o.ends, 1.0);
+        self.ends.add(&o.ends, 1.0);
     }
 
     /// (mean, variance) of the duration.
@@ -359,29 +336,30 @@ impl Held {
 /// Sticks of state s entered at (x_e, clocks) end (module docs): their exits are added to the
 /// clouds — a flip to the next state's line, a breakaway to s's own — t running on and a
 /// restarted.
-fn leave(meshes: &[Mesh], s: usize, entries: impl Iterator<Item = (f64, Clock)>, clouds: &mut [Cloud]) -> Held {
+fn leave<C: Clocks>(ctx: &C::Ctx, meshes: &[Mesh], s: usize, entries: impl Iterator<Item = (f64, C)>, clouds: &mut [Cloud<C>]) -> Held<C> {
     let (mesh, d) = (&meshes[s], next(meshes.len(), s));
     let f = mesh.frame;
     let lambda = f.lambda;
-    let mut held = Held::default();
+    let mut held = Held::<C>::new();
     for (x_e, m) in entries {
         let d_hold = (f.hold_hi() - x_e).max(0.0) / f.v0;
         let x = lambda * d_hold;
-        held.mass += m[0];
-        held.d1 += m[0] * -(-x).exp_m1() / lambda;
-        held.d2 += m[0] * 2.0 * one_minus_exp_poly(x) / (lambda * lambda);
+        let mass = m.mass();
+        held.mass += mass;
+        held.d1 += mass * -(-x).exp_m1() / lambda;
+        held.d2 += mass * 2.0 * one_minus_exp_poly(x) / (lambda * lambda);
         for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
             let w = lambda * decay(lambda, offset, offset + dt);
-            let clock = restart(later(m, w, offset, centroid(lambda, dt), second_moment(lambda, dt)));
-            add(&mut clouds[d].line[k], clock, 1.0 - frac);
-            add(&mut clouds[d].line[k + 1], clock, frac);
-            add(&mut held.ends, clock, 1.0);
+            let clock = m.later(ctx, w, offset, lambda, dt).restart();
+            clouds[d].line[k].add(&clock, 1.0 - frac);
+            clouds[d].line[k + 1].add(&clock, frac);
+            held.ends.add(&clock, 1.0);
         }
         let e = (-x).exp();
-        held.breakaway += m[0] * e;
-        let clock = restart(later(m, e, d_hold, 0.0, 0.0));
-        add(&mut clouds[s].breakaway, clock, 1.0);
-        add(&mut held.ends, clock, 1.0);
+        held.breakaway += mass * e;
+        let clock = m.later(ctx, e, d_hold, lambda, 0.0).restart();
+        clouds[s].breakaway.add(&clock, 1.0);
+        held.ends.add(&clock, 1.0);
     }
     held
 }
@@ -451,54 +429,88 @@ fn moments(c: Clock, at: usize) -> MeanVar {
     (mean, (c[at + 1] / c[0] - mean * mean).max(0.0))
 }
 
-fn total(v: &[Clock]) -> Clock {
-    v.iter().fold([0.0; 5], |mut a, &c| {
-        add(&mut a, c, 1.0);
+fn total<C: Clocks>(v: &[C]) -> C {
+    v.iter().fold(C::zero(), |mut a, c| {
+        a.add(c, 1.0);
         a
     })
 }
 
-/// The first `count` sticks after the weighted `starts` (belt state, start, weight; weights
-/// summing to 1; stuck starts have a current stick first), on grids of spacings `h` (per belt
-/// state of `frames`) over the box `half` ([`half_width`]): count + 1 first passages, each from
-/// the exits of the sticks before.
-pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, Start, f64)], count: usize) -> Result<Sequence, String> {
+/// One step of [`walk_sequence`]: a passage's absorbed entries (per belt state, per
+/// stick node) and, unless it is the last, what the sticks entered there did.
+pub(crate) struct Step<'a, C> {
+    pub meshes: &'a [Mesh],
+    pub entries: &'a [Vec<C>],
+    pub held: Option<&'a Held<C>>,
+}
+
+/// The sticks after the weighted `starts` (belt state, start, weight; weights summing to 1;
+/// stuck starts have a current stick first), on grids of spacings `h` (per belt state of
+/// `frames`) over the box `half` ([`half_width`]), in the clock algebra C: passage k = 0, 1, …
+/// from the exits of the sticks before, each reported to `step`, up to `count` (the last
+/// without its sticks' exits) or until `step` says stop. Returns the current stick's (a stuck
+/// start's) and the mass lost off the grid.
+pub(crate) fn walk_sequence<C: Clocks>(
+    ctx: &C::Ctx,
+    frames: &[Frame],
+    h: &[f64],
+    half: f64,
+    starts: &[(usize, Start, f64)],
+    count: usize,
+    step: &mut dyn FnMut(Step<C>) -> bool,
+) -> Result<(Option<Held<C>>, f64), String> {
     let meshes: Vec<Mesh> = frames.iter().zip(h).map(|(f, &h)| Mesh::new(*f, h, half)).collect();
     let n = meshes.len();
     let mut clouds = Cloud::zero(&meshes);
-    let mut stuck: Vec<Vec<(f64, Clock)>> = vec![Vec::new(); n];
+    let mut stuck: Vec<Vec<(f64, C)>> = vec![Vec::new(); n];
     for &(s, start, w) in starts {
         match start {
-            Start::Slip(z) => clouds[s].starts.push((z, [w, 0.0, 0.0, 0.0, 0.0])),
-            Start::Stuck(x) => stuck[s].push((x, [w, 0.0, 0.0, 0.0, 0.0])),
+            Start::Slip(z) => clouds[s].starts.push((z, C::unit(w))),
+            Start::Stuck(x) => stuck[s].push((x, C::unit(w))),
         }
     }
     let current = stuck.iter().any(|v| !v.is_empty()).then(|| {
-        let mut held = Held::default();
+        let mut held = Held::new();
         for (s, v) in stuck.into_iter().enumerate() {
-            held.add(&leave(&meshes, s, v.into_iter(), &mut clouds));
+            held.add(&leave(ctx, &meshes, s, v.into_iter(), &mut clouds));
         }
-        held.duration()
+        held
     });
     let node = |s: usize, k: usize| meshes[s].frame.hold_lo() + k as f64 * meshes[s].h_line;
-    let (mut sticks, mut lost, mut laws, mut next_start) = (Vec::<Stick>::new(), 0.0, Vec::new(), (f64::NAN, f64::NAN));
+    let mut lost = 0.0;
     for k in 0..=count {
-        let mut entries: Vec<Vec<Clock>> = meshes.iter().map(|m| vec![[0.0; 5]; m.n_line + 1]).collect();
-        lost += passage(&meshes, clouds, &mut entries)?;
-        let all = total(&entries.concat());
+        let mut entries: Vec<Vec<C>> = meshes.iter().map(|m| vec![C::zero(); m.n_line + 1]).collect();
+        lost += passage(ctx, &meshes, clouds, &mut entries)?;
+        if k == count {
+            step(Step { meshes: &meshes, entries: &entries, held: None });
+            break;
+        }
+        clouds = Cloud::zero(&meshes);
+        let mut held = Held::new();
+        for (s, e) in entries.iter().enumerate() {
+            held.add(&leave(ctx, &meshes, s, e.iter().enumerate().map(|(k, &c)| (node(s, k), c)), &mut clouds));
+        }
+        if !step(Step { meshes: &meshes, entries: &entries, held: Some(&held) }) {
+            break;
+        }
+    }
+    Ok((current, lost))
+}
+
+/// The first `count` sticks after the weighted `starts` ([`walk_sequence`] with the moment
+/// clocks): count + 1 first passages, each from the exits of the sticks before.
+pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, Start, f64)], count: usize) -> Result<Sequence, String> {
+    let (mut sticks, mut laws, mut next_start) = (Vec::<Stick>::new(), Vec::new(), (f64::NAN, f64::NAN));
+    let (current, lost) = walk_sequence::<Clock>(&(), frames, h, half, starts, count, &mut |step: Step<Clock>| {
+        let all = total(&step.entries.concat());
         if let Some(before) = sticks.last_mut() {
             before.slip = moments(all, 3);
         }
-        if k == count {
+        let Some(held) = step.held else {
             next_start = moments(all, 1);
-            break;
-        }
-        laws.push(entries.iter().zip(&meshes).map(|(e, m)| (m.h_line, e.iter().map(|c| c[0]).collect())).collect());
-        clouds = Cloud::zero(&meshes);
-        let mut held = Held::default();
-        for (s, e) in entries.iter().enumerate() {
-            held.add(&leave(&meshes, s, e.iter().enumerate().map(|(k, &c)| (node(s, k), c)), &mut clouds));
-        }
+            return false;
+        };
+        laws.push(step.entries.iter().zip(step.meshes).map(|(e, m)| (m.h_line, e.iter().map(|c| c[0]).collect())).collect());
         sticks.push(Stick {
             start: moments(all, 1),
             duration: held.duration(),
@@ -506,8 +518,9 @@ pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize,
             slip: (f64::NAN, f64::NAN),
             breakaway: held.breakaway / held.mass,
         });
-    }
-    Ok(Sequence { current, sticks, lost, entries: laws, next_start })
+        true
+    })?;
+    Ok(Sequence { current: current.map(|h| h.duration()), sticks, lost, entries: laws, next_start })
 }
 
 #[cfg(test)]
@@ -515,38 +528,6 @@ mod tests {
     use super::*;
 
     const PAPER: Frame = Frame { omega: 2.0, v0: 1.0, w0: 0.5, ck: 1.2495, cs: 1.2495, lambda: 5.0, damped: None };
-
-    #[test]
-    fn a_clock_moved_later_keeps_its_moments() {
-        // a clock A ∈ {1, 3} (equal masses) moved later by s = 2 with no spread: A + 2 ∈ {3, 5}
-        let c = later([2.0, 4.0, 10.0, 0.0, 0.0], 0.5, 2.0, 0.0, 0.0);
-        assert_eq!(c, [1.0, 4.0, 17.0, 2.0, 4.0]);
-    }
-
-    #[test]
-    fn a_spread_delay_and_the_repetitions_sum_as_they_should() {
-        // clocks A ∈ {1, 3} (mass 1 each) later by s + u, E u = c, E u² = q, weight w: mass 2w,
-        // Σ E(A + s + u) = 4 + 2(s + c), Σ E(A + s + u)² = 10 + 2·4(s + c) + 2(s² + 2sc + q)
-        let (w, s, c, q) = (0.5, 0.5, 0.2, 0.1);
-        let got = later([2.0, 4.0, 10.0, 4.0, 10.0], w, s, c, q);
-        let (m1, m2) = (4.0 + 2.0 * (s + c), 10.0 + 8.0 * (s + c) + 2.0 * (s * s + 2.0 * s * c + q));
-        for (g, want) in got.iter().zip([2.0 * w, w * m1, w * m2, w * m1, w * m2]) {
-            assert!((g - want).abs() < 1e-14, "{got:?}");
-        }
-        assert_eq!(restart(got)[3..], [0.0, 0.0]);
-        // the repetitions' sums against the series summed term by term
-        for x in [1e-3, 0.7, 5.0] {
-            let (a0, a1, a2) = repeats(x);
-            let (mut b0, mut b1, mut b2) = (0.0, 0.0, 0.0);
-            for j in 0..200_000 {
-                let t = (-x * f64::from(j)).exp();
-                (b0, b1, b2) = (b0 + t, b1 + f64::from(j) * t, b2 + f64::from(j) * f64::from(j) * t);
-            }
-            for (a, b) in [(a0, b0), (a1, b1), (a2, b2)] {
-                assert!((a - b).abs() < 1e-9 * b, "{x}: {a} against {b}");
-            }
-        }
-    }
 
     /// (μ_s = 0.6: c_s = 1.47) λ → 0: the walks are the deterministic motion
     #[test]

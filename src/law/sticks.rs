@@ -197,7 +197,8 @@ pub fn window_warning(next_start: MeanVar, t_a: f64) -> Option<String> {
 pub fn markdown(rows: &[Row]) -> String {
     let mut m = String::from("| variable | k | mean | error | variance | error |\n|---|---:|---:|---:|---:|---:|\n");
     for r in rows {
-        m += &format!("| {} | {} | {:.6} | {:.1e} | {:.6} | {:.1e} |\n", r.variable, r.index, r.mean, r.error, r.variance, r.variance_error);
+        let k = if r.index > 0 { r.index.to_string() } else { String::new() };
+        m += &format!("| {} | {k} | {:.6} | {:.1e} | {:.6} | {:.1e} |\n", r.variable, r.mean, r.error, r.variance, r.variance_error);
     }
     m
 }

@@ -23,7 +23,9 @@ pub(super) fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>,
     let (mean, var, me, ve) = (col("mean"), col("variance"), col("error"), col("variance_error"));
     let mut out = Vec::new();
     for r in table1 {
-        let Some(k) = (0..vars.len()).find(|&k| idx[k].is_some_and(|i| format!("{}_{i}", vars[k]) == r.label)) else { continue };
+        // (T_k, L_k, D_k, H_k by their index; S_T, S_L without one)
+        let name = |k: usize| idx[k].map_or_else(|| vars[k].clone(), |i| format!("{}_{i}", vars[k]));
+        let Some(k) = (0..vars.len()).find(|&k| name(k) == r.label) else { continue };
         let side = |x: Option<f64>, e: Option<f64>, cell: usize| -> [String; 3] {
             let (x, e) = (x.unwrap_or(f64::NAN), e.unwrap_or(f64::NAN));
             let c = &r.cells[cell];

@@ -284,7 +284,8 @@ fn table_agrees(sets: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(sets);
     let times = [0.05, 0.2, 0.5, 1.0];
-    let (_, rows, _) = stickslip::law::run(&sc, 20, &times, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _| {}).unwrap();
+    let opts = stickslip::law::Options { finest: 20, tail_times: times.to_vec(), counts: None };
+    let (_, rows, _, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
         &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')],
@@ -321,6 +322,58 @@ fn table_agrees(sets: &[&str]) {
         );
     }
     survival_agrees(&tmp.path().join("e/survival.parquet"), &runs, &times, &format!("{sets:?}"));
+}
+
+/// The laws of the counts (`exact-law --counts`): on a 4 s window of the paper scene (λ t_a =
+/// 20, the shortest the inversion accepts; about 7 sticks), P(S_T = n) and P(S_L = n) against
+/// the shares of 20,000 realizations within 4.5 binomial standard errors plus the error
+/// estimate, and the means and variances (moments.parquet, null index) against theirs; and a
+/// shorter window is refused with the reason.
+#[test]
+fn count_laws_agree_with_monte_carlo() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sc = scenario(&["run.duration=4"]);
+    let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: Some(8) };
+    let (_, rows, counts, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
+    let runs = outcomes(&sc, 20_000);
+    let n = runs.len() as f64;
+    let variables: [(&str, fn(&Outcome) -> usize); 2] = [("S_T", |o| o.record.n_stick()), ("S_L", |o| o.record.n_slip())];
+    for (variable, count) in variables {
+        let law: Vec<&stickslip::law::counts::CountRow> = counts.iter().filter(|r| r.variable == variable).collect();
+        let total: f64 = law.iter().map(|r| r.probability).sum();
+        assert!((total - 1.0).abs() < 1e-3, "{variable}: the law sums to {total}");
+        for r in &law {
+            let share = runs.iter().filter(|o| count(o) == r.value as usize).count() as f64 / n;
+            let se = (r.probability.max(1.0 / n) * (1.0 - r.probability) / n).sqrt();
+            assert!(
+                (r.probability - share).abs() <= 4.5 * se + r.error,
+                "P({variable} = {}) exact {} ± {}, Monte Carlo {share} ± {se}",
+                r.value,
+                r.probability,
+                r.error
+            );
+        }
+        let xs: Vec<f64> = runs.iter().map(|o| count(o) as f64).collect();
+        let mean = xs.iter().sum::<f64>() / n;
+        let m2 = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n;
+        let m4 = xs.iter().map(|x| (x - mean).powi(4)).sum::<f64>() / n;
+        let r = rows.iter().find(|r| r.variable == variable).expect("the moments row");
+        assert!((r.mean - mean).abs() <= 4.5 * (m2 / n).sqrt() + r.error, "E {variable}: exact {} ± {}, Monte Carlo {mean}", r.mean, r.error);
+        assert!(
+            (r.variance - m2).abs() <= 4.5 * ((m4 - m2 * m2) / n).sqrt() + r.variance_error,
+            "Var {variable}: exact {} ± {}, Monte Carlo {m2}",
+            r.variance,
+            r.variance_error
+        );
+    }
+    let t = stickslip::table::Table::read_checked(&tmp.path().join("e/moments.parquet"), &[("variable", 's'), ("index", 'i')]).unwrap();
+    let (vars, idx) = (t.strings("variable").unwrap(), t.ints("index").unwrap());
+    assert!((0..t.height()).any(|r| vars[r] == "S_T" && idx[r].is_none()), "moments.parquet: S_T with a null index");
+    // 3 s: λ t_a = 15
+    let short = scenario(&["run.duration=3"]);
+    let err = stickslip::law::run(&short, &opts, &tmp.path().join("f"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap_err().to_string();
+    assert!(err.contains("--counts") && err.contains("run.duration"), "{err}");
+    assert!(!tmp.path().join("f").exists());
 }
 
 /// D_k's law in `survival.parquet` (k ≤ 6): P(D_k > t) at the asked times against the share of
