@@ -12,7 +12,8 @@ pub(super) const EXACT_TAILS_HEAD: [&str; 4] = ["quantity", "exact", "product li
 pub(super) const EXACT_TAILS_LEGEND: &str = "The law of each stick's duration D_k without sampling (exact-law's survival.parquet: the law of the stick's entry position, then the flip or the breakaway) beside our Kaplan–Meier curve of D_k. ✓: the exact value (± its error) meets our 95 % band.";
 pub(super) const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it).";
 
-/// The exact rows beside Table 1 (`Content::exact`): every T_k, L_k, D_k, H_k that both have.
+/// The exact rows beside Table 1 (`Content::exact`): every T_k, L_k, D_k, H_k (and S_T, S_L)
+/// that both have.
 /// A cell is inside when the exact value's error bar meets our 95 % interval.
 pub(super) fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>, ReportError> {
     let path = law.join("moments.parquet");
