@@ -124,8 +124,7 @@ pub(crate) fn solve(
 ) -> Result<Vec<(f64, Tails)>, String> {
     let mut out = Vec::new();
     for (n, h) in ladder {
-        let starts = super::sticks::starts(scenario, frames, h[0]);
-        let half = starts.iter().map(|(s, p, _)| passage::half_width(frames[*s], *p)).chain(frames.iter().map(|f| f.box_half())).fold(0.0, f64::max);
+        let (starts, half) = super::sticks::held_starts(scenario, frames, h[0]);
         let t = std::time::Instant::now();
         out.push((h[0], tails(frames, h, half, &starts, scenario.run.duration, &mut |k, p| tick(*n, k, p))?));
         progress(*n, t.elapsed().as_secs_f64());

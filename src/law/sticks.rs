@@ -160,12 +160,19 @@ pub(crate) fn check(scenario: &Scenario, frames: &[Frame], ladder: &[Rung]) -> R
     ladder.first().map_or(Ok(()), |(_, h)| check_starts(&starts(scenario, frames, h[0]), frames))
 }
 
+/// The scenario's initial law at spacing h ([`starts`]) and the half-width of the box whose
+/// grid holds it and the chain ([`passage::half_width`]).
+pub(crate) fn held_starts(scenario: &Scenario, frames: &[Frame], h: f64) -> (Vec<(usize, Start, f64)>, f64) {
+    let starts = starts(scenario, frames, h);
+    let half = starts.iter().map(|(s, p, _)| passage::half_width(frames[*s], *p)).chain(frames.iter().map(|f| f.box_half())).fold(0.0, f64::max);
+    (starts, half)
+}
+
 /// The sequences of the scenario's initial law at the ladder's spacings (after [`check`]).
 pub(crate) fn solve(scenario: &Scenario, frames: &[Frame], ladder: &[Rung], progress: &mut dyn FnMut(u32, f64)) -> Result<Vec<(f64, Sequence)>, String> {
     let mut out = Vec::new();
     for (n, h) in ladder {
-        let starts = starts(scenario, frames, h[0]);
-        let half = starts.iter().map(|(s, p, _)| passage::half_width(frames[*s], *p)).chain(frames.iter().map(|f| f.box_half())).fold(0.0, f64::max);
+        let (starts, half) = held_starts(scenario, frames, h[0]);
         let t = std::time::Instant::now();
         out.push((h[0], passage::sequence(frames, h, half, &starts, STICKS)?));
         progress(*n, t.elapsed().as_secs_f64());
