@@ -178,3 +178,7 @@ def test_exact_law_and_predict_return_the_cli_tables(tmp_path: Path) -> None:
     assert set(p["method"]) == {"exact", "monte_carlo"} and "time_to_stick" in set(p["variable"])
     with pytest.raises(ValueError, match="not a state of this belt"):
         stickslip.predict((0.5, 0.0, 2.0))
+    # the counts' laws reach the CLI: a window of 15 mean flip times is refused before any solve
+    with pytest.raises(ValueError, match="--counts"):
+        stickslip.exact_law(out=tmp_path / "law2", resolution=16, counts=8, set={"run.duration": 3.0})
+    assert not (tmp_path / "law2").exists()
