@@ -26,7 +26,8 @@ use crate::scenario::Scenario;
 /// Where the sequence stops: P(T_k ≤ t_a) below this (past the mode) — the inversion's own
 /// accuracy is about 1e-8.
 pub const NEGLIGIBLE: f64 = 1e-8;
-/// The most sticks followed (a window with more is refused).
+/// The most sticks followed: a window where more can start (about 240 s on the paper scene)
+/// fails, after following them, with the reason.
 pub const MAX_STICKS: usize = 400;
 
 /// The variables, in analyze's names.
