@@ -148,7 +148,15 @@ pub(crate) fn rows(levels: &[(f64, Tails)]) -> (Vec<CountRow>, Vec<super::sticks
         let mv: Vec<(f64, (f64, f64))> = levels.iter().map(|(h, t)| (*h, mean_var(&pick(t)))).collect();
         let mean = super::guarded(&mv.iter().map(|(h, m)| (*h, m.0)).collect::<Vec<_>>());
         let variance = super::guarded(&mv.iter().map(|(h, m)| (*h, m.1)).collect::<Vec<_>>());
-        moments.push(super::sticks::Row { variable, index: 0, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1 });
+        moments.push(super::sticks::Row {
+            variable,
+            index: 0,
+            mean: mean.0,
+            variance: variance.0.max(0.0),
+            error: mean.1,
+            variance_error: variance.1,
+            reached: None,
+        });
     }
     (counts, moments)
 }
@@ -168,6 +176,18 @@ pub fn markdown(rows: &[CountRow]) -> String {
         m += &format!("| {n} | {} | {} |\n", cell(st), cell(sl));
     }
     m
+}
+
+/// Each Table 1 row's share of realizations that reach it within [0, t_a] (analyze's
+/// `reached_fraction`: T_k and D_k need stick k to start, P(S_T ≥ k); L_k and H_k need it to
+/// end, P(S_L ≥ k)), extrapolated from the levels (coarsest first).
+pub(crate) fn reach(levels: &[(f64, Tails)], rows: &mut [super::sticks::Row]) {
+    for r in rows.iter_mut().filter(|r| r.index > 0) {
+        let k = r.index as usize - 1;
+        let pick = |t: &Tails| if matches!(r.variable, "T" | "D") { t.sticks.get(k).copied().unwrap_or(0.0) } else { t.slips.get(k).copied().unwrap_or(0.0) };
+        let (p, error) = super::guarded(&levels.iter().map(|(h, t)| (*h, pick(t))).collect::<Vec<_>>());
+        r.reached = Some((p.clamp(0.0, 1.0), error));
+    }
 }
 
 #[cfg(test)]

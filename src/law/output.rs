@@ -109,6 +109,7 @@ pub fn run(
             let solved =
                 super::counts::solve(scenario, &frames, &ladder, &mut |n, s| sticks_progress("S_T and S_L", n, s), &mut |n, k, p| step(n, k as u32, p))
                     .map_err(LawError::Failed)?;
+            super::counts::reach(&solved, &mut rows);
             super::counts::rows(&solved)
         }
         None => (Vec::new(), Vec::new()),
@@ -135,7 +136,8 @@ pub fn run(
     Ok((levels, rows, counts.0, warning))
 }
 
-/// `moments.parquet`: variable, index, mean, variance, error (of the mean), variance_error.
+/// `moments.parquet`: variable, index, mean, variance, error (of the mean), variance_error,
+/// reached_fraction (with `--counts`; null otherwise).
 /// (S_T and S_L, whose rows have index 0, have a null index, as in analyze's.)
 fn moments_table(rows: &[sticks::Row]) -> Table {
     let mut t = Table::default();
@@ -144,7 +146,8 @@ fn moments_table(rows: &[sticks::Row]) -> Table {
         .push("mean", Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
         .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
         .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
-        .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error)).collect()));
+        .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error)).collect()))
+        .push("reached_fraction", Col::Float(rows.iter().map(|r| r.reached.map(|x| x.0)).collect()));
     t
 }
 

@@ -43,6 +43,10 @@ pub struct Row {
     pub error: f64,
     /// the estimated discretisation error of the variance
     pub variance_error: f64,
+    /// the share of realizations that reach this row within [0, t_a], as analyze's
+    /// `reached_fraction` (T_k, D_k: P(S_T ≥ k); L_k, H_k: P(S_L ≥ k)) — known with
+    /// `--counts` ([`super::counts`]) with its error estimate, none otherwise
+    pub reached: Option<(f64, f64)>,
 }
 
 /// The starts of the scenario's initial law at grid spacing h (of the first belt state's mesh),
@@ -110,7 +114,7 @@ pub(crate) fn rows(levels: &[(f64, Sequence)]) -> Vec<Row> {
             let (variable, index, _) = per[0].1[i];
             let mean = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .0)).collect::<Vec<_>>());
             let variance = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .1)).collect::<Vec<_>>());
-            Row { variable, index, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1 }
+            Row { variable, index, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1, reached: None }
         })
         .collect()
 }

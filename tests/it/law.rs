@@ -366,7 +366,18 @@ fn count_laws_agree_with_monte_carlo() {
             r.variance_error
         );
     }
-    let t = stickslip::table::Table::read_checked(&tmp.path().join("e/moments.parquet"), &[("variable", 's'), ("index", 'i')]).unwrap();
+    // each Table 1 row's reach: T_k and D_k need stick k to start (S_T ≥ k), L_k and H_k need it
+    // to end (S_L ≥ k); about half the realizations reach k = 6 in 4 s
+    for r in rows.iter().filter(|r| r.index > 0) {
+        let (p, e) = r.reached.expect("the reach of every Table 1 row");
+        let k = r.index as usize;
+        let share = runs.iter().filter(|o| if matches!(r.variable, "T" | "D") { o.record.n_stick() >= k } else { o.record.n_slip() >= k }).count() as f64 / n;
+        let se = (p.max(1.0 / n) * (1.0 - p).max(1.0 / n) / n).sqrt();
+        assert!((p - share).abs() <= 4.5 * se + e, "{}_{k} reached: exact {p} ± {e}, Monte Carlo {share} ± {se}", r.variable);
+    }
+    let t =
+        stickslip::table::Table::read_checked(&tmp.path().join("e/moments.parquet"), &[("variable", 's'), ("index", 'i'), ("reached_fraction", 'f')]).unwrap();
+    assert!(t.floats("reached_fraction").unwrap()[..24].iter().all(Option::is_some), "reached_fraction of every Table 1 row");
     let (vars, idx) = (t.strings("variable").unwrap(), t.ints("index").unwrap());
     assert!((0..t.height()).any(|r| vars[r] == "S_T" && idx[r].is_none()), "moments.parquet: S_T with a null index");
     // 3 s: λ t_a = 15
