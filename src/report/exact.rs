@@ -8,8 +8,8 @@ use crate::analysis::paper::Row;
 use crate::table::Table;
 
 pub(super) const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];
-pub(super) const EXACT_TAILS_HEAD: [&str; 4] = ["quantity", "exact", "product limit, ours [95 %]", ""];
-pub(super) const EXACT_TAILS_LEGEND: &str = "The law of each stick's duration D_k without sampling (exact-law's survival.parquet: the law of the stick's entry position, then the flip or the breakaway) beside our Kaplan–Meier curve of D_k. ✓: the exact value (± its error) meets our 95 % band.";
+pub(super) const EXACT_TAILS_HEAD: [&str; 4] = ["quantity", "exact", "ours [95 %]", ""];
+pub(super) const EXACT_TAILS_LEGEND: &str = "The law of each stick's duration D_k without sampling (exact-law's survival.parquet: the law of the stick's entry position, then the flip or the breakaway) beside our Kaplan–Meier curve of D_k; with exact-law --counts, the laws of S_T and S_L (counts.parquet) beside our shares (Wilson intervals), where the exact probability is at least 1e-3. ✓: the exact value (± its error) meets our 95 % band.";
 pub(super) const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it).";
 
 /// The exact rows beside Table 1 (`Content::exact`): every T_k, L_k, D_k, H_k (and S_T, S_L)
@@ -60,6 +60,71 @@ pub(super) fn exact_tail_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]
             _ => (format!("{} (no band)", sig(y)), ""),
         };
         out.push([format!("P(D_{k} > {} s)", crate::scenario::short(t)), format!("{} ± {err:.1e}", sig(x)), band, inside.to_string()]);
+    }
+    out.extend(count_rows(law, adir)?);
+    Ok(out)
+}
+
+/// P(S_T = n) and P(S_L = n) of `exact-law --counts` (counts.parquet; none without it) beside the
+/// analysis' shares of the same values (histograms.parquet: a count's bins are its values),
+/// with the Wilson 95 % interval of a share p̂ of N: (p̂ + z²/2N ± z √(p̂(1 − p̂)/N + z²/4N²)) /
+/// (1 + z²/N), z = 1.96. Values whose exact probability is below 1e-3 are left out.
+fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> {
+    let path = law.join("counts.parquet");
+    if !path.exists() {
+        return Ok(Vec::new());
+    }
+    let read = |path: &Path, cols: &[(&str, char)]| {
+        Table::read_checked(path, cols).map_err(|e| ReportError::Read { path: path.to_path_buf(), message: e.to_string() })
+    };
+    let exact = read(&path, &[("variable", 's'), ("value", 'i'), ("probability", 'f'), ("error", 'f')])?;
+    let hist_path = adir.join("histograms.parquet");
+    let ours = read(&hist_path, &[("variable", 's'), ("lo", 'f'), ("hi", 'f'), ("count", 'i')])?;
+    let (ov, olo, ohi, ocount) = (
+        ours.strings("variable").unwrap_or_default(),
+        ours.floats("lo").unwrap_or_default(),
+        ours.floats("hi").unwrap_or_default(),
+        ours.ints("count").unwrap_or_default(),
+    );
+    let (ev, evalue, ep, ee) = (
+        exact.strings("variable").unwrap_or_default(),
+        exact.ints("value").unwrap_or_default(),
+        exact.floats("probability").unwrap_or_default(),
+        exact.floats("error").unwrap_or_default(),
+    );
+    let sig = |x: f64| crate::figures::format::significant(x, 4);
+    let mut out = Vec::new();
+    for variable in crate::law::counts::VARIABLES {
+        let bins: Vec<usize> = (0..ours.height()).filter(|&r| ov[r] == variable).collect();
+        let total: i64 = bins.iter().filter_map(|&r| ocount[r]).sum();
+        if total == 0 {
+            continue;
+        }
+        let n = total as f64;
+        for r in (0..exact.height()).filter(|&r| ev[r] == variable) {
+            let (Some(value), Some(p), Some(err)) = (evalue[r], ep[r], ee[r]) else { continue };
+            if p < 1e-3 {
+                continue;
+            }
+            // the bin that holds the value (a count's bins are one value wide)
+            let count = bins
+                .iter()
+                .find(|&&b| olo[b].zip(ohi[b]).is_some_and(|(lo, hi)| hi - lo <= 1.0 && lo <= value as f64 && (value as f64) < hi))
+                .and_then(|&b| ocount[b])
+                .unwrap_or(0);
+            let share = count as f64 / n;
+            let z2 = 1.96f64 * 1.96;
+            let centre = (share + z2 / (2.0 * n)) / (1.0 + z2 / n);
+            let half = 1.96 * (share * (1.0 - share) / n + z2 / (4.0 * n * n)).sqrt() / (1.0 + z2 / n);
+            let (lo, hi) = (centre - half, centre + half);
+            let inside = if p + err >= lo && p - err <= hi { "✓" } else { "✗" };
+            out.push([
+                format!("P({variable} = {value})"),
+                format!("{} ± {err:.1e}", sig(p)),
+                format!("{} [{} – {}]", sig(share), sig(lo), sig(hi)),
+                inside.to_string(),
+            ]);
+        }
     }
     Ok(out)
 }

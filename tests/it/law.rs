@@ -380,6 +380,16 @@ fn count_laws_agree_with_monte_carlo() {
     assert!(t.floats("reached_fraction").unwrap()[..24].iter().all(Option::is_some), "reached_fraction of every Table 1 row");
     let (vars, idx) = (t.strings("variable").unwrap(), t.ints("index").unwrap());
     assert!((0..t.height()).any(|r| vars[r] == "S_T" && idx[r].is_none()), "moments.parquet: S_T with a null index");
+    // report --exact: the count laws beside the shares of 3,000 realizations of the same
+    // window (95 % Wilson intervals: a correct law meets about 95 % of them)
+    let o = crate::common::stickslip(&["reproduce", "--out", "r", "--realizations", "3000", "--set", "run.duration=4", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = crate::common::stickslip(&["report", "r/dataset", "r/analysis", "r/figures", "--exact", "e", "--out", "x.html", "-q"], tmp.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(tmp.path().join("x.md")).unwrap();
+    let judged: Vec<&str> = md.lines().filter(|l| l.starts_with("| P(S_T = ") || l.starts_with("| P(S_L = ")).collect();
+    assert!(judged.len() >= 10 && judged.iter().all(|r| r.matches('✓').count() + r.matches('✗').count() == 1), "{judged:?}");
+    assert!(judged.iter().filter(|r| r.contains('✗')).count() <= 3, "{judged:?}");
     // 3 s: λ t_a = 15
     let short = scenario(&["run.duration=3"]);
     let err = stickslip::law::run(&short, &opts, &tmp.path().join("f"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap_err().to_string();
