@@ -54,8 +54,7 @@ pub(crate) fn tails(
     let mut out = Tails { sticks: Vec::new(), slips: Vec::new() };
     let mut peak = 0.0f64;
     passage::walk_sequence::<Laplace>(&points, frames, h, half, starts, MAX_STICKS, &mut |step: Step<Laplace>| {
-        let mut all = Laplace { mass: 0.0, t: Default::default() };
-        step.entries.iter().flatten().for_each(|c| super::clock::Clocks::add(&mut all, c, 1.0));
+        let all = passage::total(&step.entries.concat());
         let p = points.cdf(&all.t).clamp(0.0, 1.0);
         out.sticks.push(p);
         tick(out.sticks.len(), p);

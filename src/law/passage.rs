@@ -429,7 +429,8 @@ fn moments(c: Clock, at: usize) -> MeanVar {
     (mean, (c[at + 1] / c[0] - mean * mean).max(0.0))
 }
 
-fn total<C: Clocks>(v: &[C]) -> C {
+/// The sum of the clocks `v`.
+pub(crate) fn total<C: Clocks>(v: &[C]) -> C {
     v.iter().fold(C::zero(), |mut a, c| {
         a.add(c, 1.0);
         a
