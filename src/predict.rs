@@ -68,6 +68,9 @@ pub struct Options {
     pub futures: Option<u64>,
     /// the futures' horizon, s (None: [`default_horizon`])
     pub horizon: Option<f64>,
+    /// the finest resolution of the exact densities of τ and H (None: not computed;
+    /// [`crate::law::densities::predicted`])
+    pub densities: Option<u32>,
 }
 
 /// Futures simulated when the exact method does not hold and `--futures` is not given.
@@ -168,9 +171,21 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         exact_start(f[at], state, sign).map(|s| (f, ladder, at, s))
     });
     let exact_refused = exact.as_ref().err().cloned();
+    if opts.densities.is_some() && (out.is_none() || exact.is_err()) {
+        let why = exact
+            .as_ref()
+            .err()
+            .map_or("it needs --out DIR (it writes DIR/densities.parquet)".to_string(), |e| format!("the exact method does not hold here ({e})"));
+        return Err(LawError::Refused(format!("--densities: {why}")));
+    }
+    let mut densities = None;
     if let Ok((frames, ladder, at, start)) = exact {
         progress("exact: three resolutions");
         let (r, s) = exact_rows(&frames, &ladder, at, start).map_err(LawError::Failed)?;
+        if let Some(n) = opts.densities {
+            progress("exact densities of the time to the next stick and of the slip after it: three resolutions");
+            densities = Some(density_rows(&frames, n, at, start, &r).map_err(LawError::Failed)?);
+        }
         rows.extend(r);
         survival = Some(s);
     }
@@ -191,6 +206,9 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         table(&rows).write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
         if let Some(s) = &survival {
             crate::law::survival_table(s).write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
+        }
+        if let Some(d) = &densities {
+            crate::law::densities_table(d).write_parquet(&staged.path().join("densities.parquet")).map_err(|e| werr("densities.parquet", &e))?;
         }
         staged.commit()?;
     }
@@ -258,6 +276,26 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
     row("breakaway", &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
     let survival = crate::law::sticks::survival_rows(frames, &solved, &crate::law::density::survival_times(frames, &[]));
     Ok((rows, survival))
+}
+
+/// The densities of τ and H from `start` ([`crate::law::densities::predicted`]) at three
+/// resolutions up to `finest`, on [`crate::law::densities::GRID`] cells of [0, c], c the
+/// larger mean plus six standard deviations of the two (from the exact `rows`), the series'
+/// half-period the larger mean plus ten.
+fn density_rows(frames: &[Frame], finest: u32, at: usize, start: Start, rows: &[Row]) -> Result<Vec<crate::law::densities::DensityRow>, String> {
+    let reach = |sds: f64| {
+        rows.iter().filter(|r| matches!(r.variable, "time_to_stick" | "slip_duration")).map(|r| r.mean + sds * r.variance.sqrt()).fold(0.0, f64::max)
+    };
+    let (cells, half_period) = (reach(6.0), reach(10.0));
+    let ladder = crate::law::ladder(frames, finest, crate::law::LEVELS)?;
+    let half = frames.iter().map(|f| f.box_half()).fold(passage::half_width(frames[at], start), f64::max);
+    let levels = ladder
+        .iter()
+        .map(|(_, h)| Ok((h[0], crate::law::densities::predicted(frames, h, half, at, start, half_period)?)))
+        .collect::<Result<Vec<_>, String>>()?;
+    let grid = crate::law::densities::GRID;
+    let edges: Vec<f64> = (0..=grid).map(|g| cells * g as f64 / grid as f64).collect();
+    Ok(crate::law::densities::rows_on(&levels, half_period, &edges))
 }
 
 /// One future's values (None: not reached within the horizon).

@@ -230,6 +230,7 @@ def exact_law(
     resolution: int = 80,
     tail_times: Optional[Sequence[float]] = None,
     counts: Optional[int] = None,
+    densities: Optional[int] = None,
     set: Optional[Mapping[str, Any]] = None,
     progress: bool = False,
 ) -> Dict[str, Table]:
@@ -238,10 +239,14 @@ def exact_law(
     L_k, D_k, H_k), ``survival`` (the law of D_k: P(D_k > t) and its density, on a grid with
     ``tail_times`` added; default reproduce's), ``convergence``, ``density``, ``stick_survival``;
     with ``counts`` = N (a resolution, 8 to 320; minutes), also ``counts`` (P(S_T = n) and
-    P(S_L = n)) and the S_T, S_L rows of ``moments``."""
+    P(S_L = n)) and the S_T, S_L rows of ``moments``; with ``densities`` = N (a resolution, 8 to
+    320; minutes and gigabytes), also ``densities`` (the densities of T_k, L_k, H_k averaged over
+    100 cells of [0, t_a])."""
     times = [] if tail_times is None else ["--tail-times", ",".join(repr(float(t)) for t in tail_times)]
     if counts is not None:
         times += ["--counts", str(int(counts))]
+    if densities is not None:
+        times += ["--densities", str(int(densities))]
     with tempfile.TemporaryDirectory() as tmp:
         quiet = [] if progress else ["--quiet"]
         _run_stage(

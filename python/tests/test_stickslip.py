@@ -182,3 +182,8 @@ def test_exact_law_and_predict_return_the_cli_tables(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="--counts"):
         stickslip.exact_law(out=tmp_path / "law2", resolution=16, counts=8, set={"run.duration": 3.0})
     assert not (tmp_path / "law2").exists()
+    # and the densities': a point initial condition (T_1 has a point mass) is refused
+    point = {"initial_conditions.position": [0.5, 0.5], "initial_conditions.velocity": [0.0, 0.0]}
+    with pytest.raises(ValueError, match="--densities: the initial condition is a point"):
+        stickslip.exact_law(out=tmp_path / "law3", resolution=16, densities=8, set=point)
+    assert not (tmp_path / "law3").exists()

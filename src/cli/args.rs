@@ -57,7 +57,8 @@ pub enum Command {
     /// of each stick's duration D_k and, with --counts, the laws of S_T and S_L, computed from the
     /// process' equations (no Monte Carlo) at three resolutions, extrapolated, with an error
     /// estimate; writes DIR/stationary.parquet, DIR/moments.parquet, DIR/survival.parquet,
-    /// DIR/convergence.parquet (with --counts DIR/counts.parquet), the stationary density and its
+    /// DIR/convergence.parquet (with --counts DIR/counts.parquet, with --densities the densities
+    /// of T_k, L_k, H_k in DIR/densities.parquet), the stationary density and its
     /// figure. Scenes: Coulomb friction (mu_s >= mu_k) with or without a dashpot, the symmetric or
     /// telegraph belt, fixed parameters.
     ExactLaw(ExactLawArgs),
@@ -153,6 +154,14 @@ pub struct ExactLawArgs {
     /// Refused for a window shorter than 20 mean times between belt flips.
     #[arg(long, value_name = "N")]
     pub counts: Option<u32>,
+    /// Also the densities of T_k, L_k and H_k (k <= 6), averaged over 100 cells of [0, t_a]
+    /// (densities.parquet: variable, index, t, t_lo, t_hi, density, error), at resolutions N/4,
+    /// N/2, N of their own (8 to 320), from the characteristic function at 257 frequencies (a
+    /// cosine series). They cost far more than Table 1: on the paper scene and 2 cores N = 8
+    /// takes about 6 minutes and 2 GB, each doubling of N about 4 times that. Refused for a
+    /// point initial condition (T_1 then has a point mass).
+    #[arg(long, value_name = "N")]
+    pub densities: Option<u32>,
 }
 
 /// Arguments of `predict`.
@@ -188,6 +197,12 @@ pub struct PredictArgs {
     /// when exact, DIR/stick_survival.parquet (t, P(D > t) of the next stick).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Also the exact densities of the time to the next stick and of the slip after it, averaged
+    /// over 100 cells (DIR/densities.parquet, as exact-law's, with the point mass of the path
+    /// without a flip in `point_mass`), at resolutions N/4, N/2, N of their own (8 to 320;
+    /// minutes: N = 8 about 2 on the paper scene). Needs --out and a scene the exact method holds.
+    #[arg(long, value_name = "N")]
+    pub densities: Option<u32>,
 }
 
 /// `X,V,V_BELT`: three numbers.

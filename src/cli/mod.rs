@@ -168,6 +168,9 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
     if let Some(n) = args.counts.filter(|n| !(8..=320).contains(n)) {
         return Err(usage(format!("--counts {n}: must be between 8 and 320")));
     }
+    if let Some(n) = args.densities.filter(|n| !(8..=320).contains(n)) {
+        return Err(usage(format!("--densities {n}: must be between 8 and 320")));
+    }
     check_separate(&args.out, "--out", &scenario_inputs(&args.input))?;
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     scenario.check()?;
@@ -194,7 +197,7 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
             eprintln!("{}{what} from the initial conditions, resolution {n:>3}: {seconds:.1} s", if live { "\r\x1b[K" } else { "" });
         }
     };
-    let opts = crate::law::Options { finest: args.resolution, tail_times: args.tail_times.clone(), counts: args.counts };
+    let opts = crate::law::Options { finest: args.resolution, tail_times: args.tail_times.clone(), counts: args.counts, densities: args.densities };
     let (levels, rows, counts, warning) = crate::law::run(&scenario, &opts, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
@@ -230,7 +233,10 @@ fn predict_command(args: PredictArgs, quiet: bool) -> anyhow::Result<()> {
     scenario.refuse_sweep("predict")?;
     let (x, velocity, belt) = args.state;
     let state = crate::predict::State { x, velocity, belt, stuck: args.stuck };
-    let opts = crate::predict::Options { resolution: args.resolution, futures: args.futures, horizon: args.horizon };
+    if let Some(n) = args.densities.filter(|n| !(8..=320).contains(n)) {
+        return Err(usage(format!("--densities {n}: must be between 8 and 320")));
+    }
+    let opts = crate::predict::Options { resolution: args.resolution, futures: args.futures, horizon: args.horizon, densities: args.densities };
     let mut progress = |what: &str| {
         if !quiet {
             eprintln!("{what}");

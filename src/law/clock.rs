@@ -6,7 +6,10 @@
 //! - [`Laplace`]: the mass and the Laplace transform of t, E[e^{−z t}; atom], at the fixed
 //!   points z_j of [`Points`] — from which [`Points::cdf`] inverts P(t ≤ t_a) (Euler summation
 //!   of the Fourier series, Abate & Whitt 2006). That is what the laws of the counts need:
-//!   P(S_T ≥ k) = P(T_k ≤ t_a).
+//!   P(S_T ≥ k) = P(T_k ≤ t_a). At the points ω_j = πj/P instead ([`Points::cosine`]), the
+//!   characteristic function, whose cosine series gives the densities of T_k, L_k and — with
+//!   the clock restarted at each stick's end ([`Points::restart`]) — H_k
+//!   ([`super::densities`]).
 //!
 //! **The operations.** A flip of a walk in [s, s + dt) (u = t − s ∝ e^{−λu} on [0, dt), the
 //! flip's probability w) moves an atom's clocks later by s + u: the moments by the shift rule of
@@ -50,8 +53,9 @@ pub(crate) trait Clocks: Copy + Send + Sync {
     fn later(&self, ctx: &Self::Ctx, w: f64, s: f64, lambda: f64, dt: f64) -> Self;
     /// Σ_{j≥0} q^j × (later by s + jP + u), q = e^{−λP}, weight w.
     fn repeating(&self, ctx: &Self::Ctx, w: f64, s: f64, lambda: f64, dt: f64, period: f64) -> Self;
-    /// a restarted: a stick has just ended.
-    fn restart(&self) -> Self;
+    /// a restarted: a stick has just ended (the transforms restart t itself where the context
+    /// says so: [`Points::restart`]).
+    fn restart(&self, ctx: &Self::Ctx) -> Self;
     /// Whether any component is non-zero (above 1e-300 in size).
     fn nonzero(&self) -> bool;
     /// The components as reals, times `unit`^−p for a moment of order p (so that the mixing
@@ -117,7 +121,7 @@ impl Clocks for Moments {
         shift(*self, w * a0, w * first, w * second)
     }
 
-    fn restart(&self) -> Self {
+    fn restart(&self, _: &()) -> Self {
         [self[0], self[1], self[2], 0.0, 0.0]
     }
 
@@ -164,35 +168,44 @@ impl C64 {
         C64::new((self.re * o.re + self.im * o.im) / d, (self.im * o.re - self.re * o.im) / d)
     }
     /// e^{−x s} for x = self
-    fn exp_neg(self, s: f64) -> C64 {
+    pub(crate) fn exp_neg(self, s: f64) -> C64 {
         let (sin, cos) = (self.im * s).sin_cos();
         C64::new(cos, -sin).scale((-self.re * s).exp())
     }
 }
 
-/// The transform points z_j = β_j / t of Euler's inversion at the time t (β_j = M ln 10 / 3 +
-/// iπj, j = 0 … 2M): all of them are powers of one step, z_j = α + iπj/t, so e^{−z_j s} =
-/// e^{−α s} (e^{−iπs/t})^j.
+/// Transform points z_j = α + iπj/t, j = 0 … N − 1: all of them powers of one step, so
+/// e^{−z_j s} = e^{−α s} (e^{−iπs/t})^j. Euler's inversion at t ([`Points::at`], N = [`POINTS`],
+/// α = M ln 10 / (3t)) and the cosine series of a density on [0, t] ([`Points::cosine`], α = 0,
+/// [`super::densities`]) both use them.
 #[derive(Debug, Clone)]
-pub(crate) struct Points {
-    /// the time the points invert at
+pub(crate) struct Points<const N: usize> {
+    /// the time the points invert at (Euler), or the cosine series' half-period
     pub t: f64,
-    pub z: [C64; POINTS],
+    pub z: [C64; N],
+    /// whether t restarts at a stick's end: the transform is then of the time since the last
+    /// stick ended (of H_k), not since the origin
+    pub restart: bool,
     /// per flip rate λ of the scene: λ / (λ + z_j) (ψ's factor, computed once)
-    rates: Vec<(f64, [C64; POINTS])>,
+    rates: Vec<(f64, [C64; N])>,
 }
 
-impl Points {
-    /// The points inverting at t, for walks with the flip rates `lambdas`.
-    pub(crate) fn at(t: f64, lambdas: &[f64]) -> Points {
-        let alpha = EULER_M as f64 * std::f64::consts::LN_10 / 3.0 / t;
-        let z: [C64; POINTS] = std::array::from_fn(|j| C64::new(alpha, std::f64::consts::PI * j as f64 / t));
+impl<const N: usize> Points<N> {
+    fn new(alpha: f64, t: f64, lambdas: &[f64], restart: bool) -> Points<N> {
+        let z: [C64; N] = std::array::from_fn(|j| C64::new(alpha, std::f64::consts::PI * j as f64 / t));
         let rates = lambdas.iter().map(|&l| (l, std::array::from_fn(|j| C64::new(l, 0.0).div(C64::new(l + z[j].re, z[j].im))))).collect();
-        Points { t, z, rates }
+        Points { t, z, restart, rates }
+    }
+
+    /// The points of the cosine series on [0, `half_period`] (α = 0: the characteristic
+    /// function at ω_j = πj/half_period), for walks with the flip rates `lambdas`; with
+    /// `restart`, of the time since the last stick ended.
+    pub(crate) fn cosine(half_period: f64, lambdas: &[f64], restart: bool) -> Points<N> {
+        Points::new(0.0, half_period, lambdas, restart)
     }
 
     /// λ / (λ + z_j) for every j.
-    fn rate(&self, lambda: f64) -> [C64; POINTS] {
+    fn rate(&self, lambda: f64) -> [C64; N] {
         match self.rates.iter().find(|(l, _)| *l == lambda) {
             Some((_, r)) => *r,
             None => std::array::from_fn(|j| C64::new(lambda, 0.0).div(C64::new(lambda + self.z[j].re, self.z[j].im))),
@@ -200,22 +213,29 @@ impl Points {
     }
 
     /// e^{−z_j s} for every j, by the powers of one step.
-    fn delays(&self, s: f64) -> [C64; POINTS] {
+    fn delays(&self, s: f64) -> [C64; N] {
         let base = C64::new((-self.z[0].re * s).exp(), 0.0);
-        let step = C64::new(0.0, self.z[1].im).exp_neg(s);
+        let step = C64::new(0.0, std::f64::consts::PI / self.t).exp_neg(s);
         // four chains j ≡ 0, 1, 2, 3 (mod 4), each stepped by step⁴: independent products
-        let (s2, mut out) = (step.mul(step), [C64::default(); POINTS]);
+        let (s2, mut out) = (step.mul(step), [C64::default(); N]);
         let s4 = s2.mul(s2);
         let mut p = [base, base.mul(step), base.mul(s2), base.mul(s2).mul(step)];
-        for j in (0..POINTS).step_by(4) {
+        for j in (0..N).step_by(4) {
             for (r, p) in p.iter_mut().enumerate() {
-                if j + r < POINTS {
+                if j + r < N {
                     out[j + r] = *p;
                 }
                 *p = p.mul(s4);
             }
         }
         out
+    }
+}
+
+impl Points<POINTS> {
+    /// The points inverting at t, for walks with the flip rates `lambdas`.
+    pub(crate) fn at(t: f64, lambdas: &[f64]) -> Points<POINTS> {
+        Points::new(EULER_M as f64 * std::f64::consts::LN_10 / 3.0 / t, t, lambdas, false)
     }
 
     /// Euler's weights η_j: ξ_0 = 1/2, ξ_j = 1 (1 ≤ j ≤ M), ξ_2M = 2^−M, ξ_{2M−j} = ξ_{2M−j+1} +
@@ -244,53 +264,57 @@ impl Points {
     }
 }
 
-/// The mass and the transform of t at the [`Points`]: E[e^{−z_j t}; atom].
+/// The mass and the transform of t at the [`Points`]: E[e^{−z_j t}; atom] (N = [`POINTS`]:
+/// Euler's, [`Euler`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Laplace {
+pub(crate) struct Laplace<const N: usize> {
     pub mass: f64,
-    pub t: [C64; POINTS],
+    pub t: [C64; N],
 }
 
-impl Laplace {
+/// The transform at Euler's points ([`Points::at`]).
+pub(crate) type Euler = Laplace<POINTS>;
+
+impl<const N: usize> Laplace<N> {
     /// The factor of a delay s + u (u ∝ e^{−λu} on [0, dt)) at every point: e^{−z s} ψ(z).
-    fn factors(ctx: &Points, s: f64, lambda: f64, dt: f64) -> [C64; POINTS] {
+    fn factors(ctx: &Points<N>, s: f64, lambda: f64, dt: f64) -> [C64; N] {
         let mut f = ctx.delays(s);
         if dt > 0.0 {
             // a walk's samples share their dt (an arc, a stick's intervals): ψ is kept per thread
-            // for the last (λ, dt)
+            // for the last (points, λ, dt)
             thread_local! {
-                static LAST: std::cell::Cell<(f64, f64, f64, [C64; POINTS])> = const { std::cell::Cell::new((f64::NAN, f64::NAN, f64::NAN, [C64::new(0.0, 0.0); POINTS])) };
+                static LAST: std::cell::RefCell<((f64, f64, f64, f64), Vec<C64>)> = const { std::cell::RefCell::new(((f64::NAN, f64::NAN, f64::NAN, f64::NAN), Vec::new())) };
             }
-            let (l, d, t, mut psi) = LAST.get();
-            if (l, d, t) != (lambda, dt, ctx.t) {
-                let e_dt = ctx.delays(dt);
-                let norm = -(-lambda * dt).exp_m1();
-                let decay = (-lambda * dt).exp();
-                for ((p, r), e) in psi.iter_mut().zip(ctx.rate(lambda)).zip(e_dt) {
+            LAST.with_borrow_mut(|(key, psi)| {
+                let want = (lambda, dt, ctx.t, ctx.z[0].re);
+                if *key != want || psi.len() != N {
+                    let e_dt = ctx.delays(dt);
+                    let norm = -(-lambda * dt).exp_m1();
+                    let decay = (-lambda * dt).exp();
                     // ψ = λ(1 − e^{−λdt} e^{−z dt}) / ((λ + z)(1 − e^{−λdt}))
-                    *p = C64::new(1.0 - decay * e.re, -decay * e.im).scale(1.0 / norm).mul(r);
+                    *psi = ctx.rate(lambda).iter().zip(e_dt).map(|(r, e)| C64::new(1.0 - decay * e.re, -decay * e.im).scale(1.0 / norm).mul(*r)).collect();
+                    *key = want;
                 }
-                LAST.set((lambda, dt, ctx.t, psi));
-            }
-            f.iter_mut().zip(psi).for_each(|(f, p)| *f = f.mul(p));
+                f.iter_mut().zip(psi.iter()).for_each(|(f, p)| *f = f.mul(*p));
+            });
         }
         f
     }
 }
 
-impl Clocks for Laplace {
-    type Ctx = Points;
+impl<const N: usize> Clocks for Laplace<N> {
+    type Ctx = Points<N>;
 
-    fn len(_: &Points) -> usize {
-        1 + 2 * POINTS
+    fn len(_: &Points<N>) -> usize {
+        1 + 2 * N
     }
 
     fn zero() -> Self {
-        Laplace { mass: 0.0, t: [C64::default(); POINTS] }
+        Laplace { mass: 0.0, t: [C64::default(); N] }
     }
 
     fn unit(w: f64) -> Self {
-        Laplace { mass: w, t: [C64::new(w, 0.0); POINTS] }
+        Laplace { mass: w, t: [C64::new(w, 0.0); N] }
     }
 
     fn mass(&self) -> f64 {
@@ -309,12 +333,12 @@ impl Clocks for Laplace {
         }
     }
 
-    fn later(&self, ctx: &Points, w: f64, s: f64, lambda: f64, dt: f64) -> Self {
+    fn later(&self, ctx: &Points<N>, w: f64, s: f64, lambda: f64, dt: f64) -> Self {
         let f = Laplace::factors(ctx, s, lambda, dt);
         Laplace { mass: w * self.mass, t: std::array::from_fn(|j| self.t[j].mul(f[j]).scale(w)) }
     }
 
-    fn repeating(&self, ctx: &Points, w: f64, s: f64, lambda: f64, dt: f64, period: f64) -> Self {
+    fn repeating(&self, ctx: &Points<N>, w: f64, s: f64, lambda: f64, dt: f64, period: f64) -> Self {
         let f = Laplace::factors(ctx, s, lambda, dt);
         let q = ctx.delays(period);
         let decay = (-lambda * period).exp();
@@ -324,8 +348,12 @@ impl Clocks for Laplace {
         Laplace { mass: w * a0 * self.mass, t }
     }
 
-    fn restart(&self) -> Self {
-        *self
+    fn restart(&self, ctx: &Points<N>) -> Self {
+        if ctx.restart {
+            Laplace::unit(self.mass)
+        } else {
+            *self
+        }
     }
 
     fn nonzero(&self) -> bool {
@@ -337,7 +365,7 @@ impl Clocks for Laplace {
         out.extend(self.t.iter().flat_map(|c| [c.re, c.im]));
     }
 
-    fn read(_: &Points, _: f64, c: &[f64]) -> Self {
+    fn read(_: &Points<N>, _: f64, c: &[f64]) -> Self {
         Laplace { mass: c[0], t: std::array::from_fn(|j| C64::new(c[1 + 2 * j], c[2 + 2 * j])) }
     }
 }
@@ -368,7 +396,7 @@ mod tests {
         for (g, want) in got.iter().zip([2.0 * w, w * m1, w * m2, w * m1, w * m2]) {
             assert!((g - want).abs() < 1e-14, "{got:?}");
         }
-        assert_eq!(got.restart()[3..], [0.0, 0.0]);
+        assert_eq!(got.restart(&())[3..], [0.0, 0.0]);
         // the repetitions' sums against the series summed term by term
         for x in [1e-3, 0.7, 5.0] {
             let (a0, a1, a2) = repeats(x);
@@ -411,6 +439,7 @@ mod tests {
         // an atom at t = 0.4 moved later by s + u (u ∝ e^{−λu} on [0, dt)): its transform is
         // e^{−z(0.4 + s)} E e^{−zu}, with E e^{−zu} integrated here by the midpoint rule
         let p = Points::at(3.0, &[]);
+        let p: Points<POINTS> = p;
         let (lambda, s, dt, w) = (5.0, 0.7, 0.2, 0.3);
         let start = Laplace { mass: 1.0, t: std::array::from_fn(|j| p.z[j].exp_neg(0.4)) };
         let got = start.later(&p, w, s, lambda, dt);

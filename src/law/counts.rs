@@ -17,7 +17,7 @@
 //! `exact-law`, the values are extrapolated from three resolutions, with an error estimate
 //! ([`super::guarded`]).
 
-use super::clock::{Laplace, Points};
+use super::clock::{Euler, Points};
 use super::flow::Frame;
 use super::passage::{self, Step};
 use super::Rung;
@@ -53,7 +53,7 @@ pub(crate) fn tails(
     let points = Points::at(t_a, &frames.iter().map(|f| f.lambda).collect::<Vec<_>>());
     let mut out = Tails { sticks: Vec::new(), slips: Vec::new() };
     let mut peak = 0.0f64;
-    passage::walk_sequence::<Laplace>(&points, frames, h, half, starts, MAX_STICKS, &mut |step: Step<Laplace>| {
+    passage::walk_sequence::<Euler>(&points, frames, h, half, starts, MAX_STICKS, &mut |step: Step<Euler>| {
         let all = passage::total(&step.entries.concat());
         let p = points.cdf(&all.t).clamp(0.0, 1.0);
         out.sticks.push(p);

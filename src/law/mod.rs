@@ -89,14 +89,15 @@ mod anderson;
 pub(crate) mod chain;
 pub(crate) mod clock;
 pub mod counts;
+pub mod densities;
 pub mod density;
 pub(crate) mod flow;
 mod output;
 pub(crate) mod passage;
 pub mod sticks;
 
+pub(crate) use output::{densities_table, guarded, survival_table};
 pub use output::{estimates, markdown, run, Found, LawError, Options, LEVELS};
-pub(crate) use output::{guarded, survival_table};
 
 use crate::physics::Law;
 use crate::simulation::belt::Process;

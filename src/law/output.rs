@@ -54,7 +54,7 @@ pub const LEVELS: u32 = 3;
 
 /// What `exact-law` computes beyond the long run: the resolution of the long run and Table 1
 /// (`finest`), the times added to D_k's law, and the finest resolution of the counts' laws
-/// (S_T, S_L; none: not computed).
+/// (S_T, S_L; none: not computed) and of the densities of T_k, L_k and H_k.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Options {
     /// the finest resolution of the long run and Table 1
@@ -63,6 +63,8 @@ pub struct Options {
     pub tail_times: Vec<f64>,
     /// the finest resolution of the counts' laws, or none
     pub counts: Option<u32>,
+    /// the finest resolution of the densities of T_k, L_k, H_k, or none
+    pub densities: Option<u32>,
 }
 
 /// What `exact-law` found: the long run's levels, Table 1's rows (with S_T and S_L when
@@ -91,6 +93,10 @@ pub fn run(
     if counts.is_some() {
         super::counts::check(&frames, scenario.run.duration).map_err(LawError::Refused)?;
     }
+    let densities_ladder = opts.densities.map(|n| super::ladder(&frames, n, LEVELS)).transpose().map_err(LawError::Refused)?;
+    if densities_ladder.is_some() {
+        super::densities::check(scenario).map_err(LawError::Refused)?;
+    }
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
     let (mut levels, mut density) = (Vec::new(), None);
     for rung in &ladder {
@@ -115,6 +121,16 @@ pub fn run(
         None => (Vec::new(), Vec::new()),
     };
     rows.extend(counts.1);
+    let (densities, characteristic) = match &densities_ladder {
+        Some(ladder) => {
+            let t_a = scenario.run.duration;
+            let half_period = super::densities::half_period(t_a, after.last().map_or((f64::NAN, f64::NAN), |(_, s)| s.next_start));
+            let solved = super::densities::solve(scenario, &frames, ladder, half_period, &mut |n, s| sticks_progress("densities of T_k, L_k, H_k", n, s))
+                .map_err(LawError::Failed)?;
+            (super::densities::rows(&solved, half_period, t_a), super::densities::characteristic_table(&solved, half_period))
+        }
+        None => (Vec::new(), Table::default()),
+    };
     let laws = sticks::survival_rows(&frames, &after, &super::density::survival_times(&frames, tail_times));
     let warning = after.last().and_then(|(_, s)| sticks::window_warning(s.next_start, scenario.run.duration));
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
@@ -131,6 +147,11 @@ pub fn run(
     survival_table(&laws).write_parquet(&staged.path().join("survival.parquet")).map_err(|e| werr("survival.parquet", &e))?;
     if opts.counts.is_some() {
         counts_table(&counts.0).write_parquet(&staged.path().join("counts.parquet")).map_err(|e| werr("counts.parquet", &e))?;
+    }
+    if opts.densities.is_some() {
+        densities_table(&densities).write_parquet(&staged.path().join("densities.parquet")).map_err(|e| werr("densities.parquet", &e))?;
+        crate::figures::render::save(&super::densities::figure(&densities), staged.path()).map_err(|e| werr("densities.png", &e))?;
+        characteristic.write_parquet(&staged.path().join("characteristic.parquet")).map_err(|e| werr("characteristic.parquet", &e))?;
     }
     staged.commit()?;
     Ok((levels, rows, counts.0, warning))
@@ -158,6 +179,22 @@ fn counts_table(rows: &[super::counts::CountRow]) -> Table {
         .push("value", Col::Int(rows.iter().map(|r| Some(i64::from(r.value))).collect()))
         .push("probability", Col::Float(rows.iter().map(|r| Some(r.probability)).collect()))
         .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()));
+    t
+}
+
+/// `densities.parquet`: variable (T, L, H), index k, the cell t_lo ≤ t < t_hi, its centre t,
+/// the density averaged over it [1/s], error, point_mass (the probability of the point masses
+/// in it, not part of the density).
+pub(crate) fn densities_table(rows: &[super::densities::DensityRow]) -> Table {
+    let mut t = Table::default();
+    t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
+        .push("index", Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
+        .push("t", Col::Float(rows.iter().map(|r| Some(0.5 * (r.t_lo + r.t_hi))).collect()))
+        .push("t_lo", Col::Float(rows.iter().map(|r| Some(r.t_lo)).collect()))
+        .push("t_hi", Col::Float(rows.iter().map(|r| Some(r.t_hi)).collect()))
+        .push("density", Col::Float(rows.iter().map(|r| Some(r.density)).collect()))
+        .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
+        .push("point_mass", Col::Float(rows.iter().map(|r| Some(r.point_mass)).collect()));
     t
 }
 

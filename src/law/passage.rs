@@ -350,14 +350,14 @@ fn leave<C: Clocks>(ctx: &C::Ctx, meshes: &[Mesh], s: usize, entries: impl Itera
         held.d2 += mass * 2.0 * one_minus_exp_poly(x) / (lambda * lambda);
         for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
             let w = lambda * decay(lambda, offset, offset + dt);
-            let clock = m.later(ctx, w, offset, lambda, dt).restart();
+            let clock = m.later(ctx, w, offset, lambda, dt).restart(ctx);
             clouds[d].line[k].add(&clock, 1.0 - frac);
             clouds[d].line[k + 1].add(&clock, frac);
             held.ends.add(&clock, 1.0);
         }
         let e = (-x).exp();
         held.breakaway += mass * e;
-        let clock = m.later(ctx, e, d_hold, lambda, 0.0).restart();
+        let clock = m.later(ctx, e, d_hold, lambda, 0.0).restart(ctx);
         clouds[s].breakaway.add(&clock, 1.0);
         held.ends.add(&clock, 1.0);
     }

@@ -1,5 +1,6 @@
 //! The report's sections from `exact-law` (`report --exact LAWDIR`): Table 1's means and
-//! variances without sampling beside ours, and D_k's law beside our product-limit curves.
+//! variances without sampling beside ours, D_k's law beside our product-limit curves, the laws
+//! of the counts and the densities of T_k, L_k, H_k beside our histograms.
 
 use std::path::Path;
 
@@ -10,6 +11,8 @@ use crate::table::Table;
 pub(super) const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];
 pub(super) const EXACT_TAILS_HEAD: [&str; 4] = ["quantity", "exact", "ours [95 %]", ""];
 pub(super) const EXACT_TAILS_LEGEND: &str = "The law of each stick's duration D_k without sampling (exact-law's survival.parquet: the law of the stick's entry position, then the flip or the breakaway) beside our Kaplan–Meier curve of D_k; with exact-law --counts, the laws of S_T and S_L (counts.parquet) beside our shares (Wilson intervals), where the exact probability is at least 1e-3. ✓: the exact value (± its error) meets our 95 % band.";
+pub(super) const EXACT_DENSITIES_HEAD: [&str; 4] = ["density", "our bins", "exact inside our 95 %", ""];
+pub(super) const EXACT_DENSITIES_LEGEND: &str = "The densities of T_k, L_k and H_k without sampling (exact-law --densities: the characteristic function's cosine series, integrated over each of our histogram's bins, with its error estimate) beside our histograms: in how many bins the exact probability (± its error) meets the Wilson 95 % interval of our share. ✓: at least 90 % of them (a correct law meets about 95 %).";
 pub(super) const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it).";
 
 /// The exact rows beside Table 1 (`Content::exact`): every T_k, L_k, D_k, H_k (and S_T, S_L)
@@ -65,10 +68,64 @@ pub(super) fn exact_tail_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]
     Ok(out)
 }
 
+/// The densities of `exact-law --densities` (characteristic.parquet; none without it) integrated
+/// over each bin of the analysis' histogram of T_k, L_k and H_k (histograms.parquet), beside the
+/// bin's share of our values with its Wilson 95 % interval ([`wilson`]): (density, bins, how
+/// many meet, ✓ when at least 90 % do).
+pub(super) fn density_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> {
+    let path = law.join("characteristic.parquet");
+    if !path.exists() {
+        return Ok(Vec::new());
+    }
+    let (half_period, levels) = crate::law::densities::read_characteristic(&path).map_err(|message| ReportError::Read { path: path.clone(), message })?;
+    let hist_path = adir.join("histograms.parquet");
+    let ours = Table::read_checked(&hist_path, &[("variable", 's'), ("index", 'i'), ("lo", 'f'), ("hi", 'f'), ("count", 'i')])
+        .map_err(|e| ReportError::Read { path: hist_path.clone(), message: e.to_string() })?;
+    let (ov, oi, olo, ohi, ocount) = (
+        ours.strings("variable").unwrap_or_default(),
+        ours.ints("index").unwrap_or_default(),
+        ours.floats("lo").unwrap_or_default(),
+        ours.floats("hi").unwrap_or_default(),
+        ours.ints("count").unwrap_or_default(),
+    );
+    let mut out = Vec::new();
+    for (i, x) in levels.last().map_or(&[][..], |l| &l.1[..]).iter().enumerate() {
+        let (variable, k) = (x.variable, x.index);
+        let bins: Vec<(f64, f64, i64)> =
+            (0..ours.height()).filter(|&r| ov[r] == variable && oi[r] == Some(i64::from(k))).filter_map(|r| Some((olo[r]?, ohi[r]?, ocount[r]?))).collect();
+        let n: i64 = bins.iter().map(|b| b.2).sum();
+        if n == 0 {
+            continue;
+        }
+        let edges: Vec<f64> = bins.iter().map(|b| b.0).chain(bins.last().map(|b| b.1)).collect();
+        let exact = crate::law::densities::averages(&levels, half_period, i, &edges);
+        let inside = bins
+            .iter()
+            .zip(&exact)
+            .filter(|((lo, hi, count), (f, e, point))| {
+                let (a, b) = wilson(*count as f64 / n as f64, n as f64);
+                (f + e) * (hi - lo) + point >= a && (f - e) * (hi - lo) + point <= b
+            })
+            .count();
+        let ok = inside as f64 >= 0.9 * bins.len() as f64;
+        out.push([format!("{variable}_{k}"), bins.len().to_string(), format!("{inside} of {}", bins.len()), if ok { "✓" } else { "✗" }.to_string()]);
+    }
+    Ok(out)
+}
+
+/// The Wilson 95 % interval of a share p̂ of N: (p̂ + z²/2N ± z √(p̂(1 − p̂)/N + z²/4N²)) /
+/// (1 + z²/N), z = 1.96.
+fn wilson(share: f64, n: f64) -> (f64, f64) {
+    let z2 = 1.96f64 * 1.96;
+    let centre = (share + z2 / (2.0 * n)) / (1.0 + z2 / n);
+    let half = 1.96 * (share * (1.0 - share) / n + z2 / (4.0 * n * n)).sqrt() / (1.0 + z2 / n);
+    (centre - half, centre + half)
+}
+
 /// P(S_T = n) and P(S_L = n) of `exact-law --counts` (counts.parquet; none without it) beside the
 /// analysis' shares of the same values (histograms.parquet: a count's bins are its values),
-/// with the Wilson 95 % interval of a share p̂ of N: (p̂ + z²/2N ± z √(p̂(1 − p̂)/N + z²/4N²)) /
-/// (1 + z²/N), z = 1.96. Values whose exact probability is below 1e-3 are left out.
+/// with the Wilson 95 % interval ([`wilson`]). Values whose exact probability is below 1e-3 are
+/// left out.
 fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> {
     let path = law.join("counts.parquet");
     if !path.exists() {
@@ -113,10 +170,7 @@ fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> 
                 .and_then(|&b| ocount[b])
                 .unwrap_or(0);
             let share = count as f64 / n;
-            let z2 = 1.96f64 * 1.96;
-            let centre = (share + z2 / (2.0 * n)) / (1.0 + z2 / n);
-            let half = 1.96 * (share * (1.0 - share) / n + z2 / (4.0 * n * n)).sqrt() / (1.0 + z2 / n);
-            let (lo, hi) = (centre - half, centre + half);
+            let (lo, hi) = wilson(share, n);
             let inside = if p + err >= lo && p - err <= hi { "✓" } else { "✗" };
             out.push([
                 format!("P({variable} = {value})"),

@@ -17,7 +17,9 @@ use crate::analysis::summary::Summary;
 use crate::table::Table;
 
 mod exact;
-use exact::{exact_rows, exact_tail_rows, EXACT_HEAD, EXACT_LEGEND, EXACT_TAILS_HEAD, EXACT_TAILS_LEGEND};
+use exact::{
+    density_rows, exact_rows, exact_tail_rows, EXACT_DENSITIES_HEAD, EXACT_DENSITIES_LEGEND, EXACT_HEAD, EXACT_LEGEND, EXACT_TAILS_HEAD, EXACT_TAILS_LEGEND,
+};
 
 /// Why `report` failed.
 #[derive(Debug, thiserror::Error)]
@@ -120,6 +122,9 @@ struct Content {
     /// curve of D_k at the times both have: (P(D_k > t), exact ± error, ours [95 %], inside?);
     /// empty without `--exact`, or when either lacks the curves
     exact_tails: Vec<[String; 4]>,
+    /// the densities of T_k, L_k, H_k without sampling against our histograms: (variable, bins,
+    /// how many meet, ✓); empty without `--exact` or its `--densities`
+    exact_densities: Vec<[String; 4]>,
     figures: Vec<(String, PathBuf)>,
 }
 
@@ -346,6 +351,7 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>) -> 
         paper,
         exact: exact.map_or(Ok(Vec::new()), |law| exact_rows(law, &table1))?,
         exact_tails: exact.map_or(Ok(Vec::new()), |law| exact_tail_rows(law, adir))?,
+        exact_densities: exact.map_or(Ok(Vec::new()), |law| density_rows(law, adir))?,
         table1,
         growth,
         renewal,
@@ -473,10 +479,13 @@ fn html(c: &Content, figdir: &Path) -> Result<String, ReportError> {
             let _ = writeln!(h, "<tr><td class=\"l\">{}</td>{}</tr>", escape(&r[0]), r[1..].iter().map(td).collect::<String>());
         }
         h += "</table>\n";
-        if !c.exact_tails.is_empty() {
-            let _ =
-                write!(h, "<p>{EXACT_TAILS_LEGEND}</p>\n<table>\n<tr>{}</tr>\n", EXACT_TAILS_HEAD.iter().map(|x| format!("<th>{x}</th>")).collect::<String>());
-            for r in &c.exact_tails {
+        for (legend, head, rows) in [(EXACT_TAILS_LEGEND, EXACT_TAILS_HEAD, &c.exact_tails), (EXACT_DENSITIES_LEGEND, EXACT_DENSITIES_HEAD, &c.exact_densities)]
+        {
+            if rows.is_empty() {
+                continue;
+            }
+            let _ = write!(h, "<p>{legend}</p>\n<table>\n<tr>{}</tr>\n", head.iter().map(|x| format!("<th>{x}</th>")).collect::<String>());
+            for r in rows {
                 let _ = writeln!(h, "<tr><td class=\"l\">{}</td>{}</tr>", escape(&r[0]), r[1..].iter().map(td).collect::<String>());
             }
             h += "</table>\n";
@@ -543,9 +552,13 @@ fn markdown(c: &Content, figdir: &Path) -> String {
         for r in &c.exact {
             let _ = writeln!(m, "| {} |", r.join(" | "));
         }
-        if !c.exact_tails.is_empty() {
-            let _ = write!(m, "\n{EXACT_TAILS_LEGEND}\n\n| {} |\n|{}\n", EXACT_TAILS_HEAD.join(" | "), "---|".repeat(EXACT_TAILS_HEAD.len()));
-            for r in &c.exact_tails {
+        for (legend, head, rows) in [(EXACT_TAILS_LEGEND, EXACT_TAILS_HEAD, &c.exact_tails), (EXACT_DENSITIES_LEGEND, EXACT_DENSITIES_HEAD, &c.exact_densities)]
+        {
+            if rows.is_empty() {
+                continue;
+            }
+            let _ = write!(m, "\n{legend}\n\n| {} |\n|{}\n", head.join(" | "), "---|".repeat(head.len()));
+            for r in rows {
                 let _ = writeln!(m, "| {} |", r.join(" | "));
             }
         }

@@ -284,7 +284,7 @@ fn table_agrees(sets: &[&str]) {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(sets);
     let times = [0.05, 0.2, 0.5, 1.0];
-    let opts = stickslip::law::Options { finest: 20, tail_times: times.to_vec(), counts: None };
+    let opts = stickslip::law::Options { finest: 20, tail_times: times.to_vec(), counts: None, densities: None };
     let (_, rows, _, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
@@ -333,7 +333,7 @@ fn table_agrees(sets: &[&str]) {
 fn count_laws_agree_with_monte_carlo() {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["run.duration=4"]);
-    let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: Some(8) };
+    let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: Some(8), densities: None };
     let (_, rows, counts, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
     let runs = outcomes(&sc, 20_000);
     let n = runs.len() as f64;
@@ -468,4 +468,16 @@ fn the_report_shows_the_exact_values_beside_the_intervals() {
     let judged = tails.iter().filter(|r| !r.contains("no band")).count();
     assert!(judged >= 12 && tails.iter().filter(|r| r.contains('✓')).count() >= judged - 2, "{tails:?}");
     assert!(std::fs::read_to_string(tmp.path().join("x.html")).unwrap().contains("<h2>Table 1 without sampling</h2>"));
+}
+
+/// `exact-law --densities` refuses a point initial condition (T_1 then has a point mass, the
+/// path without a flip, and no density) with the reason, before any solve, leaving nothing.
+#[test]
+fn densities_refuse_a_point_start() {
+    let tmp = tempfile::tempdir().unwrap();
+    let sc = scenario(&["initial_conditions.position=[0.5, 0.5]", "initial_conditions.velocity=[0.0, 0.0]"]);
+    let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: None, densities: Some(8) };
+    let err = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap_err().to_string();
+    assert!(err.contains("--densities") && err.contains("point"), "{err}");
+    assert!(!tmp.path().join("e").exists());
 }

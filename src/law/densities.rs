@@ -1,0 +1,690 @@
+//! The densities of T_k, L_k and H_k (k = 1 … [`STICKS`]) without sampling, on a grid of
+//! [0, t_a], from the scenario's initial conditions (`exact-law --densities N`).
+//!
+//! **The transform.** The sequence of passages of [`super::passage`] carries, instead of the
+//! clocks' moments, the characteristic function of t at ω_j = πj/P (j = 0 … J, [`TERMS`] = J;
+//! [`super::clock::Points::cosine`]): the k-th passage's entries hold E[e^{−iω T_k}], its
+//! sticks' ends E[e^{−iω L_k}]; a second walk whose clock restarts at every stick's end holds
+//! E[e^{−iω H_k}] in the entries of passage k + 1 (H_k runs from the end of stick k to the start
+//! of stick k + 1). Every operation of the walks is exact on the transform (the flips' delays,
+//! the periodic slips' repetitions in closed form); the discretisation is the grid that holds
+//! the measure, extrapolated from three resolutions as every table of `exact-law`.
+//!
+//! **The inversion** is the cosine series of the law's even extension to [−P, P]
+//! (Dubner & Abate 1968, with no damping), integrated over the cells of the grid:
+//!
+//! ```text
+//!     f(t) = (1/P) [Re φ(0) + 2 Σ_{j≥1} Re φ(ω_j) cos(ω_j t)] − Σ_{n≥1} [f(2nP − t) + f(2nP + t)],
+//!     φ(ω) = E[e^{−iωT}],  ω_j = πj/P,
+//!     (1/Δ) ∫_a^b f = (1/(PΔ)) [Re φ(0) Δ + 2 Σ_{j=1}^{J} Re φ(ω_j) (sin ω_j b − sin ω_j a)/ω_j],  Δ = b − a
+//! ```
+//!
+//! The value written is the density averaged over each of [`GRID`] cells of [0, t_a] — what a
+//! histogram of a Monte Carlo dataset on the same cells estimates — whose series converges one
+//! order faster than the density's at a point. The even extension is continuous at 0 (a density
+//! that jumps at t = 0+, as T_1's from the paper's box does, costs the series nothing there),
+//! and its aliasing is the law's density beyond P: P is the larger of t_a and the mean plus six
+//! standard deviations of the stick after the last followed (T_7,
+//! [`super::passage::Sequence::next_start`]). A jump inside (0, P) — H_k has one where the slips
+//! after a flip first return to belt speed — makes the terms decay like 1/j² only (a kink like
+//! 1/j³): the truncation error is estimated as twice the largest change from J/2 to J terms over
+//! the cell and its two neighbours on each side (against the closed forms of an Erlang law, an
+//! exponential law and one shifted to jump inside, this bounded the error with room: at most
+//! 0.69 of it), and added to the error of the extrapolation over the resolutions. The grid's
+//! atoms (the flip-free walks from the points of the initial box) are too many and too close to
+//! be seen at ω_J. A point initial condition gives T_1 a point mass (the path without a flip)
+//! and no density: it is refused.
+//!
+//! **The point masses of H_k.** Every breakaway leaves the same state (x_b, v0), so where the
+//! slip after it returns to a stick without a flip (μ_s > μ_k: at 2c_k − c_s after t_r, the
+//! same for every breakaway of the belt state; [`restick`]), H_k = t_r exactly with probability
+//! m = P(stick k ends by breakaway in that state) × P(the flips leave that slip unchanged) —
+//! e^{−λ t_r}, but for the stretches where the mass outruns both belt velocities, where flips
+//! change nothing if the belt is back when they end ([`path`]). That mass is taken out of the
+//! transform before the series (m e^{−iω t_r} subtracted) and written as the cell's
+//! `point_mass`: the density is the rest's. P(breakaway) per state is summed from the stick's
+//! entries as the passage does (e^{−λ d(x_e)}, d the holding time). T_k and L_k have no such
+//! mass: L_k is T_k plus a stick, and T_{k+1} is L_k plus a slip, each with a density.
+
+use super::clock::{Laplace, Points, C64};
+use super::flow::{Frame, Slip, Visitor};
+use super::passage::{self, Start, Step};
+use super::sticks::STICKS;
+use super::Rung;
+use crate::scenario::Scenario;
+
+/// J, the highest term of the cosine series (on the paper scene, P = 10.4 s: ω_J = 77 rad/s, a
+/// resolution of about P/J = 0.04 s).
+pub const TERMS: usize = 256;
+/// The transform's points: j = 0 … J.
+const N: usize = TERMS + 1;
+/// The cells of [0, t_a] the densities are averaged over.
+pub const GRID: usize = 100;
+/// The variables, in analyze's names.
+pub const VARIABLES: [&str; 3] = ["T", "L", "H"];
+
+/// One variable's transform at one resolution: φ of its law at the points, less its point
+/// masses (module docs), and those: (t, mass).
+#[derive(Debug, Clone)]
+pub(crate) struct Transform {
+    pub variable: &'static str,
+    pub index: u32,
+    pub phi: Box<[C64; N]>,
+    pub points: Vec<(f64, f64)>,
+}
+
+/// The transforms of one resolution.
+type Transforms = Vec<Transform>;
+
+/// One row of `densities.parquet`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DensityRow {
+    /// one of [`VARIABLES`] (`exact-law`), or `time_to_stick`, `slip_duration` (`predict`)
+    pub variable: &'static str,
+    /// k, 1-based
+    pub index: u32,
+    /// the cell's start [s]
+    pub t_lo: f64,
+    /// the cell's end [s] (the cell is [t_lo, t_hi))
+    pub t_hi: f64,
+    /// the density averaged over the cell [1/s] (P(t_lo ≤ · < t_hi) / (t_hi − t_lo)), ≥ 0 (an
+    /// overshoot of the series below 0 is written as 0, its size added to `error`)
+    pub density: f64,
+    /// the estimated error: the extrapolation's over the resolutions plus the series'
+    /// truncation (the change from J/2 to J terms), plus the point mass's extrapolation spread
+    /// over the cell's width
+    pub error: f64,
+    /// the probability of the point masses in the cell (H_k of a scene whose breakaway slip
+    /// sticks again without a flip; 0 elsewhere), not part of `density`
+    pub point_mass: f64,
+}
+
+/// Whether the densities exist for the scenario's initial law: not for a point.
+pub(crate) fn check(scenario: &Scenario) -> Result<(), String> {
+    let ic = &scenario.initial_conditions;
+    if ic.position[0] == ic.position[1] && ic.velocity[0] == ic.velocity[1] {
+        return Err(
+            "--densities: the initial condition is a point, so T_1 has a point mass (the path without a flip) and no density: give initial_conditions a range"
+                .into(),
+        );
+    }
+    Ok(())
+}
+
+/// The cosine series averaged over [a, b] with the terms j ≤ `terms` (module docs).
+pub(crate) fn cell(phi: &[C64], half_period: f64, a: f64, b: f64, terms: usize) -> f64 {
+    let w = std::f64::consts::PI / half_period;
+    let sum: f64 =
+        phi.iter().enumerate().take(terms + 1).skip(1).map(|(j, f)| f.re * ((w * j as f64 * b).sin() - (w * j as f64 * a).sin()) / (w * j as f64)).sum();
+    (phi[0].re * (b - a) + 2.0 * sum) / (half_period * (b - a))
+}
+
+/// The flip-free path from a slip state to its first event, and the chance that the belt leaves
+/// it unchanged.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Path {
+    /// whether it ends in a stick (else at the breakaway point, after which it goes on as the
+    /// breakaway slip)
+    pub stuck: bool,
+    /// its duration [s]
+    pub t: f64,
+    /// the probability that the belt's flips leave it unchanged ([`path`])
+    pub kept: f64,
+}
+
+/// The flip-free path of the flow from the slip state `z` in belt state `s` of `frames` (its
+/// frame: the belt at +v_s; a flip leads to the next state, belt at −v_o) to its first event,
+/// or none for a slip that never reaches belt speed (a periodic slip below it, or a spiral down
+/// with a dashpot).
+///
+/// **Flips it does not see.** Coulomb friction depends on the sign of v_belt − V only, so a flip
+/// while V > v_s or V < −v_o (the mass outruns both belt velocities, on one side) changes
+/// nothing; what matters is the belt's state when V re-enters (−v_o, v_s). The path is kept
+/// when no flip comes while −v_o < V < v_s and the belt is back in state s at the end of each
+/// stretch outside it (of length τ: P_ss(τ) = (λ_o + λ_s e^{−(λ_s+λ_o)τ})/(λ_s + λ_o), the two
+/// states' chain; (1 + e^{−2λτ})/2 for the symmetric belt):
+///
+/// ```text
+///     kept = e^{−λ_s T_inside} Π_stretches P_ss(τ)
+/// ```
+///
+/// (The paper's box with μ_s = 0.6 and λ = 1: the breakaway slip reaches V < −v0 for 0.415 of
+/// its 2.726 s, and 0.0712 of the breakaways re-stick unchanged — 0.0716 ± 0.0012 in 47,638
+/// breakaways simulated — where e^{−λ t} would say 0.0655.) Each sample of the walk (at most
+/// w0·1e-5 long in the plane) counts inside or outside by its velocity (the paper's box with μ_s = 0.6:
+/// 1.8e-7 relative from the closed form).
+pub(crate) fn path(frames: &[Frame], s: usize, z: Slip) -> Option<Path> {
+    struct Record {
+        samples: Vec<(f64, f64)>,
+        end: Option<(bool, f64)>,
+    }
+    impl Visitor for Record {
+        fn slip(&mut self, _: f64, v: f64, _: f64, dt: f64, _: f64) {
+            self.samples.push((v, dt));
+        }
+        fn periodic(&mut self, _: Slip, _: f64, _: f64, _: f64) {}
+        fn stick(&mut self, _: f64, t: f64) {
+            self.end.get_or_insert((true, t));
+        }
+        fn breakaway_slip(&mut self, t: f64, _: f64) {
+            self.end.get_or_insert((false, t));
+        }
+    }
+    let (f, o) = (frames[s], frames[(s + 1) % frames.len()]);
+    let mut rec = Record { samples: Vec::new(), end: None };
+    f.walk(z, 0.0, f.w0 * 1e-5, f64::INFINITY, &mut rec);
+    let (stuck, t) = rec.end?;
+    let (ls, lo) = (f.lambda, o.lambda);
+    let back = |tau: f64| (lo + ls * (-(ls + lo) * tau).exp()) / (ls + lo);
+    let (mut inside, mut kept, mut outside) = (0.0, 1.0, 0.0);
+    for (v, dt) in rec.samples {
+        if -o.v0 < v && v < f.v0 {
+            kept *= back(outside);
+            (inside, outside) = (inside + dt, 0.0);
+        } else {
+            outside += dt;
+        }
+    }
+    kept *= back(outside) * (-ls * inside).exp();
+    Some(Path { stuck, t, kept })
+}
+
+/// The breakaway slip's path in belt state s if it sticks again ([`path`] from (x_b, v_s)).
+pub(crate) fn restick(frames: &[Frame], s: usize) -> Option<Path> {
+    path(frames, s, frames[s].breakaway()).filter(|p| p.stuck)
+}
+
+/// The point mass of the time to the next stick from a `start` in belt state `at` (module docs):
+/// (time, probability) — a slip's first stick, or its first touch of the breakaway point plus
+/// the breakaway slip's re-stick; a stick's breakaway plus the re-stick — each path kept
+/// ([`path`]; a stick is kept when no flip comes during it).
+fn start_point(frames: &[Frame], at: usize, start: Start) -> Option<(f64, f64)> {
+    let f = frames[at];
+    let again = restick(frames, at);
+    match start {
+        Start::Stuck(x) => {
+            let d = (f.hold_hi() - x).max(0.0) / f.v0;
+            again.map(|r| (d + r.t, (-f.lambda * d).exp() * r.kept))
+        }
+        Start::Slip(z) => match path(frames, at, z)? {
+            p if p.stuck => Some((p.t, p.kept)),
+            p => again.map(|r| (p.t + r.t, p.kept * r.kept)),
+        },
+    }
+}
+
+/// φ less a point mass m at t (m e^{−iωt} subtracted at every point).
+fn without(phi: &mut [C64; N], points: &Points<N>, t: f64, m: f64) {
+    phi.iter_mut().zip(&points.z).for_each(|(p, z)| {
+        let e = z.exp_neg(t);
+        *p = C64::new(p.re - m * e.re, p.im - m * e.im);
+    });
+}
+
+/// Per belt state, the mass of the sticks entered in `step` that end by breakaway (e^{−λ d(x_e)},
+/// d the holding time, as the passage's `leave`).
+fn breakaway_masses(step: &Step<Laplace<N>>) -> Vec<f64> {
+    step.entries
+        .iter()
+        .zip(step.meshes)
+        .map(|(e, mesh)| {
+            let f = mesh.frame;
+            e.iter().enumerate().map(|(i, c)| c.mass * (-f.lambda * (f.hold_hi() - (f.hold_lo() + i as f64 * mesh.h_line)).max(0.0) / f.v0).exp()).sum()
+        })
+        .collect()
+}
+
+/// φ of the slip after the sticks of the step before (`breakaways`, [`breakaway_masses`]) less
+/// its point masses (the breakaway slips that stick again without a flip), and those.
+fn slip_law(phi: [C64; N], points: &Points<N>, frames: &[Frame], breakaways: &[f64]) -> (Box<[C64; N]>, Vec<(f64, f64)>) {
+    let (mut phi, mut out) = (Box::new(phi), Vec::new());
+    for (s, b) in breakaways.iter().enumerate() {
+        let Some(r) = restick(frames, s) else { continue };
+        let m = b * r.kept;
+        without(&mut phi, points, r.t, m);
+        out.push((r.t, m));
+    }
+    (phi, out)
+}
+
+/// The transforms of `predict --densities` from `start` in belt state `at`: τ (`time_to_stick`,
+/// its flip-free point mass taken out, [`start_point`]) and H (`slip_duration`, the slip after
+/// that stick).
+pub(crate) fn predicted(frames: &[Frame], h: &[f64], half: f64, at: usize, start: Start, half_period: f64) -> Result<Transforms, String> {
+    let lambdas: Vec<f64> = frames.iter().map(|f| f.lambda).collect();
+    let starts = [(at, start, 1.0)];
+    let mut out: Transforms = Vec::new();
+    let origin = Points::<N>::cosine(half_period, &lambdas, false);
+    passage::walk_sequence::<Laplace<N>>(&origin, frames, h, half, &starts, 0, &mut |step: Step<Laplace<N>>| {
+        let mut phi = Box::new(passage::total(&step.entries.concat()).t);
+        let mut points = Vec::new();
+        if let Some((t, m)) = start_point(frames, at, start) {
+            without(&mut phi, &origin, t, m);
+            points.push((t, m));
+        }
+        out.push(Transform { variable: "time_to_stick", index: 1, phi, points });
+        false
+    })?;
+    let since_end = Points::<N>::cosine(half_period, &lambdas, true);
+    let mut breakaways = Vec::new();
+    passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, &starts, 1, &mut |step: Step<Laplace<N>>| {
+        if step.held.is_some() {
+            breakaways = breakaway_masses(&step);
+            return true;
+        }
+        let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, frames, &breakaways);
+        out.push(Transform { variable: "slip_duration", index: 1, phi, points });
+        false
+    })?;
+    Ok(out)
+}
+
+/// The transforms of T_k, L_k and H_k (k = 1 … [`STICKS`]) from the weighted `starts` at one
+/// resolution (two walks: t since the origin, then since the last stick's end), H_k's point
+/// masses taken out (module docs).
+fn transforms(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, passage::Start, f64)], half_period: f64) -> Result<Transforms, String> {
+    let lambdas: Vec<f64> = frames.iter().map(|f| f.lambda).collect();
+    let mut out: Transforms = Vec::new();
+    let origin = Points::<N>::cosine(half_period, &lambdas, false);
+    passage::walk_sequence::<Laplace<N>>(&origin, frames, h, half, starts, STICKS, &mut |step: Step<Laplace<N>>| {
+        let Some(held) = step.held else { return false };
+        let index = out.len() as u32 / 2 + 1;
+        out.push(Transform { variable: "T", index, phi: Box::new(passage::total(&step.entries.concat()).t), points: Vec::new() });
+        out.push(Transform { variable: "L", index, phi: Box::new(held.ends.t), points: Vec::new() });
+        (index as usize) < STICKS
+    })?;
+    let since_end = Points::<N>::cosine(half_period, &lambdas, true);
+    // per belt state, the mass of the last passage's sticks that end by breakaway
+    let (mut k, mut breakaways) = (0u32, Vec::<f64>::new());
+    passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, starts, STICKS, &mut |step: Step<Laplace<N>>| {
+        if k > 0 {
+            let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, frames, &breakaways);
+            out.push(Transform { variable: "H", index: k, phi, points });
+        }
+        breakaways = breakaway_masses(&step);
+        k += 1;
+        step.held.is_some()
+    })?;
+    Ok(out)
+}
+
+/// The transforms at the ladder's spacings (coarsest first), with the scenario's initial law
+/// and the series' half-period; `progress` hears each resolution (n, seconds).
+pub(crate) fn solve(
+    scenario: &Scenario,
+    frames: &[Frame],
+    ladder: &[Rung],
+    half_period: f64,
+    progress: &mut dyn FnMut(u32, f64),
+) -> Result<Vec<(f64, Transforms)>, String> {
+    let mut out = Vec::new();
+    for (n, h) in ladder {
+        let (starts, half) = super::sticks::held_starts(scenario, frames, h[0]);
+        let t = std::time::Instant::now();
+        out.push((h[0], transforms(frames, h, half, &starts, half_period)?));
+        progress(*n, t.elapsed().as_secs_f64());
+    }
+    Ok(out)
+}
+
+/// The series' half-period P: t_a, or the mean plus six standard deviations of the stick after
+/// the last followed if later (module docs).
+pub(crate) fn half_period(t_a: f64, next_start: passage::MeanVar) -> f64 {
+    let reach = next_start.0 + 6.0 * next_start.1.max(0.0).sqrt();
+    if reach.is_finite() {
+        t_a.max(reach)
+    } else {
+        t_a
+    }
+}
+
+/// The density of transform `i` (of every level's) averaged over each cell between
+/// consecutive `edges`, and the point masses in it: (value ≥ 0, error, point mass) — the extrapolation over the levels (coarsest first)
+/// with its spread, plus twice the largest change from J/2 to J terms at the finest over the
+/// cell and two neighbours each side, plus any overshoot below 0 and the point mass's spread
+/// over the width (module docs).
+pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize, edges: &[f64]) -> Vec<(f64, f64, f64)> {
+    let Some((_, finest)) = levels.last() else { return Vec::new() };
+    let phi = &finest[i].phi[..];
+    let cells = edges.len().saturating_sub(1);
+    let change: Vec<f64> =
+        (0..cells).map(|g| (cell(phi, half_period, edges[g], edges[g + 1], TERMS) - cell(phi, half_period, edges[g], edges[g + 1], TERMS / 2)).abs()).collect();
+    (0..cells)
+        .map(|g| {
+            let per: Vec<(f64, f64)> = levels.iter().map(|(h, l)| (*h, cell(&l[i].phi[..], half_period, edges[g], edges[g + 1], TERMS))).collect();
+            let (value, spread) = super::guarded(&per);
+            let truncation = 2.0 * change[g.saturating_sub(2)..(g + 3).min(cells)].iter().copied().fold(0.0, f64::max);
+            let inside = |l: &Transforms| l[i].points.iter().filter(|(t, _)| (edges[g]..edges[g + 1]).contains(t)).map(|p| p.1).sum::<f64>();
+            let (mass, mass_spread) = super::guarded(&levels.iter().map(|(h, l)| (*h, inside(l))).collect::<Vec<_>>());
+            let width = edges[g + 1] - edges[g];
+            (value.max(0.0), spread + truncation + (-value).max(0.0) + mass_spread / width, mass.max(0.0))
+        })
+        .collect()
+}
+
+/// The rows of `densities.parquet` on the [`GRID`] cells of [0, t_a] from the levels (coarsest
+/// first).
+pub(crate) fn rows(levels: &[(f64, Transforms)], half_period: f64, t_a: f64) -> Vec<DensityRow> {
+    let edges: Vec<f64> = (0..=GRID).map(|g| t_a * g as f64 / GRID as f64).collect();
+    rows_on(levels, half_period, &edges)
+}
+
+/// The rows of every transform of the levels (coarsest first) on the cells between `edges`.
+pub(crate) fn rows_on(levels: &[(f64, Transforms)], half_period: f64, edges: &[f64]) -> Vec<DensityRow> {
+    let mut out = Vec::new();
+    for (i, x) in levels.last().map_or(&[][..], |l| &l.1[..]).iter().enumerate() {
+        for (g, (density, error, point_mass)) in averages(levels, half_period, i, edges).into_iter().enumerate() {
+            out.push(DensityRow { variable: x.variable, index: x.index, t_lo: edges[g], t_hi: edges[g + 1], density, error, point_mass });
+        }
+    }
+    out
+}
+
+/// `characteristic.parquet`: the transforms of every level, from which any cell's average
+/// follows ([`averages`]): h (the level's grid spacing, coarsest first), variable, index, j,
+/// omega = πj/P [rad/s], re and im of E[e^{−iωX}] (the point masses taken out), half_period P
+/// [s]; then a row per point mass with j, omega, re, im null and point_at [s], point_mass.
+pub(crate) fn characteristic_table(levels: &[(f64, Transforms)], half_period: f64) -> crate::table::Table {
+    use crate::table::Col;
+    // (h, variable, index, j, value | (t, mass))
+    type Row<'a> = (f64, &'a str, u32, Option<usize>, C64, Option<(f64, f64)>);
+    let mut rows: Vec<Row> = Vec::new();
+    for (h, l) in levels {
+        for x in l {
+            rows.extend(x.phi.iter().enumerate().map(|(j, f)| (*h, x.variable, x.index, Some(j), *f, None)));
+            rows.extend(x.points.iter().map(|p| (*h, x.variable, x.index, None, C64::default(), Some(*p))));
+        }
+    }
+    let f = |g: &dyn Fn(&Row) -> Option<f64>| Col::Float(rows.iter().map(g).collect());
+    let mut t = crate::table::Table::default();
+    t.push("h", f(&|r| Some(r.0)))
+        .push("variable", Col::Str(rows.iter().map(|r| r.1.to_string()).collect()))
+        .push("index", Col::Int(rows.iter().map(|r| Some(i64::from(r.2))).collect()))
+        .push("j", Col::Int(rows.iter().map(|r| r.3.map(|j| j as i64)).collect()))
+        .push("omega", f(&|r| r.3.map(|j| std::f64::consts::PI * j as f64 / half_period)))
+        .push("re", f(&|r| r.3.map(|_| r.4.re)))
+        .push("im", f(&|r| r.3.map(|_| r.4.im)))
+        .push("half_period", f(&|_| Some(half_period)))
+        .push("point_at", f(&|r| r.5.map(|p| p.0)))
+        .push("point_mass", f(&|r| r.5.map(|p| p.1)));
+    t
+}
+
+/// The levels and the half-period back from `characteristic.parquet` (as written by
+/// [`characteristic_table`]).
+pub(crate) fn read_characteristic(path: &std::path::Path) -> Result<(f64, Vec<(f64, Transforms)>), String> {
+    let t = crate::table::Table::read_checked(
+        path,
+        &[("h", 'f'), ("variable", 's'), ("index", 'i'), ("j", 'i'), ("re", 'f'), ("im", 'f'), ("half_period", 'f'), ("point_at", 'f'), ("point_mass", 'f')],
+    )
+    .map_err(|e| e.to_string())?;
+    let (h, v, k, j) =
+        (t.floats("h").unwrap_or_default(), t.strings("variable").unwrap_or_default(), t.ints("index").unwrap_or_default(), t.ints("j").unwrap_or_default());
+    let (re, im, p) = (t.floats("re").unwrap_or_default(), t.floats("im").unwrap_or_default(), t.floats("half_period").unwrap_or_default());
+    let (at, mass) = (t.floats("point_at").unwrap_or_default(), t.floats("point_mass").unwrap_or_default());
+    let bad = |r: usize| format!("{}: row {r} is not a transform of this version (h, variable, index, j, re, im, point_at, point_mass)", path.display());
+    let half_period = p.first().copied().flatten().ok_or_else(|| format!("{}: no rows", path.display()))?;
+    let mut levels: Vec<(f64, Transforms)> = Vec::new();
+    for r in 0..t.height() {
+        let (Some(h), Some(k)) = (h[r], k[r]) else { return Err(bad(r)) };
+        let variable = *VARIABLES.iter().find(|x| **x == v[r]).ok_or_else(|| bad(r))?;
+        if levels.last().is_none_or(|l| l.0 != h) {
+            levels.push((h, Vec::new()));
+        }
+        let level = &mut levels.last_mut().expect("a level").1;
+        if j[r] == Some(0) {
+            level.push(Transform { variable, index: u32::try_from(k).map_err(|_| bad(r))?, phi: Box::new([C64::default(); N]), points: Vec::new() });
+        }
+        let slot = level.last_mut().filter(|x| x.variable == variable && i64::from(x.index) == k).ok_or_else(|| bad(r))?;
+        match (j[r], re[r], im[r], at[r], mass[r]) {
+            (Some(j), Some(re), Some(im), None, None) => *slot.phi.get_mut(usize::try_from(j).map_err(|_| bad(r))?).ok_or_else(|| bad(r))? = C64::new(re, im),
+            (None, None, None, Some(t), Some(m)) => slot.points.push((t, m)),
+            _ => return Err(bad(r)),
+        }
+    }
+    Ok((half_period, levels))
+}
+
+/// `densities.png`: one panel per variable (T_k, L_k, H_k), the cell averages of k = 1 … 6 as
+/// lines through the cells' centres.
+pub(crate) fn figure(rows: &[DensityRow]) -> crate::figures::chart::Figure {
+    use crate::figures::chart::{Figure, Panel, Series};
+    let names = [("T", "stick starts T_k"), ("L", "slip starts L_k"), ("H", "slip durations H_k")];
+    let panels = names
+        .iter()
+        .map(|(v, title)| {
+            let lines = (1..=STICKS as u32)
+                .map(|k| Series {
+                    label: format!("k = {k}"),
+                    color: k as usize - 1,
+                    points: rows.iter().filter(|r| r.variable == *v && r.index == k).map(|r| (0.5 * (r.t_lo + r.t_hi), r.density)).collect(),
+                    errors: vec![],
+                })
+                .collect();
+            Panel { title: title.to_string(), x_label: "t [s]".into(), y_label: "density [1/s]".into(), lines, ..Default::default() }
+        })
+        .collect();
+    Figure {
+        name: "densities".into(),
+        title: "Densities without sampling (averaged over the cells of [0, t_a])".into(),
+        rows: 1,
+        cols: 3,
+        size: (1800, 560),
+        panels,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn div(a: C64, b: C64) -> C64 {
+        let d = b.re * b.re + b.im * b.im;
+        C64::new((a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d)
+    }
+
+    /// The cell averages of a law with the CDF `cdf` and the characteristic function `phi` on
+    /// cells of width 0.1 over [0, 6], against the closed form: the largest error and the
+    /// largest ratio of the error to its estimate (twice the largest change from J/2 to J terms
+    /// over the cell and two neighbours each side, as [`rows`]).
+    fn errors(p: &Points<N>, phi: &[C64], cdf: impl Fn(f64) -> f64) -> (f64, f64) {
+        let (width, cells) = (0.1, 60);
+        let e = |g: usize| g as f64 * width;
+        let change: Vec<f64> = (0..cells).map(|g| (cell(phi, p.t, e(g), e(g + 1), TERMS) - cell(phi, p.t, e(g), e(g + 1), TERMS / 2)).abs()).collect();
+        (0..cells).fold((0.0f64, 0.0f64), |(worst, ratio), g| {
+            let err = (cell(phi, p.t, e(g), e(g + 1), TERMS) - (cdf(e(g + 1)) - cdf(e(g))) / width).abs();
+            let estimate = 2.0 * change[g.saturating_sub(2)..(g + 3).min(cells)].iter().copied().fold(0.0, f64::max);
+            (worst.max(err), ratio.max(err / estimate))
+        })
+    }
+
+    #[test]
+    fn the_series_inverts_laws_whose_distribution_is_known() {
+        // the paper scene's half-period, P = 10.4 s; λ = 2
+        let (lambda, p) = (2.0, Points::<N>::cosine(10.4, &[], false));
+        let exp: Vec<C64> = p.z.iter().map(|z| div(C64::new(lambda, 0.0), C64::new(lambda + z.re, z.im))).collect();
+        let mul = |a: C64, b: C64| C64::new(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
+        // Erlang(3, λ): (λ/(λ + z))³, smooth (its even extension too): converged to 1e-5
+        let erlang: Vec<C64> = exp.iter().map(|&e| mul(mul(e, e), e)).collect();
+        let (worst, ratio) = errors(&p, &erlang, |t| 1.0 - (-lambda * t).exp() * (1.0 + lambda * t + (lambda * t).powi(2) / 2.0));
+        assert!(worst < 1e-5 && ratio < 1.0, "Erlang: error {worst:.1e}, error / estimate {ratio:.2}");
+        // Exp(λ): its density jumps at 0+, where the even extension is continuous (a kink)
+        let (worst, ratio) = errors(&p, &exp, |t| -(-lambda * t).exp_m1());
+        assert!(worst < 1e-3 && ratio < 1.0, "Exp: error {worst:.1e}, error / estimate {ratio:.2}");
+        // Exp(λ) shifted by 1 s (e^{−z} λ/(λ + z)): a jump of λ inside; the cells next to it
+        // are off by about 5 % of the jump, and the estimate covers every cell
+        let shifted: Vec<C64> = exp.iter().zip(&p.z).map(|(&e, z)| mul(e, C64::new(z.im.cos(), -z.im.sin()))).collect();
+        let (worst, ratio) = errors(&p, &shifted, |t| if t > 1.0 { -(-lambda * (t - 1.0)).exp_m1() } else { 0.0 });
+        assert!(worst < 0.1 * lambda && ratio < 1.0, "shifted Exp: error {worst:.1e}, error / estimate {ratio:.2}");
+    }
+
+    /// E[T] and E[T²] of a law on [0, P] from its cosine series, integrated term by term
+    /// (∫_0^P t cos(ω_j t) dt = ((−1)^j − 1)/ω_j², ∫_0^P t² cos(ω_j t) dt = 2P(−1)^j/ω_j²), and
+    /// its point masses.
+    fn series_moments(x: &Transform, p: f64) -> (f64, f64) {
+        let phi = &x.phi;
+        let (mut m1, mut m2) = (phi[0].re * p * p / 2.0, phi[0].re * p * p * p / 3.0);
+        for (j, f) in phi.iter().enumerate().skip(1) {
+            let (w, sign) = (std::f64::consts::PI * j as f64 / p, if j % 2 == 0 { 1.0 } else { -1.0 });
+            m1 += 2.0 * f.re * (sign - 1.0) / (w * w);
+            m2 += 2.0 * f.re * 2.0 * p * sign / (w * w);
+        }
+        let mass = phi[0].re + x.points.iter().map(|q| q.1).sum::<f64>();
+        let (a1, a2) = x.points.iter().fold((0.0, 0.0), |(a, b), (t, m)| (a + m * t, b + m * t * t));
+        ((m1 / p + a1) / mass, (m2 / p + a2) / mass)
+    }
+
+    #[test]
+    fn the_transforms_carry_the_moments_of_the_moment_clocks() {
+        // one coarse resolution: the same grid, the same walks, two algebras (the moments of
+        // [`passage::sequence`], the characteristic function here): the means and variances of
+        // T_k, L_k, H_k agree but for the series' truncation and aliasing (measured on the
+        // paper scene: T_1's mean 3.5e-4 relative — the flip-free walks from this resolution's
+        // few starts are point masses whose terms do not decay —, T_6's variance 7e-5 — its mass
+        // beyond P —, every other mean within 4e-5). With μ_s = 0.6 the breakaway slip sticks
+        // again without a flip: H_k's point mass, taken out and added back, must keep them so.
+        // (the second scene at λ = 1, where the point mass is about 0.013)
+        for sets in [&[][..], &["model.static_friction_coefficient=0.6".to_string(), "belt.switch_rate=1".to_string()][..]] {
+            let sc = crate::scenario::Scenario::resolve(None, sets).unwrap();
+            let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
+            let ladder = super::super::ladder(&frames, 8, 3).unwrap();
+            let h = &ladder[0].1;
+            let (starts, half) = super::super::sticks::held_starts(&sc, &frames, h[0]);
+            let moments = passage::sequence(&frames, h, half, &starts, STICKS).unwrap();
+            let p = half_period(sc.run.duration, moments.next_start);
+            let got = transforms(&frames, h, half, &starts, p).unwrap();
+            assert_eq!(got.len(), 3 * STICKS);
+            // (the second scene's T_k and L_k are left out: at λ = 1 the flip-free walks from this
+            // resolution's few starts carry most of T_1, point masses the series reads to 2e-3)
+            for x in got.iter().filter(|x| sets.is_empty() || x.variable == "H") {
+                assert_eq!(x.points.len(), usize::from(!sets.is_empty() && x.variable == "H"), "{sets:?} {}_{}: {:?}", x.variable, x.index, x.points);
+                let st = moments.sticks[x.index as usize - 1];
+                let want = match x.variable {
+                    "T" => st.start,
+                    "L" => st.end,
+                    _ => st.slip,
+                };
+                if let Some(&(t_r, m)) = x.points.first() {
+                    // the moment sequence's breakaway share of stick k times the chance that
+                    // the breakaway slip is kept ([`kept_breakaway_slip`])
+                    let (want, kept) = kept_breakaway_slip(frames[0]);
+                    assert!((t_r - want).abs() < 1e-9, "the re-stick after {t_r} s against {want}");
+                    let mass = st.breakaway * kept;
+                    assert!((m - mass).abs() < 1e-4 * mass, "H_{}'s point mass {m} against {mass}", x.index);
+                }
+                let (m1, m2) = series_moments(x, p);
+                let var = m2 - m1 * m1;
+                let what = format!("{sets:?} {}_{}", x.variable, x.index);
+                assert!((m1 - want.0).abs() < 1e-3 * want.0, "E {what}: {m1} against {}", want.0);
+                assert!((var - want.1).abs() < 2e-3 * want.1, "Var {what}: {var} against {}", want.1);
+            }
+        }
+    }
+
+    /// The undamped breakaway slip (μ_s > μ_k): the circle about c_k of radius ρ from the angle
+    /// φ_b = atan2(c_s − c_k, w0) clockwise to 2π − φ_b, where it meets belt speed at 2c_k − c_s
+    /// after t_r = (2π − 2φ_b)/ω; below −v0 (W = ρ cos φ < −w0) for φ in (π − φ_b, π + φ_b),
+    /// τ = 2φ_b/ω: kept with probability e^{−λ(t_r − τ)} (1 + e^{−2λτ})/2. (t_r, kept).
+    fn kept_breakaway_slip(f: Frame) -> (f64, f64) {
+        let phi_b = (f.cs - f.ck).atan2(f.w0);
+        let (t_r, tau) = ((std::f64::consts::TAU - 2.0 * phi_b) / f.omega, 2.0 * phi_b / f.omega);
+        (t_r, (-f.lambda * (t_r - tau)).exp() * (1.0 + (-2.0 * f.lambda * tau).exp()) / 2.0)
+    }
+
+    #[test]
+    fn the_breakaway_slip_is_kept_through_the_flips_it_does_not_see() {
+        // μ_s = 0.6, λ = 1 (the closed form above): 0.0712 — against 0.0716 ± 0.0012 of 47,638
+        // breakaways simulated (module docs), and e^{−λ t_r} = 0.0655
+        let sc = crate::scenario::Scenario::resolve(None, &["model.static_friction_coefficient=0.6".into(), "belt.switch_rate=1".into()]).unwrap();
+        let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
+        let (t_r, kept) = kept_breakaway_slip(frames[0]);
+        let got = restick(&frames, 0).unwrap();
+        assert!((got.t - t_r).abs() < 1e-9 && (got.kept - kept).abs() < 2e-6 * kept, "{got:?} against {t_r}, {kept}");
+        assert!((kept - 0.0712).abs() < 1e-4, "{kept}");
+        // the paper's breakaway slip grazes the belt line: no re-stick
+        let paper = super::super::frames(&crate::scenario::Scenario::resolve(None, &[]).unwrap().scene().unwrap()).unwrap();
+        assert_eq!(restick(&paper, 0), None);
+    }
+
+    #[test]
+    fn the_prediction_carries_its_moments_and_its_point_mass() {
+        // from rest at x = 0.5 on the paper scene (slipping) and stuck at 0.3 with μ_s = 0.6 and
+        // λ = 1: τ and H at one coarse resolution against the moment clocks' sequence from the
+        // same start, and τ's flip-free point mass against the closed form — from rest, the
+        // circle about c_k of radius r = c_k − 0.5 rises to belt speed after asin(w0/r)/ω; stuck,
+        // the breakaway after (x_b − 0.3)/v0 and the breakaway slip's re-stick
+        let cases: [(&[&str], Start); 2] =
+            [(&[], Start::Slip(Slip::at(0.5, 0.0, 1.0))), (&["model.static_friction_coefficient=0.6", "belt.switch_rate=1"], Start::Stuck(0.3))];
+        for (sets, start) in cases {
+            let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+            let sc = crate::scenario::Scenario::resolve(None, &sets).unwrap();
+            let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
+            let f = frames[0];
+            let h = &super::super::ladder(&frames, 8, 3).unwrap()[0].1;
+            let half = f.box_half().max(passage::half_width(f, start));
+            let moments = passage::sequence(&frames, h, half, &[(0, start, 1.0)], 1).unwrap();
+            let p = 10.0;
+            let got = predicted(&frames, h, half, 0, start, p).unwrap();
+            assert_eq!(got.iter().map(|x| x.variable).collect::<Vec<_>>(), ["time_to_stick", "slip_duration"]);
+            // (from rest the slip stays within (−v0, v0): kept e^{−λ t_e}; stuck: no flip in the
+            // stick, then the breakaway slip kept)
+            let (t_e, mass) = match start {
+                Start::Slip(_) => {
+                    let t = (f.w0 / (f.ck - 0.5)).asin() / f.omega;
+                    (t, (-f.lambda * t).exp())
+                }
+                Start::Stuck(x) => {
+                    let (d, (t_r, kept)) = ((f.cs - x) / f.v0, kept_breakaway_slip(f));
+                    (d + t_r, (-f.lambda * d).exp() * kept)
+                }
+            };
+            let (t, m) = got[0].points[0];
+            assert!((t - t_e).abs() < 1e-9 && (m - mass).abs() < 1e-5 * mass, "{sets:?}: τ's point mass {m} at {t} against {mass} at {t_e}");
+            for (x, want) in got.iter().zip([moments.sticks[0].start, moments.sticks[0].slip]) {
+                let (m1, m2) = series_moments(x, p);
+                let var = m2 - m1 * m1;
+                assert!((m1 - want.0).abs() < 2e-3 * want.0, "{sets:?} E {}: {m1} against {}", x.variable, want.0);
+                assert!((var - want.1).abs() < 1e-2 * want.1, "{sets:?} Var {}: {var} against {}", x.variable, want.1);
+            }
+        }
+    }
+
+    #[test]
+    fn the_characteristic_table_reads_back_as_written() {
+        // two levels of two transforms (an Exp law at two rates): written, read, the same cell
+        // averages to the bit
+        let p = Points::<N>::cosine(7.5, &[], false);
+        let law = |variable: &'static str, index: u32, lambda: f64, points: Vec<(f64, f64)>| Transform {
+            variable,
+            index,
+            phi: Box::new(std::array::from_fn(|j| div(C64::new(lambda, 0.0), C64::new(lambda + p.z[j].re, p.z[j].im)))),
+            points,
+        };
+        let levels: Vec<(f64, Transforms)> = vec![
+            (0.2, vec![law("T", 1, 2.0, vec![]), law("H", 3, 3.0, vec![(0.5, 0.01)])]),
+            (0.1, vec![law("T", 1, 2.1, vec![]), law("H", 3, 3.1, vec![(0.5, 0.012)])]),
+        ];
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("characteristic.parquet");
+        characteristic_table(&levels, 7.5).write_parquet(&path).unwrap();
+        let (half, back) = read_characteristic(&path).unwrap();
+        assert_eq!(half, 7.5);
+        assert_eq!(back.len(), 2);
+        for (a, b) in levels.iter().zip(&back) {
+            assert_eq!(a.0, b.0);
+            for (x, y) in a.1.iter().zip(&b.1) {
+                assert_eq!((x.variable, x.index, &x.points), (y.variable, y.index, &y.points));
+                assert!(x.phi.iter().zip(y.phi.iter()).all(|(u, v)| u == v));
+            }
+        }
+        let edges = [0.0, 0.3, 1.0, 2.5];
+        assert_eq!(averages(&levels, 7.5, 1, &edges), averages(&back, 7.5, 1, &edges));
+    }
+
+    #[test]
+    fn the_half_period_covers_the_window_and_the_next_stick() {
+        assert_eq!(half_period(10.0, (4.0, 1.0)), 10.0);
+        assert_eq!(half_period(10.0, (8.0, 4.0)), 20.0);
+        assert_eq!(half_period(10.0, (f64::NAN, f64::NAN)), 10.0);
+    }
+}
