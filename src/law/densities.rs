@@ -57,7 +57,7 @@ use crate::scenario::Scenario;
 /// resolution of about P/J = 0.04 s).
 pub const TERMS: usize = 256;
 /// The transform's points: j = 0 … J.
-const N: usize = TERMS + 1;
+pub(crate) const N: usize = TERMS + 1;
 /// The cells of [0, t_a] the densities are averaged over.
 pub const GRID: usize = 100;
 /// The variables, in analyze's names.
@@ -74,7 +74,7 @@ pub(crate) struct Transform {
 }
 
 /// The transforms of one resolution.
-type Transforms = Vec<Transform>;
+pub(crate) type Transforms = Vec<Transform>;
 
 /// One row of `densities.parquet`.
 #[derive(Debug, Clone, PartialEq)]
@@ -461,7 +461,12 @@ pub(crate) fn figure(rows: &[DensityRow]) -> crate::figures::chart::Figure {
                     errors: vec![],
                 })
                 .collect();
-            Panel { title: title.to_string(), x_label: "t [s]".into(), y_label: "density [1/s]".into(), lines, ..Default::default() }
+            // the axis over the cells above 1e-3 of the panel's largest (the table has them all)
+            let mine: Vec<&DensityRow> = rows.iter().filter(|r| r.variable == *v).collect();
+            let top = mine.iter().map(|r| r.density).fold(0.0, f64::max);
+            let reach = mine.iter().filter(|r| r.density > 1e-3 * top).map(|r| r.t_hi).fold(0.0, f64::max);
+            let x_range = (reach > 0.0).then_some((0.0, reach));
+            Panel { title: title.to_string(), x_label: "t [s]".into(), y_label: "density [1/s]".into(), lines, x_range, ..Default::default() }
         })
         .collect();
     Figure {

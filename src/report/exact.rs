@@ -182,3 +182,50 @@ fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> 
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::law::clock::{Points, C64};
+    use crate::law::densities::{characteristic_table, Transform, N};
+    use crate::table::Col;
+
+    /// The report's density rows on a law whose histogram is known: T_1 ~ Exp(2) (φ = 2/(2 + iω))
+    /// against a histogram of 10^5 values with the expected count in every bin of 0.1 s up to
+    /// 3 s — inside in every bin — and against the histogram of Exp(3) — outside in most.
+    #[test]
+    fn the_exact_density_meets_a_histogram_of_its_own_law_and_not_of_another() {
+        let dir = tempfile::tempdir().unwrap();
+        let (law, ours) = (dir.path().join("law"), dir.path().join("ours"));
+        std::fs::create_dir_all(&law).unwrap();
+        std::fs::create_dir_all(&ours).unwrap();
+        let p = Points::<N>::cosine(20.0, &[], false);
+        let phi: Box<[C64; N]> = Box::new(std::array::from_fn(|j| {
+            let (a, b) = (2.0, p.z[j].im);
+            C64::new(a * a / (a * a + b * b), -a * b / (a * a + b * b))
+        }));
+        let levels = vec![(0.1, vec![Transform { variable: "T", index: 1, phi, points: vec![] }])];
+        characteristic_table(&levels, 20.0).write_parquet(&law.join("characteristic.parquet")).unwrap();
+        let bins: Vec<(f64, f64)> = (0..30).map(|b| (0.1 * b as f64, 0.1 * (b + 1) as f64)).collect();
+        for (rate, want_ok) in [(2.0, true), (3.0, false)] {
+            let n = 100_000.0;
+            let counts: Vec<i64> = bins.iter().map(|(a, b)| (n * ((-rate * a).exp() - (-rate * b).exp())).round() as i64).collect();
+            let mut t = Table::default();
+            t.push("variable", Col::Str(vec!["T".into(); bins.len()]))
+                .push("index", Col::Int(vec![Some(1); bins.len()]))
+                .push("lo", Col::Float(bins.iter().map(|b| Some(b.0)).collect()))
+                .push("hi", Col::Float(bins.iter().map(|b| Some(b.1)).collect()))
+                .push("count", Col::Int(counts.into_iter().map(Some).collect()));
+            t.write_parquet(&ours.join("histograms.parquet")).unwrap();
+            let rows = density_rows(&law, &ours).unwrap();
+            assert_eq!(rows.len(), 1);
+            let inside: usize = rows[0][2].split(' ').next().unwrap().parse().unwrap();
+            assert_eq!(rows[0][3] == "✓", want_ok, "rate {rate}: {:?}", rows[0]);
+            if want_ok {
+                assert_eq!(inside, 30, "{:?}", rows[0]);
+            } else {
+                assert!(inside < 10, "{:?}", rows[0]);
+            }
+        }
+    }
+}
