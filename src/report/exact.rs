@@ -78,21 +78,11 @@ pub(super) fn density_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, 
         return Ok(Vec::new());
     }
     let (half_period, levels) = crate::law::densities::read_characteristic(&path).map_err(|message| ReportError::Read { path: path.clone(), message })?;
-    let hist_path = adir.join("histograms.parquet");
-    let ours = Table::read_checked(&hist_path, &[("variable", 's'), ("index", 'i'), ("lo", 'f'), ("hi", 'f'), ("count", 'i')])
-        .map_err(|e| ReportError::Read { path: hist_path.clone(), message: e.to_string() })?;
-    let (ov, oi, olo, ohi, ocount) = (
-        ours.strings("variable").unwrap_or_default(),
-        ours.ints("index").unwrap_or_default(),
-        ours.floats("lo").unwrap_or_default(),
-        ours.floats("hi").unwrap_or_default(),
-        ours.ints("count").unwrap_or_default(),
-    );
+    let ours = our_bins(adir)?;
     let mut out = Vec::new();
     for (i, x) in levels.last().map_or(&[][..], |l| &l.1[..]).iter().enumerate() {
         let (variable, k) = (x.variable, x.index);
-        let bins: Vec<(f64, f64, i64)> =
-            (0..ours.height()).filter(|&r| ov[r] == variable && oi[r] == Some(i64::from(k))).filter_map(|r| Some((olo[r]?, ohi[r]?, ocount[r]?))).collect();
+        let bins: Vec<(f64, f64, i64)> = ours.iter().filter(|b| b.0 == variable && b.1 == Some(i64::from(k))).map(|b| (b.2, b.3, b.4)).collect();
         let n: i64 = bins.iter().map(|b| b.2).sum();
         if n == 0 {
             continue;
@@ -111,6 +101,24 @@ pub(super) fn density_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, 
         out.push([format!("{variable}_{k}"), bins.len().to_string(), format!("{inside} of {}", bins.len()), if ok { "✓" } else { "✗" }.to_string()]);
     }
     Ok(out)
+}
+
+/// One bin of the analysis' histograms: (variable, index, lo, hi, count).
+type Bin = (String, Option<i64>, f64, f64, i64);
+
+/// Every complete bin of the analysis' `histograms.parquet`.
+fn our_bins(adir: &Path) -> Result<Vec<Bin>, ReportError> {
+    let path = adir.join("histograms.parquet");
+    let t = Table::read_checked(&path, &[("variable", 's'), ("index", 'i'), ("lo", 'f'), ("hi", 'f'), ("count", 'i')])
+        .map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
+    let (v, i, lo, hi, count) = (
+        t.strings("variable").unwrap_or_default(),
+        t.ints("index").unwrap_or_default(),
+        t.floats("lo").unwrap_or_default(),
+        t.floats("hi").unwrap_or_default(),
+        t.ints("count").unwrap_or_default(),
+    );
+    Ok((0..t.height()).filter_map(|r| Some((v[r].clone(), i[r], lo[r]?, hi[r]?, count[r]?))).collect())
 }
 
 /// The Wilson 95 % interval of a share p̂ of N: (p̂ + z²/2N ± z √(p̂(1 − p̂)/N + z²/4N²)) /
@@ -135,14 +143,7 @@ fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> 
         Table::read_checked(path, cols).map_err(|e| ReportError::Read { path: path.to_path_buf(), message: e.to_string() })
     };
     let exact = read(&path, &[("variable", 's'), ("value", 'i'), ("probability", 'f'), ("error", 'f')])?;
-    let hist_path = adir.join("histograms.parquet");
-    let ours = read(&hist_path, &[("variable", 's'), ("lo", 'f'), ("hi", 'f'), ("count", 'i')])?;
-    let (ov, olo, ohi, ocount) = (
-        ours.strings("variable").unwrap_or_default(),
-        ours.floats("lo").unwrap_or_default(),
-        ours.floats("hi").unwrap_or_default(),
-        ours.ints("count").unwrap_or_default(),
-    );
+    let ours = our_bins(adir)?;
     let (ev, evalue, ep, ee) = (
         exact.strings("variable").unwrap_or_default(),
         exact.ints("value").unwrap_or_default(),
@@ -152,8 +153,8 @@ fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> 
     let sig = |x: f64| crate::figures::format::significant(x, 4);
     let mut out = Vec::new();
     for variable in crate::law::counts::VARIABLES {
-        let bins: Vec<usize> = (0..ours.height()).filter(|&r| ov[r] == variable).collect();
-        let total: i64 = bins.iter().filter_map(|&r| ocount[r]).sum();
+        let bins: Vec<&Bin> = ours.iter().filter(|b| b.0 == variable).collect();
+        let total: i64 = bins.iter().map(|b| b.4).sum();
         if total == 0 {
             continue;
         }
@@ -164,11 +165,7 @@ fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> 
                 continue;
             }
             // the bin that holds the value (a count's bins are one value wide)
-            let count = bins
-                .iter()
-                .find(|&&b| olo[b].zip(ohi[b]).is_some_and(|(lo, hi)| hi - lo <= 1.0 && lo <= value as f64 && (value as f64) < hi))
-                .and_then(|&b| ocount[b])
-                .unwrap_or(0);
+            let count = bins.iter().find(|b| b.3 - b.2 <= 1.0 && b.2 <= value as f64 && (value as f64) < b.3).map_or(0, |b| b.4);
             let share = count as f64 / n;
             let (lo, hi) = wilson(share, n);
             let inside = if p + err >= lo && p - err <= hi { "✓" } else { "✗" };
