@@ -92,6 +92,7 @@ pub mod counts;
 pub mod densities;
 pub mod density;
 pub(crate) mod flow;
+pub(crate) mod kept;
 mod output;
 pub(crate) mod passage;
 pub mod sticks;
