@@ -198,7 +198,8 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
         }
     };
     let opts = crate::law::Options { finest: args.resolution, tail_times: args.tail_times.clone(), counts: args.counts, densities: args.densities };
-    let (levels, rows, counts, warning) = crate::law::run(&scenario, &opts, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
+    let (levels, rows, counts, densities, warning) =
+        crate::law::run(&scenario, &opts, &args.out, &mut progress, &mut step, &mut sticks).context("exact-law")?;
     if !quiet {
         print!("{}", crate::law::markdown(&levels));
         println!();
@@ -206,6 +207,10 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
         if !counts.is_empty() {
             println!();
             print!("{}", crate::law::counts::markdown(&counts));
+        }
+        if !densities.is_empty() {
+            println!();
+            print!("{}", crate::law::densities::markdown(&densities));
         }
         if let Some(w) = warning {
             eprintln!("{w}");

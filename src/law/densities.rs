@@ -352,6 +352,23 @@ pub(crate) fn read_characteristic(path: &std::path::Path) -> Result<(f64, Vec<(f
     Ok((half_period, levels))
 }
 
+/// The Markdown table `exact-law --densities` prints: per variable and k, the cell of the
+/// density's largest value (its centre, the value and its error), and the integral over [0, t_a] —
+/// the cells' probabilities and point masses summed: P(X ≤ t_a) but for the series' error (below
+/// 1 where the window cuts the law).
+pub fn markdown(rows: &[DensityRow]) -> String {
+    let mut m = String::from("| variable | k | mode [s] | density there [1/s] | error | ∫ over [0, t_a] |\n|---|---:|---:|---:|---:|---:|\n");
+    for v in VARIABLES {
+        for k in 1..=STICKS as u32 {
+            let mine: Vec<&DensityRow> = rows.iter().filter(|r| r.variable == v && r.index == k).collect();
+            let Some(top) = mine.iter().max_by(|a, b| a.density.total_cmp(&b.density)) else { continue };
+            let total: f64 = mine.iter().map(|r| r.density * (r.t_hi - r.t_lo) + r.point_mass).sum();
+            m += &format!("| {v} | {k} | {:.3} | {:.4} | {:.1e} | {total:.5} |\n", 0.5 * (top.t_lo + top.t_hi), top.density, top.error);
+        }
+    }
+    m
+}
+
 /// `densities.png`: one panel per variable (T_k, L_k, H_k), the cell averages of k = 1 … 6 as
 /// lines through the cells' centres.
 pub(crate) fn figure(rows: &[DensityRow]) -> crate::figures::chart::Figure {
@@ -568,6 +585,24 @@ mod tests {
         }
         let edges = [0.0, 0.3, 1.0, 2.5];
         assert_eq!(averages(&levels, 7.5, 1, &edges), averages(&back, 7.5, 1, &edges));
+    }
+
+    #[test]
+    fn the_printed_table_finds_the_mode_and_sums_the_cells_and_point_masses() {
+        // H_2 on cells of 0.5 s: densities 0.2, 1.0, 0.4 and a point mass of 0.1 in the last:
+        // the mode's cell is [0.5, 1), P(≤ t_a) = 0.1 + 0.5 + 0.2 + 0.1 = 0.9
+        let row = |g: usize, density: f64, point_mass: f64| DensityRow {
+            variable: "H",
+            index: 2,
+            t_lo: 0.5 * g as f64,
+            t_hi: 0.5 * (g + 1) as f64,
+            density,
+            error: 0.01,
+            point_mass,
+        };
+        let m = markdown(&[row(0, 0.2, 0.0), row(1, 1.0, 0.0), row(2, 0.4, 0.1)]);
+        assert!(m.contains("| H | 2 | 0.750 | 1.0000 | 1.0e-2 | 0.90000 |"), "{m}");
+        assert_eq!(m.lines().count(), 3, "{m}");
     }
 
     #[test]

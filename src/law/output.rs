@@ -68,8 +68,8 @@ pub struct Options {
 }
 
 /// What `exact-law` found: the long run's levels, Table 1's rows (with S_T and S_L when
-/// counted), the counts' laws and the window's warning.
-pub type Found = (Vec<Level>, Vec<sticks::Row>, Vec<super::counts::CountRow>, Option<String>);
+/// counted), the counts' laws, the densities and the window's warning.
+pub type Found = (Vec<Level>, Vec<sticks::Row>, Vec<super::counts::CountRow>, Vec<super::densities::DensityRow>, Option<String>);
 
 /// Solve the scenario's stationary law at [`LEVELS`] resolutions up to `finest` and write `out` (replaced
 /// when complete); `progress` hears each resolution's result as it is done, `step` each
@@ -154,7 +154,7 @@ pub fn run(
         characteristic.write_parquet(&staged.path().join("characteristic.parquet")).map_err(|e| werr("characteristic.parquet", &e))?;
     }
     staged.commit()?;
-    Ok((levels, rows, counts.0, warning))
+    Ok((levels, rows, counts.0, densities, warning))
 }
 
 /// `moments.parquet`: variable, index, mean, variance, error (of the mean), variance_error,

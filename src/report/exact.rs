@@ -99,7 +99,10 @@ pub(super) fn density_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, 
             .count();
         let ok = inside as f64 >= 0.9 * bins.len() as f64;
         let order = crate::law::densities::VARIABLES.iter().position(|v| *v == variable).unwrap_or(usize::MAX);
-        out.push(((order, k), [format!("{variable}_{k}"), bins.len().to_string(), format!("{inside} of {}", bins.len()), if ok { "✓" } else { "✗" }.to_string()]));
+        out.push((
+            (order, k),
+            [format!("{variable}_{k}"), bins.len().to_string(), format!("{inside} of {}", bins.len()), if ok { "✓" } else { "✗" }.to_string()],
+        ));
     }
     // T_1 … T_6, L_1 … L_6, H_1 … H_6
     out.sort_by_key(|r| r.0);

@@ -285,7 +285,7 @@ fn table_agrees(sets: &[&str]) {
     let sc = scenario(sets);
     let times = [0.05, 0.2, 0.5, 1.0];
     let opts = stickslip::law::Options { finest: 20, tail_times: times.to_vec(), counts: None, densities: None };
-    let (_, rows, _, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
+    let (_, rows, _, _, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
         &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')],
@@ -334,7 +334,7 @@ fn count_laws_agree_with_monte_carlo() {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["run.duration=4"]);
     let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: Some(8), densities: None };
-    let (_, rows, counts, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
+    let (_, rows, counts, _, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), &mut |_, _| {}, &mut |_, _, _| {}, &mut |_, _, _| {}).unwrap();
     let runs = outcomes(&sc, 20_000);
     let n = runs.len() as f64;
     let variables: [(&str, fn(&Outcome) -> usize); 2] = [("S_T", |o| o.record.n_stick()), ("S_L", |o| o.record.n_slip())];
