@@ -155,6 +155,7 @@ pub(crate) fn rows(levels: &[(f64, Tails)]) -> (Vec<CountRow>, Vec<super::sticks
             error: mean.1,
             variance_error: variance.1,
             reached: None,
+            windowed: None,
         });
     }
     (counts, moments)

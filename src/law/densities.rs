@@ -352,6 +352,61 @@ pub(crate) fn read_characteristic(path: &std::path::Path) -> Result<(f64, Vec<(f
     Ok((half_period, levels))
 }
 
+/// (P(X ≤ a), E[X; X ≤ a], E[X²; X ≤ a]) of transform `x` from its cosine series integrated
+/// term by term, and its point masses up to a:
+///
+/// ```text
+///     ∫_0^a cos ωt dt = sin ωa / ω,   ∫_0^a t cos ωt dt = a sin ωa / ω + (cos ωa − 1)/ω²,
+///     ∫_0^a t² cos ωt dt = a² sin ωa / ω + 2a cos ωa / ω² − 2 sin ωa / ω³
+/// ```
+fn window_sums(x: &Transform, half_period: f64, a: f64) -> [f64; 3] {
+    let mut m = [x.phi[0].re * a, x.phi[0].re * a * a / 2.0, x.phi[0].re * a * a * a / 3.0];
+    for (j, f) in x.phi.iter().enumerate().skip(1) {
+        let w = std::f64::consts::PI * j as f64 / half_period;
+        let (sin, cos) = (w * a).sin_cos();
+        m[0] += 2.0 * f.re * sin / w;
+        m[1] += 2.0 * f.re * (a * sin / w + (cos - 1.0) / (w * w));
+        m[2] += 2.0 * f.re * (a * a * sin / w + 2.0 * a * cos / (w * w) - 2.0 * sin / (w * w * w));
+    }
+    let mut out = m.map(|v| v / half_period);
+    for &(t, mass) in x.points.iter().filter(|p| p.0 <= a) {
+        out[0] += mass;
+        out[1] += mass * t;
+        out[2] += mass * t * t;
+    }
+    out
+}
+
+/// The windowed means and variances of T_k and L_k (the law conditioned on X ≤ t_a, from
+/// [`window_sums`]) into Table 1's `rows`, extrapolated over the levels (coarsest first), and
+/// P(X ≤ t_a) as `reached` where the counts did not give it (T_k's for D_k, L_k's for H_k).
+pub(crate) fn windowed(levels: &[(f64, Transforms)], half_period: f64, t_a: f64, rows: &mut [super::sticks::Row]) {
+    for r in rows.iter_mut().filter(|r| matches!(r.variable, "T" | "L")) {
+        let per: Vec<(f64, [f64; 3])> = levels
+            .iter()
+            .filter_map(|(h, l)| l.iter().find(|x| x.variable == r.variable && x.index == r.index).map(|x| (*h, window_sums(x, half_period, t_a))))
+            .collect();
+        if per.len() != levels.len() || per.iter().any(|(_, m)| !(m[0] > 0.0)) {
+            continue;
+        }
+        let pick = |f: &dyn Fn(&[f64; 3]) -> f64| super::guarded(&per.iter().map(|(h, m)| (*h, f(m))).collect::<Vec<_>>());
+        let (mean, me) = pick(&|m| m[1] / m[0]);
+        let (var, ve) = pick(&|m| m[2] / m[0] - (m[1] / m[0]).powi(2));
+        r.windowed = Some([mean, me, var.max(0.0), ve]);
+        if r.reached.is_none() {
+            let (p, e) = pick(&|m| m[0]);
+            r.reached = Some((p.clamp(0.0, 1.0), e));
+        }
+    }
+    // D_k needs stick k to start (T_k's share), H_k to end (L_k's), as the counts' `reach`
+    let shares: Vec<(&str, u32, Option<(f64, f64)>)> =
+        rows.iter().filter(|r| matches!(r.variable, "T" | "L")).map(|r| (r.variable, r.index, r.reached)).collect();
+    for r in rows.iter_mut().filter(|r| r.reached.is_none() && matches!(r.variable, "D" | "H")) {
+        let from = if r.variable == "D" { "T" } else { "L" };
+        r.reached = shares.iter().find(|s| s.0 == from && s.1 == r.index).and_then(|s| s.2);
+    }
+}
+
 /// The Markdown table `exact-law --densities` prints: per variable and k, the cell of the
 /// density's largest value (its centre, the value and its error), and the integral over [0, t_a] —
 /// the cells' probabilities and point masses summed: P(X ≤ t_a) but for the series' error (below
@@ -585,6 +640,31 @@ mod tests {
         }
         let edges = [0.0, 0.3, 1.0, 2.5];
         assert_eq!(averages(&levels, 7.5, 1, &edges), averages(&back, 7.5, 1, &edges));
+    }
+
+    #[test]
+    fn the_window_conditions_the_law_as_its_closed_form() {
+        // Exp(2) cut at a = 1 (and at 3): E[T | T ≤ a] = 1/λ − a e^{−λa}/(1 − e^{−λa}),
+        // E[T² | T ≤ a] = (2/λ² − e^{−λa}(a² + 2a/λ + 2/λ²))/(1 − e^{−λa}); and a point mass of 0.1
+        // at 0.5 added to 0.9 Exp(2) moves the sums by 0.1 (1, 0.5, 0.25)
+        let (lambda, p) = (2.0, Points::<N>::cosine(20.0, &[], false));
+        let phi: Box<[C64; N]> = Box::new(std::array::from_fn(|j| div(C64::new(lambda, 0.0), C64::new(lambda + p.z[j].re, p.z[j].im))));
+        for a in [1.0, 3.0] {
+            let x = Transform { variable: "T", index: 1, phi: phi.clone(), points: vec![] };
+            let [m0, m1, m2] = window_sums(&x, p.t, a);
+            let e = (-lambda * a).exp();
+            let (p0, w1, w2) =
+                (1.0 - e, 1.0 / lambda - a * e / (1.0 - e), (2.0 / (lambda * lambda) - e * (a * a + 2.0 * a / lambda + 2.0 / (lambda * lambda))) / (1.0 - e));
+            assert!(
+                (m0 - p0).abs() < 1e-4 && (m1 / m0 - w1).abs() < 1e-4 && (m2 / m0 - w2).abs() < 1e-4,
+                "a = {a}: {m0} {} {} against {p0} {w1} {w2}",
+                m1 / m0,
+                m2 / m0
+            );
+            let scaled = Transform { variable: "T", index: 1, phi: Box::new(phi.map(|c| C64::new(0.9 * c.re, 0.9 * c.im))), points: vec![(0.5, 0.1)] };
+            let [n0, n1, n2] = window_sums(&scaled, p.t, a);
+            assert!((n0 - (0.9 * m0 + 0.1)).abs() < 1e-12 && (n1 - (0.9 * m1 + 0.05)).abs() < 1e-12 && (n2 - (0.9 * m2 + 0.025)).abs() < 1e-12);
+        }
     }
 
     #[test]

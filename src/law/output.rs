@@ -127,6 +127,7 @@ pub fn run(
             let half_period = super::densities::half_period(t_a, after.last().map_or((f64::NAN, f64::NAN), |(_, s)| s.next_start));
             let solved = super::densities::solve(scenario, &frames, ladder, half_period, &mut |n, s| sticks_progress("densities of T_k, L_k, H_k", n, s))
                 .map_err(LawError::Failed)?;
+            super::densities::windowed(&solved, half_period, t_a, &mut rows);
             (super::densities::rows(&solved, half_period, t_a), super::densities::characteristic_table(&solved, half_period))
         }
         None => (Vec::new(), Table::default()),
@@ -158,7 +159,9 @@ pub fn run(
 }
 
 /// `moments.parquet`: variable, index, mean, variance, error (of the mean), variance_error,
-/// reached_fraction (with `--counts`; null otherwise).
+/// reached_fraction (with `--counts` or `--densities`; null otherwise), windowed_mean,
+/// windowed_error, windowed_variance, windowed_variance_error (T_k and L_k conditioned on
+/// X ≤ t_a, with `--densities`; null otherwise).
 /// (S_T and S_L, whose rows have index 0, have a null index, as in analyze's.)
 fn moments_table(rows: &[sticks::Row]) -> Table {
     let mut t = Table::default();
@@ -168,7 +171,11 @@ fn moments_table(rows: &[sticks::Row]) -> Table {
         .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
         .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
         .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error)).collect()))
-        .push("reached_fraction", Col::Float(rows.iter().map(|r| r.reached.map(|x| x.0)).collect()));
+        .push("reached_fraction", Col::Float(rows.iter().map(|r| r.reached.map(|x| x.0)).collect()))
+        .push("windowed_mean", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[0])).collect()))
+        .push("windowed_error", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[1])).collect()))
+        .push("windowed_variance", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[2])).collect()))
+        .push("windowed_variance_error", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[3])).collect()));
     t
 }
 

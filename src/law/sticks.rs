@@ -47,6 +47,10 @@ pub struct Row {
     /// `reached_fraction` (T_k, D_k: P(S_T ≥ k); L_k, H_k: P(S_L ≥ k)) — known with
     /// `--counts` ([`super::counts`]) with its error estimate, none otherwise
     pub reached: Option<(f64, f64)>,
+    /// T_k and L_k with `--densities`: the mean and variance within the window, of the law
+    /// conditioned on X ≤ t_a — what a Monte Carlo table of [0, t_a] estimates — each with its
+    /// error estimate: [mean, error, variance, variance_error] ([`super::densities::windowed`])
+    pub windowed: Option<[f64; 4]>,
 }
 
 /// The starts of the scenario's initial law at grid spacing h (of the first belt state's mesh),
@@ -114,7 +118,7 @@ pub(crate) fn rows(levels: &[(f64, Sequence)]) -> Vec<Row> {
             let (variable, index, _) = per[0].1[i];
             let mean = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .0)).collect::<Vec<_>>());
             let variance = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .1)).collect::<Vec<_>>());
-            Row { variable, index, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1, reached: None }
+            Row { variable, index, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1, reached: None, windowed: None }
         })
         .collect()
 }
