@@ -158,7 +158,7 @@ pub struct ExactLawArgs {
     /// (densities.parquet: variable, index, t, t_lo, t_hi, density, error), at resolutions N/4,
     /// N/2, N of their own (8 to 320), from the characteristic function at 257 frequencies (a
     /// cosine series). They cost far more than Table 1: on the paper scene and 2 cores N = 8
-    /// takes about 10 minutes and 1.8 GB, each doubling of N about 4 times that. Refused for a
+    /// takes about 10 minutes and 1.8 GB, N = 16 about 40 minutes and 7 GB. Refused for a
     /// point initial condition (T_1 then has a point mass).
     #[arg(long, value_name = "N")]
     pub densities: Option<u32>,
