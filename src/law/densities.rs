@@ -48,7 +48,7 @@
 
 use super::clock::{Laplace, Points, C64};
 use super::flow::Frame;
-use super::kept::{restick, start_point};
+use super::kept::{restick, start_point, Path};
 use super::passage::{self, Start, Step};
 use super::sticks::STICKS;
 use super::Rung;
@@ -142,11 +142,12 @@ fn breakaway_masses(step: &Step<Laplace<N>>) -> Vec<f64> {
 }
 
 /// φ of the slip after the sticks of the step before (`breakaways`, [`breakaway_masses`]) less
-/// its point masses (the breakaway slips that stick again without a flip), and those.
-fn slip_law(phi: [C64; N], points: &Points<N>, frames: &[Frame], breakaways: &[f64]) -> (Box<[C64; N]>, Vec<(f64, f64)>) {
+/// its point masses (the breakaway slips that stick again without a flip, per belt state:
+/// `resticks`), and those.
+fn slip_law(phi: [C64; N], points: &Points<N>, resticks: &[Option<Path>], breakaways: &[f64]) -> (Box<[C64; N]>, Vec<(f64, f64)>) {
     let (mut phi, mut out) = (Box::new(phi), Vec::new());
     for (s, b) in breakaways.iter().enumerate() {
-        let Some(r) = restick(frames, s) else { continue };
+        let Some(r) = resticks[s] else { continue };
         let m = b * r.kept;
         without(&mut phi, points, r.t, m);
         out.push((r.t, m));
@@ -173,13 +174,14 @@ pub(crate) fn predicted(frames: &[Frame], h: &[f64], half: f64, at: usize, start
         false
     })?;
     let since_end = Points::<N>::cosine(half_period, &lambdas, true);
+    let resticks: Vec<Option<Path>> = (0..frames.len()).map(|s| restick(frames, s)).collect();
     let mut breakaways = Vec::new();
     passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, &starts, 1, &mut |step: Step<Laplace<N>>| {
         if step.held.is_some() {
             breakaways = breakaway_masses(&step);
             return true;
         }
-        let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, frames, &breakaways);
+        let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, &resticks, &breakaways);
         out.push(Transform { variable: "slip_duration", index: 1, phi, points });
         false
     })?;
@@ -201,11 +203,12 @@ fn transforms(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, passage:
         (index as usize) < STICKS
     })?;
     let since_end = Points::<N>::cosine(half_period, &lambdas, true);
+    let resticks: Vec<Option<Path>> = (0..frames.len()).map(|s| restick(frames, s)).collect();
     // per belt state, the mass of the last passage's sticks that end by breakaway
     let (mut k, mut breakaways) = (0u32, Vec::<f64>::new());
     passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, starts, STICKS, &mut |step: Step<Laplace<N>>| {
         if k > 0 {
-            let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, frames, &breakaways);
+            let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, &resticks, &breakaways);
             out.push(Transform { variable: "H", index: k, phi, points });
         }
         breakaways = breakaway_masses(&step);
