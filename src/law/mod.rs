@@ -96,6 +96,7 @@ pub(crate) mod kept;
 mod output;
 pub(crate) mod passage;
 pub mod sticks;
+pub(crate) mod window;
 
 pub(crate) use output::{densities_table, guarded, survival_table};
 pub use output::{estimates, markdown, run, Found, LawError, Options, LEVELS};

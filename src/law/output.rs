@@ -127,7 +127,7 @@ pub fn run(
             let half_period = super::densities::half_period(t_a, after.last().map_or((f64::NAN, f64::NAN), |(_, s)| s.next_start));
             let solved = super::densities::solve(scenario, &frames, ladder, half_period, &mut |n, s| sticks_progress("densities of T_k, L_k, H_k", n, s))
                 .map_err(LawError::Failed)?;
-            super::densities::windowed(&solved, half_period, t_a, &mut rows);
+            super::window::windowed(&solved, half_period, t_a, &mut rows);
             (super::densities::rows(&solved, half_period, t_a), super::densities::characteristic_table(&solved, half_period))
         }
         None => (Vec::new(), Table::default()),

@@ -49,7 +49,7 @@ pub struct Row {
     pub reached: Option<(f64, f64)>,
     /// T_k and L_k with `--densities`: the mean and variance within the window, of the law
     /// conditioned on X ≤ t_a — what a Monte Carlo table of [0, t_a] estimates — each with its
-    /// error estimate: [mean, error, variance, variance_error] ([`super::densities::windowed`])
+    /// error estimate: [mean, error, variance, variance_error] ([`super::window::windowed`])
     pub windowed: Option<[f64; 4]>,
 }
 
