@@ -257,11 +257,14 @@ pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize,
     let Some((_, finest)) = levels.last() else { return Vec::new() };
     let phi = &finest[i].phi[..];
     let cells = edges.len().saturating_sub(1);
-    let change: Vec<f64> =
-        (0..cells).map(|g| (cell(phi, half_period, edges[g], edges[g + 1], TERMS) - cell(phi, half_period, edges[g], edges[g + 1], TERMS / 2)).abs()).collect();
+    // every level's J-term averages, the finest's reused for the truncation estimate
+    let full: Vec<Vec<f64>> =
+        levels.iter().map(|(_, l)| (0..cells).map(|g| cell(&l[i].phi[..], half_period, edges[g], edges[g + 1], TERMS)).collect()).collect();
+    let finest_full = full.last().expect("a level");
+    let change: Vec<f64> = (0..cells).map(|g| (finest_full[g] - cell(phi, half_period, edges[g], edges[g + 1], TERMS / 2)).abs()).collect();
     (0..cells)
         .map(|g| {
-            let per: Vec<(f64, f64)> = levels.iter().map(|(h, l)| (*h, cell(&l[i].phi[..], half_period, edges[g], edges[g + 1], TERMS))).collect();
+            let per: Vec<(f64, f64)> = levels.iter().zip(&full).map(|((h, _), f)| (*h, f[g])).collect();
             let (value, spread) = super::guarded(&per);
             let truncation = 2.0 * change[g.saturating_sub(2)..(g + 3).min(cells)].iter().copied().fold(0.0, f64::max);
             let inside = |l: &Transforms| l[i].points.iter().filter(|(t, _)| (edges[g]..edges[g + 1]).contains(t)).map(|p| p.1).sum::<f64>();
