@@ -7,13 +7,16 @@ the realizations that reached the k-th stick (a duration only if it ended before
 standard error (the variance's from the fourth central moment), and z = (exact − MC) /
 sqrt(SE² + error²). Prints a Markdown table and the largest |z|; then the same for D_k's law
 (survival.parquet): P(D_k > t) at reproduce's tail times against the share of the k-th sticks
-(ended before t_a) that last longer, with its binomial standard error.
+(ended before t_a) that last longer, with its binomial standard error. Last, the cost at matched
+precision: per statistic the relative error the exact run certifies and the realizations Monte
+Carlo needs for a standard error that small, N·(SE/error)², timed at the simulate run's rate (its
+cost is linear in N: README, "Linear cost at 10^7"); and the same for 1e-4 relative.
 
 usage: python3 benches/exact_table1.py [BINARY] [--realizations N] [--seed S] [--resolution R] [--keep DIR]
        [--set KEY=VALUE ...]
 (pinned: polars==2.1.0; the binary defaults to target/release/stickslip)
 """
-import argparse, math, subprocess, sys, tempfile, time
+import argparse, math, resource, subprocess, sys, tempfile, time
 
 import polars as pl
 
@@ -32,15 +35,16 @@ with tempfile.TemporaryDirectory() as scratch:
     t0 = time.time()
     subprocess.run([a.binary, "exact-law", *sets, "--out", f"{tmp}/law", "--resolution", str(a.resolution), "-q"], check=True)
     t_exact = time.time() - t0
+    rss_exact = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 2**20  # KiB -> GiB: the only child so far
     t0 = time.time()
     subprocess.run([a.binary, "simulate", *sets, "--out", f"{tmp}/mc", "--realizations", str(a.realizations), "--seed", str(a.seed), "-q"], check=True)
     t_mc = time.time() - t0
     ex = pl.read_parquet(f"{tmp}/law/moments.parquet")
     df = pl.scan_parquet(f"{tmp}/mc/*.parquet")
     cols = {"T": "stick_start", "L": "slip_start", "D": "stick_duration", "H": "slip_duration"}
-    print(f"{' '.join(a.set) or 'the paper scenario'}: exact-law --resolution {a.resolution}: {t_exact:.1f} s; simulate {a.realizations} realizations (seed {a.seed}): {t_mc:.1f} s\n")
+    print(f"{' '.join(a.set) or 'the paper scenario'}: exact-law --resolution {a.resolution}: {t_exact:.1f} s, peak RSS {rss_exact:.1f} GiB; simulate {a.realizations} realizations (seed {a.seed}): {t_mc:.1f} s\n")
     print("| variable | mean, exact | Monte Carlo | z | variance, exact | Monte Carlo | z |\n|---|---:|---:|---:|---:|---:|---:|")
-    worst = 0.0
+    worst, need = 0.0, []
     for v, c in cols.items():
         for k in range(1, 7):
             x = pl.col(c).list.get(k - 1, null_on_oob=True)
@@ -57,6 +61,7 @@ with tempfile.TemporaryDirectory() as scratch:
             zm = (e["mean"] - m) / math.hypot(se_m, e["error"])
             zv = (e["variance"] - var) / math.hypot(se_v, e["variance_error"])
             worst = max(worst, abs(zm), abs(zv))
+            need += [(f"mean {v}_{k}", e["mean"], e["error"], se_m), (f"variance {v}_{k}", e["variance"], e["variance_error"], se_v)]
             print(f"| {v}_{k} | {e['mean']:.6f} ± {e['error']:.1e} | {m:.6f} ± {se_m:.1e} | {zm:+.2f} | {e['variance']:.6f} ± {e['variance_error']:.1e} | {var:.6f} ± {se_v:.1e} | {zv:+.2f} |")
     print(f"\nlargest |z|: {worst:.2f}")
 
@@ -79,3 +84,21 @@ with tempfile.TemporaryDirectory() as scratch:
             cells.append(f"{e['survival']:.3e} ± {e['error']:.0e} | {share:.3e} ± {se:.0e} | {z:+.2f}")
         print(f"| D_{k} | " + " | ".join(cells) + " |")
     print(f"\nlargest |z|: {worst:.2f}")
+
+    # Cost at matched precision: Monte Carlo's standard error falls as 1/sqrt(N), so a standard
+    # error equal to the exact run's error needs N (SE / error)^2 realizations; its time is the
+    # simulate run's, scaled by the realizations.
+    rate = a.realizations / t_mc
+    def cost(se, target):
+        return a.realizations * (se / target) ** 2 / rate
+    print("\n| statistic | exact: error (relative) | Monte Carlo, same SE: realizations | time | Monte Carlo, 1e-4 relative: realizations | time |\n|---|---:|---:|---:|---:|---:|")
+    worst_rel, worst_same, worst_e4 = 0.0, (0.0, ""), (0.0, "")
+    for name, value, error, se in need:
+        rel = error / abs(value)
+        same, e4 = cost(se, error), cost(se, 1e-4 * abs(value))
+        worst_rel = max(worst_rel, rel)
+        worst_same, worst_e4 = max(worst_same, (same, name)), max(worst_e4, (e4, name))
+        print(f"| {name} | {error:.1e} ({rel:.1e}) | {same * rate:.2e} | {same:.3g} s | {e4 * rate:.2e} | {e4:.3g} s |")
+    print(f"\nexact-law --resolution {a.resolution}: {t_exact:.1f} s, every error at most {worst_rel:.1e} relative; "
+          f"Monte Carlo to the same standard error on every statistic: {worst_same[0] * rate:.2e} realizations ({worst_same[1]}), {worst_same[0]:.0f} s; "
+          f"to 1e-4 relative on every statistic: {worst_e4[0] * rate:.2e} ({worst_e4[1]}), {worst_e4[0]:.0f} s (at {rate:.0f} realizations/s)")
