@@ -344,4 +344,27 @@ mod tests {
         }
         assert!((a.covered - b.covered).abs() < 1e-12, "{} {}", a.covered, b.covered);
     }
+
+    /// The guard's two regimes: a power law v_h = V + a h^p (+ a smaller h^{p+1} term) in the
+    /// asymptotic range gets the change of the extrapolation, which bounds the error; first
+    /// order (p = 1, ratio 2) and sign changes get the finest change, which bounds it there.
+    #[test]
+    fn the_guard_trusts_the_extrapolation_only_in_the_asymptotic_range() {
+        let (big, h) = (0.3f64, [0.04f64, 0.02, 0.01]);
+        for p in [1.0, 1.5, 2.0, 2.5, 3.0] {
+            let pts: Vec<(f64, f64)> = h.iter().map(|&h| (h, big + 2.0 * h.powf(p) + 0.5 * h.powf(p + 1.0))).collect();
+            let (value, error) = guarded(&pts);
+            let finest = (pts[2].1 - pts[1].1).abs();
+            assert!((value - big).abs() <= error, "p = {p}: {value} ± {error}");
+            if (1.5..=2.5).contains(&p) {
+                assert!(error < 0.9 * finest, "p = {p}: {error} against the finest change {finest}");
+            } else if p == 1.0 {
+                assert_eq!(error, finest, "p = {p}");
+            }
+        }
+        // changes 1.2e-4, 1e-4 (ratio 1.2, no power law): the finest change is the floor over
+        // the extrapolation's change, 9.3e-5
+        let (_, error) = guarded(&[(0.04, 0.3), (0.02, 0.30012), (0.01, 0.30022)]);
+        assert!((error - 1e-4).abs() < 1e-12, "{error}");
+    }
 }
