@@ -170,7 +170,11 @@ pub(crate) fn starts(scenario: &Scenario, frames: &[Frame], h: f64) -> Vec<(usiz
             // a point, or a box of zero width: the midpoints
             for i in 0..nx {
                 for j in 0..nv {
-                    out.push((state, start(0.5 * (edge(x0, x1, nx, i) + edge(x0, x1, nx, i + 1)), 0.5 * (edge(v0, v1, nv, j) + edge(v0, v1, nv, j + 1))), w * ws));
+                    out.push((
+                        state,
+                        start(0.5 * (edge(x0, x1, nx, i) + edge(x0, x1, nx, i + 1)), 0.5 * (edge(v0, v1, nv, j) + edge(v0, v1, nv, j + 1))),
+                        w * ws,
+                    ));
                 }
             }
             continue;
