@@ -261,7 +261,8 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
     for (_, h) in ladder {
         solved.push((h[0], passage::sequence(frames, h, half, &[(at, start, 1.0)], 1)?));
     }
-    let pick = |f: &dyn Fn(&passage::Sequence) -> f64| crate::law::guarded(&solved.iter().map(|(h, s)| (*h, f(s))).collect::<Vec<_>>());
+    let pick =
+        |f: &dyn Fn(&passage::Sequence) -> f64| crate::law::guarded(&solved.iter().map(|(h, s)| (*h, f(s))).collect::<Vec<_>>(), crate::law::Order::Irregular);
     let mut rows = Vec::new();
     let mut row = |variable: &'static str, mean: &dyn Fn(&passage::Sequence) -> f64, variance: &dyn Fn(&passage::Sequence) -> f64| {
         let ((m, e), (v, ve)) = (pick(mean), pick(variance));
@@ -274,7 +275,7 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
     row("stick_duration", &|s| s.sticks[0].duration.0, &|s| s.sticks[0].duration.1);
     row("slip_duration", &|s| s.sticks[0].slip.0, &|s| s.sticks[0].slip.1);
     row("breakaway", &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
-    let survival = crate::law::sticks::survival_rows(frames, &solved, &crate::law::density::survival_times(frames, &[]));
+    let survival = crate::law::sticks::survival_rows(frames, &solved, &crate::law::density::survival_times(frames, &[]), crate::law::Order::Irregular);
     Ok((rows, survival))
 }
 
@@ -295,7 +296,7 @@ fn density_rows(frames: &[Frame], finest: u32, at: usize, start: Start, rows: &[
         .collect::<Result<Vec<_>, String>>()?;
     let grid = crate::law::densities::GRID;
     let edges: Vec<f64> = (0..=grid).map(|g| cells * g as f64 / grid as f64).collect();
-    Ok(crate::law::densities::rows_on(&levels, half_period, &edges))
+    Ok(crate::law::densities::rows_on(&levels, half_period, &edges, crate::law::Order::Irregular))
 }
 
 /// One future's values (None: not reached within the horizon).

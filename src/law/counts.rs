@@ -134,19 +134,19 @@ pub(crate) fn solve(
 
 /// The rows of `counts.parquet` and of `moments.parquet` (S_T, S_L: mean, variance, errors)
 /// from the levels (coarsest first).
-pub(crate) fn rows(levels: &[(f64, Tails)]) -> (Vec<CountRow>, Vec<super::sticks::Row>) {
+pub(crate) fn rows(levels: &[(f64, Tails)], order: super::Order) -> (Vec<CountRow>, Vec<super::sticks::Row>) {
     let (mut counts, mut moments) = (Vec::new(), Vec::new());
     for (v, variable) in VARIABLES.iter().enumerate() {
         let pick = |t: &Tails| if v == 0 { t.sticks.clone() } else { t.slips.clone() };
         let laws: Vec<(f64, Vec<f64>)> = levels.iter().map(|(h, t)| (*h, probabilities(&pick(t)))).collect();
         let top = laws.iter().map(|(_, l)| l.len()).max().unwrap_or(0);
         for n in 0..top {
-            let (p, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l.get(n).copied().unwrap_or(0.0))).collect::<Vec<_>>());
+            let (p, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l.get(n).copied().unwrap_or(0.0))).collect::<Vec<_>>(), order);
             counts.push(CountRow { variable, value: n as u32, probability: p.clamp(0.0, 1.0), error });
         }
         let mv: Vec<(f64, (f64, f64))> = levels.iter().map(|(h, t)| (*h, mean_var(&pick(t)))).collect();
-        let mean = super::guarded(&mv.iter().map(|(h, m)| (*h, m.0)).collect::<Vec<_>>());
-        let variance = super::guarded(&mv.iter().map(|(h, m)| (*h, m.1)).collect::<Vec<_>>());
+        let mean = super::guarded(&mv.iter().map(|(h, m)| (*h, m.0)).collect::<Vec<_>>(), order);
+        let variance = super::guarded(&mv.iter().map(|(h, m)| (*h, m.1)).collect::<Vec<_>>(), order);
         moments.push(super::sticks::Row {
             variable,
             index: 0,
@@ -181,11 +181,11 @@ pub fn markdown(rows: &[CountRow]) -> String {
 /// Each Table 1 row's share of realizations that reach it within [0, t_a] (analyze's
 /// `reached_fraction`: T_k and D_k need stick k to start, P(S_T ≥ k); L_k and H_k need it to
 /// end, P(S_L ≥ k)), extrapolated from the levels (coarsest first).
-pub(crate) fn reach(levels: &[(f64, Tails)], rows: &mut [super::sticks::Row]) {
+pub(crate) fn reach(levels: &[(f64, Tails)], order: super::Order, rows: &mut [super::sticks::Row]) {
     for r in rows.iter_mut().filter(|r| r.index > 0) {
         let k = r.index as usize - 1;
         let pick = |t: &Tails| if matches!(r.variable, "T" | "D") { t.sticks.get(k).copied().unwrap_or(0.0) } else { t.slips.get(k).copied().unwrap_or(0.0) };
-        let (p, error) = super::guarded(&levels.iter().map(|(h, t)| (*h, pick(t))).collect::<Vec<_>>());
+        let (p, error) = super::guarded(&levels.iter().map(|(h, t)| (*h, pick(t))).collect::<Vec<_>>(), order);
         r.reached = Some((p.clamp(0.0, 1.0), error));
     }
 }

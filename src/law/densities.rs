@@ -253,7 +253,7 @@ pub(crate) fn half_period(t_a: f64, next_start: passage::MeanVar) -> f64 {
 /// with its spread, plus twice the largest change from J/2 to J terms at the finest over the
 /// cell and two neighbours each side, plus any overshoot below 0 and the point mass's spread
 /// over the width (module docs).
-pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize, edges: &[f64]) -> Vec<(f64, f64, f64)> {
+pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize, edges: &[f64], order: super::Order) -> Vec<(f64, f64, f64)> {
     let Some((_, finest)) = levels.last() else { return Vec::new() };
     let phi = &finest[i].phi[..];
     let cells = edges.len().saturating_sub(1);
@@ -265,10 +265,10 @@ pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize,
     (0..cells)
         .map(|g| {
             let per: Vec<(f64, f64)> = levels.iter().zip(&full).map(|((h, _), f)| (*h, f[g])).collect();
-            let (value, spread) = super::guarded(&per);
+            let (value, spread) = super::guarded(&per, order);
             let truncation = 2.0 * change[g.saturating_sub(2)..(g + 3).min(cells)].iter().copied().fold(0.0, f64::max);
             let inside = |l: &Transforms| l[i].points.iter().filter(|(t, _)| (edges[g]..edges[g + 1]).contains(t)).map(|p| p.1).sum::<f64>();
-            let (mass, mass_spread) = super::guarded(&levels.iter().map(|(h, l)| (*h, inside(l))).collect::<Vec<_>>());
+            let (mass, mass_spread) = super::guarded(&levels.iter().map(|(h, l)| (*h, inside(l))).collect::<Vec<_>>(), order);
             let width = edges[g + 1] - edges[g];
             (value.max(0.0), spread + truncation + (-value).max(0.0) + mass_spread / width, mass.max(0.0))
         })
@@ -279,14 +279,14 @@ pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize,
 /// first).
 pub(crate) fn rows(levels: &[(f64, Transforms)], half_period: f64, t_a: f64) -> Vec<DensityRow> {
     let edges: Vec<f64> = (0..=GRID).map(|g| t_a * g as f64 / GRID as f64).collect();
-    rows_on(levels, half_period, &edges)
+    rows_on(levels, half_period, &edges, super::Order::Regular)
 }
 
 /// The rows of every transform of the levels (coarsest first) on the cells between `edges`.
-pub(crate) fn rows_on(levels: &[(f64, Transforms)], half_period: f64, edges: &[f64]) -> Vec<DensityRow> {
+pub(crate) fn rows_on(levels: &[(f64, Transforms)], half_period: f64, edges: &[f64], order: super::Order) -> Vec<DensityRow> {
     let mut out = Vec::new();
     for (i, x) in levels.last().map_or(&[][..], |l| &l.1[..]).iter().enumerate() {
-        for (g, (density, error, point_mass)) in averages(levels, half_period, i, edges).into_iter().enumerate() {
+        for (g, (density, error, point_mass)) in averages(levels, half_period, i, edges, order).into_iter().enumerate() {
             out.push(DensityRow { variable: x.variable, index: x.index, t_lo: edges[g], t_hi: edges[g + 1], density, error, point_mass });
         }
     }
@@ -591,7 +591,7 @@ pub(crate) mod tests {
             }
         }
         let edges = [0.0, 0.3, 1.0, 2.5];
-        assert_eq!(averages(&levels, 7.5, 1, &edges), averages(&back, 7.5, 1, &edges));
+        assert_eq!(averages(&levels, 7.5, 1, &edges, super::super::Order::Regular), averages(&back, 7.5, 1, &edges, super::super::Order::Regular));
     }
 
     #[test]

@@ -98,7 +98,7 @@ pub(crate) mod passage;
 pub mod sticks;
 pub(crate) mod window;
 
-pub(crate) use output::{densities_table, guarded, survival_table};
+pub(crate) use output::{densities_table, guarded, survival_table, Order};
 pub use output::{estimates, markdown, run, Found, LawError, Options, LEVELS};
 
 use crate::physics::Law;
@@ -353,7 +353,7 @@ mod tests {
         let (big, h) = (0.3f64, [0.04f64, 0.02, 0.01]);
         for p in [1.0, 1.5, 2.0, 2.5, 3.0] {
             let pts: Vec<(f64, f64)> = h.iter().map(|&h| (h, big + 2.0 * h.powf(p) + 0.5 * h.powf(p + 1.0))).collect();
-            let (value, error) = guarded(&pts);
+            let (value, error) = guarded(&pts, Order::Regular);
             let finest = (pts[2].1 - pts[1].1).abs();
             assert!((value - big).abs() <= error, "p = {p}: {value} ± {error}");
             if (1.5..=2.5).contains(&p) {
@@ -364,7 +364,12 @@ mod tests {
         }
         // changes 1.2e-4, 1e-4 (ratio 1.2, no power law): the finest change is the floor over
         // the extrapolation's change, 9.3e-5
-        let (_, error) = guarded(&[(0.04, 0.3), (0.02, 0.30012), (0.01, 0.30022)]);
+        let (_, error) = guarded(&[(0.04, 0.3), (0.02, 0.30012), (0.01, 0.30022)], Order::Regular);
         assert!((error - 1e-4).abs() < 1e-12, "{error}");
+        // the breakaway probability after a point start (Order::Irregular's docs): changes
+        // +4.9e-4, +1.2e-4 (ratio 4.1) trusted would say 3e-6; the floor is the finest change
+        let pts = [(0.17, 0.0), (0.085, 4.9e-4), (0.0425, 6.1e-4)];
+        assert!(guarded(&pts, Order::Regular).1 < 1e-5);
+        assert!((guarded(&pts, Order::Irregular).1 - 1.2e-4).abs() < 1e-12);
     }
 }

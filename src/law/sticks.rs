@@ -226,14 +226,25 @@ pub(crate) fn values(s: &Sequence) -> Vec<(&'static str, u32, MeanVar)> {
         .collect()
 }
 
-/// The rows from sequences at the ladder's spacings (coarsest first).
-pub(crate) fn rows(levels: &[(f64, Sequence)]) -> Vec<Row> {
+/// What the resolutions of the scenario's initial law show of the order ([`super::Order`]): a
+/// box of positive area is regular, a point (or a segment) is not.
+pub(crate) fn order(scenario: &Scenario) -> super::Order {
+    let ic = &scenario.initial_conditions;
+    if ic.position[1] > ic.position[0] && ic.velocity[1] > ic.velocity[0] {
+        super::Order::Regular
+    } else {
+        super::Order::Irregular
+    }
+}
+
+/// The rows from sequences at the ladder's spacings (coarsest first), of the initial law's `order`.
+pub(crate) fn rows(levels: &[(f64, Sequence)], order: super::Order) -> Vec<Row> {
     let per: Vec<(f64, Vec<(&'static str, u32, MeanVar)>)> = levels.iter().map(|(h, s)| (*h, values(s))).collect();
     (0..per.first().map_or(0, |p| p.1.len()))
         .map(|i| {
             let (variable, index, _) = per[0].1[i];
-            let mean = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .0)).collect::<Vec<_>>());
-            let variance = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .1)).collect::<Vec<_>>());
+            let mean = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .0)).collect::<Vec<_>>(), order);
+            let variance = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .1)).collect::<Vec<_>>(), order);
             Row { variable, index, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1, reached: None, windowed: None }
         })
         .collect()
@@ -261,17 +272,17 @@ pub struct SurvivalRow {
 /// D_k's law for every stick the sequences follow (k = 1 … [`STICKS`] for Table 1, k = 1 for
 /// `predict`) at the increasing `times`, from sequences at the ladder's spacings (coarsest
 /// first): [`passage::Sequence::stick_law`] per level, per point.
-pub(crate) fn survival_rows(frames: &[Frame], levels: &[(f64, Sequence)], times: &[f64]) -> Vec<SurvivalRow> {
+pub(crate) fn survival_rows(frames: &[Frame], levels: &[(f64, Sequence)], times: &[f64], order: super::Order) -> Vec<SurvivalRow> {
     let mut out = Vec::new();
     for k in 0..levels.first().map_or(0, |(_, s)| s.entries.len()) {
         let laws: Vec<(f64, Vec<(f64, f64, f64)>)> = levels.iter().map(|(h, s)| (*h, s.stick_law(frames, k, times))).collect();
         for (j, &t) in times.iter().enumerate() {
-            let (survival, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].1)).collect::<Vec<_>>());
+            let (survival, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].1)).collect::<Vec<_>>(), order);
             // the density at the finest level (non-negative, of mass 1: an extrapolation of
             // entry densities spread over cells of three widths can overshoot where the law is
             // narrower than the coarse cells), with the extrapolation's error as its estimate
             let density = laws.last().map_or(0.0, |(_, l)| l[j].2);
-            let (_, density_error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].2)).collect::<Vec<_>>());
+            let (_, density_error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].2)).collect::<Vec<_>>(), order);
             out.push(SurvivalRow { index: k as u32 + 1, t, survival: survival.clamp(0.0, 1.0), error, density, density_error });
         }
     }
@@ -357,7 +368,7 @@ mod tests {
         let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
         let ladder = super::super::ladder(&frames, 16, 3).unwrap();
         let solved = solve(&sc, &frames, &ladder, &mut |_, _| {}).unwrap();
-        let rows = rows(&solved);
+        let rows = rows(&solved, order(&sc));
         let (omega, v0, w0) = (2.0f64, 1.0, 0.5);
         let (ck, cs) = (0.51 * 9.8 / 4.0, 0.6 * 9.8 / 4.0);
         let r: f64 = ck - 0.5;
@@ -375,7 +386,7 @@ mod tests {
             // D_k's law: (almost) surely held for `held` — P(D_k > t) ≈ 1 before, 0 after, and
             // the density's mass near it (within the coarsest level's two line nodes, 0.25 s)
             let times = [held - 0.3, held + 0.3];
-            let law: Vec<SurvivalRow> = survival_rows(&frames, &solved, &super::super::density::survival_times(&frames, &times));
+            let law: Vec<SurvivalRow> = survival_rows(&frames, &solved, &super::super::density::survival_times(&frames, &times), order(&sc));
             let at = |x: f64| law.iter().find(|r| r.index == k && r.t == x).unwrap().survival;
             assert!(at(times[0]) > 0.999 && at(times[1]) < 1e-3, "D_{k}: P(D > {held} ∓ 0.3) = {}, {}", at(times[0]), at(times[1]));
             let mine: Vec<&SurvivalRow> = law.iter().filter(|r| r.index == k).collect();

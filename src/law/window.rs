@@ -55,7 +55,8 @@ pub(crate) fn windowed(levels: &[(f64, Transforms)], half_period: f64, t_a: f64,
         if per.len() != levels.len() || per.iter().any(|(_, q)| !q.iter().all(|v| v.is_finite())) {
             continue;
         }
-        let [(p, pe), (q1, e1), (q2, e2)] = std::array::from_fn(|i| super::guarded(&per.iter().map(|(h, q)| (*h, q[i])).collect::<Vec<_>>()));
+        let [(p, pe), (q1, e1), (q2, e2)] =
+            std::array::from_fn(|i| super::guarded(&per.iter().map(|(h, q)| (*h, q[i])).collect::<Vec<_>>(), super::Order::Regular));
         let inside = 1.0 - p.clamp(0.0, 1.0);
         if !(inside > 0.0) {
             continue;

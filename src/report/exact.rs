@@ -97,7 +97,7 @@ pub(super) fn density_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, 
             continue;
         }
         let edges: Vec<f64> = bins.iter().map(|b| b.0).chain(bins.last().map(|b| b.1)).collect();
-        let exact = crate::law::densities::averages(&levels, half_period, i, &edges);
+        let exact = crate::law::densities::averages(&levels, half_period, i, &edges, crate::law::Order::Regular);
         // our shares are of the values in the bins' span (the window cuts T_k and L_k, and H_k's
         // slips must end in it): the exact law conditioned on the same span
         let span: f64 = bins.iter().zip(&exact).map(|((lo, hi, _), (f, _, point))| f * (hi - lo) + point).sum();
