@@ -116,12 +116,8 @@ pub fn run(
             let solved =
                 super::counts::solve(scenario, &frames, &ladder, &mut |n, s| sticks_progress("S_T and S_L", n, s), &mut |n, k, p| step(n, k as u32, p))
                     .map_err(LawError::Failed)?;
-            // the counts follow ~37 sticks at coarse resolutions (4 to 32), before their changes
-            // settle: at `--counts 16` the extrapolation's change on E S_T (0.003) fell 1.9×
-            // short of its distance to 10^7 realizations (0.0057), so one ratio in range is no
-            // evidence there
-            super::counts::reach(&solved, super::Order::Irregular, &mut rows);
-            super::counts::rows(&solved, super::Order::Irregular)
+            super::counts::reach(&solved, &mut rows);
+            super::counts::rows(&solved)
         }
         None => (Vec::new(), Vec::new()),
     };

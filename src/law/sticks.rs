@@ -72,7 +72,7 @@ const SPLIT_DEPTH: u32 = 10;
 /// of a state jumps (module docs): how many slip arcs it follows, and how it ends — 0 cut by
 /// the horizon, 1 a periodic slip under the belt line, 2 a stick, 3 the breakaway slip.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub(crate) struct Fate {
+struct Fate {
     arcs: u32,
     end: u8,
 }
@@ -94,7 +94,7 @@ impl Visitor for Fate {
 
 impl Fate {
     /// The fate of the slipping start (x, v) in `frame` (one sample per arc: no spacing).
-    pub(crate) fn of(frame: &Frame, x: f64, v: f64) -> Fate {
+    fn of(frame: &Frame, x: f64, v: f64) -> Fate {
         let mut fate = Fate::default();
         frame.walk(Slip::at(x, v, frame.v0), 0.0, f64::INFINITY, f64::INFINITY, &mut fate);
         fate
