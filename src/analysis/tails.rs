@@ -157,36 +157,6 @@ impl Tails {
 type Counts = Vec<(usize, u32, i64, bool, u64)>;
 
 const G: &str = "__g";
-const K: &str = "__k";
-const CELL: &str = "__cell";
-const FLAG: &str = "__flag";
-
-/// The positions 1..=len of each list's elements, as a list of int64 (to explode beside it).
-fn positions(list: &'static str) -> Expr {
-    use polars_arrow::array::{ListArray, PrimitiveArray};
-    use polars_arrow::datatypes::ArrowDataType;
-    col(list)
-        .map(
-            |c: Column| {
-                let ca = c.list()?.rechunk();
-                let chunks: Vec<_> = ca
-                    .downcast_iter()
-                    .map(|arr| {
-                        // offsets from 0 (the input may be a slice of a larger buffer)
-                        let o = arr.offsets().as_slice();
-                        let values: Vec<i64> = o.windows(2).flat_map(|w| 1..=(w[1] - w[0])).collect();
-                        let rebased: Vec<i64> = o.iter().map(|x| x - o[0]).collect();
-                        let offsets = polars_arrow::offset::Offsets::<i64>::try_from(rebased).expect("monotone offsets").into();
-                        let dtype = ListArray::<i64>::default_datatype(ArrowDataType::Int64);
-                        ListArray::<i64>::new(dtype, offsets, PrimitiveArray::from_vec(values).boxed(), arr.validity().cloned())
-                    })
-                    .collect();
-                Ok(ListChunked::from_chunk_iter(c.name().clone(), chunks).into_column())
-            },
-            |_, f| Ok(Field::new(f.name().clone(), DataType::List(Box::new(DataType::Int64)))),
-        )
-        .alias(K)
-}
 
 /// One frame of every part file of `data` (any order: the counts do not depend on it).
 fn frame(data: &Dataset) -> PolarsResult<LazyFrame> {
@@ -216,27 +186,113 @@ fn group() -> Expr {
     (col(name::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64).alias(G)
 }
 
-/// k clamped to `max_index + 1` (the indices past the curves per k, kept for the pooled curve).
-fn clamp_k(max_index: u32) -> Expr {
+/// The one int64 key of a counted interval or entry (a group-by on one integer column is a flat
+/// hash table; on four it encodes rows as bytes): key = ((cell·(K+1) + k)·2 + flag)·GROUPS + g,
+/// with K = `max_index` + 1, k clamped to K (the indices past the curves per k, kept for the
+/// pooled curve) and cell ≥ 0 (< 2^40 with k ≤ 1001); decoded by [`counts`].
+fn pack(max_index: u32, cell: i64, k: i64, flag: bool, g: i64) -> i64 {
     let top = i64::from(max_index) + 1;
-    when(col(K).gt(lit(top))).then(lit(top)).otherwise(col(K)).cast(DataType::Int64).alias(K)
+    ((cell * (top + 1) + k.min(top)) * 2 + i64::from(flag)) * GROUPS as i64 + g
 }
 
-/// The one int64 key of (group, k, cell, flag) (a group-by on one integer column is a flat hash
-/// table; on four it encodes rows as bytes, most of the cost of the tails): key = ((cell·(K+1) +
-/// k)·2 + flag)·GROUPS + g with K = `max_index` + 1, k ≤ K and cell ≥ 0 (< 2^40 with k ≤ 1001).
-fn packed(max_index: u32) -> Expr {
-    let ks = i64::from(max_index) + 2;
-    let cell = col(CELL).cast(DataType::Int64);
-    let key =
-        ((cell * lit(ks) + col(K).cast(DataType::Int64)) * lit(2i64) + col(FLAG).cast(DataType::Int64)) * lit(GROUPS as i64) + col(G).cast(DataType::Int64);
-    key.alias("__key")
+/// The jackknife group of a realization.
+fn group_of(realization: i64) -> i64 {
+    realization % GROUPS as i64
 }
 
-/// Counts per packed key (`packed`), decoded.
+/// A list<int64> beside the lists `lists` (of equal lengths, as validated): for element j of a
+/// row, `key(the lists' j-th values, k = j + 1, the row's values of `rows`)`. One pass per row,
+/// so that polars explodes one integer list instead of several lists and the columns of an
+/// arithmetic expression per step. A row with a null input gets a null list (no key); a null
+/// element, no key.
+fn element_keys<F>(lists: Vec<&'static str>, rows: Vec<Expr>, key: F) -> Expr
+where
+    F: Fn(&[f64], i64, &[i64]) -> i64 + Send + Sync + 'static,
+{
+    use polars_arrow::array::{Array, ListArray, PrimitiveArray};
+    use polars_arrow::datatypes::ArrowDataType;
+    let n_lists = lists.len();
+    let mut inputs: Vec<Expr> = lists[1..].iter().map(|l| col(*l)).collect();
+    inputs.extend(rows);
+    col(lists[0])
+        .map_many(
+            move |c: &mut [Column]| {
+                let height = c[0].len();
+                let name = c[0].name().clone();
+                let ls: Vec<ListChunked> = c[..n_lists].iter().map(|c| Ok(c.list()?.rechunk().into_owned())).collect::<PolarsResult<_>>()?;
+                let rs: Vec<Int64Chunked> =
+                    c[n_lists..].iter().map(|c| Ok(c.cast(&DataType::Int64)?.i64()?.rechunk().into_owned())).collect::<PolarsResult<_>>()?;
+                let dtype = ListArray::<i64>::default_datatype(ArrowDataType::Int64);
+                let (Some(arrs), Some(ints)) = (
+                    ls.iter().map(|l| l.downcast_iter().next()).collect::<Option<Vec<&ListArray<i64>>>>(),
+                    rs.iter().map(|r| r.downcast_iter().next()).collect::<Option<Vec<&PrimitiveArray<i64>>>>(),
+                ) else {
+                    return Ok(ListChunked::full_null_with_dtype(name, height, &DataType::Int64).into_column());
+                };
+                let vals: Vec<&PrimitiveArray<f64>> = arrs
+                    .iter()
+                    .map(|a| a.values().as_any().downcast_ref::<PrimitiveArray<f64>>())
+                    .collect::<Option<_>>()
+                    .ok_or_else(|| polars_err!(ComputeError: "{name}: a list of floats was expected"))?;
+                let first = arrs[0].offsets().as_slice();
+                let mut keys: Vec<i64> = Vec::with_capacity((first[height] - first[0]) as usize);
+                let mut offsets: Vec<i64> = Vec::with_capacity(height + 1);
+                offsets.push(0);
+                let mut valid = polars_arrow::bitmap::MutableBitmap::with_capacity(height);
+                let (mut elements, mut row) = (vec![0.0; n_lists], vec![0i64; ints.len()]);
+                for r in 0..height {
+                    let mut ok = arrs.iter().all(|a| a.is_valid(r));
+                    for (x, a) in row.iter_mut().zip(&ints) {
+                        match a.get(r) {
+                            Some(v) => *x = v,
+                            None => ok = false,
+                        }
+                    }
+                    if ok {
+                        for j in 0..(first[r + 1] - first[r]) {
+                            let mut present = true;
+                            for (i, (a, v)) in arrs.iter().zip(&vals).enumerate() {
+                                let o = a.offsets().as_slice();
+                                let at = (o[r] + j) as usize;
+                                present &= at < o[r + 1] as usize && v.is_valid(at);
+                                if present {
+                                    elements[i] = v.value(at);
+                                }
+                            }
+                            if present {
+                                keys.push(key(&elements, j + 1, &row));
+                            }
+                        }
+                    }
+                    offsets.push(keys.len() as i64);
+                    valid.push(ok);
+                }
+                let offsets = polars_arrow::offset::Offsets::<i64>::try_from(offsets)?.into();
+                let out = ListArray::<i64>::new(dtype, offsets, PrimitiveArray::from_vec(keys).boxed(), valid.into());
+                Ok(ListChunked::from_chunk_iter(name, [out]).into_column())
+            },
+            &inputs,
+            |_, f| Ok(Field::new(f[0].name().clone(), DataType::List(Box::new(DataType::Int64)))),
+        )
+        .alias(KEY)
+}
+
+const KEY: &str = "__key";
+
+/// The plan counting the keys of `keys` (a list per row, [`element_keys`]), one sink of the
+/// tails' pass.
+fn count_plan(src: LazyFrame, keys: Expr) -> DslPlan {
+    src.select([keys])
+        .explode(by_name([KEY], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false })
+        .group_by([col(KEY)])
+        .agg([len().cast(DataType::Int64).alias("n")])
+        .logical_plan
+}
+
+/// Counts per packed key ([`pack`]), decoded.
 fn counts(df: &DataFrame, max_index: u32) -> PolarsResult<Counts> {
     let ks = i64::from(max_index) + 2;
-    let key = df.column("__key")?.cast(&DataType::Int64)?;
+    let key = df.column(KEY)?.cast(&DataType::Int64)?;
     let n = df.column("n")?.cast(&DataType::Int64)?;
     let decode = |key: i64| {
         let (g, rest) = (key % GROUPS as i64, key / GROUPS as i64);
@@ -254,37 +310,24 @@ fn counts(df: &DataFrame, max_index: u32) -> PolarsResult<Counts> {
         .collect())
 }
 
-/// The plan counting `lf`'s rows per (G, K, CELL, FLAG), one sink of the tails' pass.
-fn count_plan(lf: LazyFrame, max_index: u32) -> DslPlan {
-    lf.select([packed(max_index)]).group_by([col("__key")]).agg([len().cast(DataType::Int64).alias("n")]).logical_plan
-}
-
-const DURATION: &str = "__d";
-const X: &str = "__x";
-const V: &str = "__v";
-
-/// The sticks (`stick`) or slips, one row each: G, K (clamped), DURATION, FLAG (censored: the
-/// one rule of `observables::last_cut`, the last interval cut at t_a), and for sticks with
-/// `entries` their entry position X and belt velocity V.
-fn intervals(src: LazyFrame, stick: bool, max_index: u32, entries: bool) -> LazyFrame {
+/// The keys of the stick (`stick`) or slip durations on the time cells of width `width` split at
+/// `times` ([`cell`]): flag = the interval is the censored one (the one rule of
+/// `observables::last_cut`: the last interval cut at t_a), g = 0 when `pooled`.
+fn duration_keys(stick: bool, max_index: u32, width: f64, times: Vec<f64>, pooled: bool) -> Expr {
     let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
-    let mut read = vec![group(), col(list), positions(list), col(count).cast(DataType::Int64).alias("__n"), crate::observables::last_cut(stick).alias("__cut")];
-    let mut lists = vec![list, K];
-    let mut keep = vec![col(G), clamp_k(max_index), col(list).alias(DURATION), col("__cut").and(col(K).eq(col("__n"))).alias(FLAG)];
-    if entries {
-        read.extend([col(name::STICK_ENTRY_POSITION), col(name::STICK_ENTRY_VELOCITY)]);
-        lists.extend([name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY]);
-        keep.extend([col(name::STICK_ENTRY_POSITION).alias(X), col(name::STICK_ENTRY_VELOCITY).alias(V)]);
-    }
-    src.select(read).explode(by_name(lists, true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false }).select(keep)
+    let rows = vec![col(name::REALIZATION), col(count), crate::observables::last_cut(stick)];
+    element_keys(vec![list], rows, move |d, k, row| {
+        let g = if pooled { 0 } else { group_of(row[0]) };
+        pack(max_index, cell(d[0], width, &times), k, row[2] != 0 && k == row[1], g)
+    })
 }
 
-/// The time cell of each duration d ≥ 0: φ(d) = ⌊d/width⌋ + #{τ ∈ `times` : τ ≤ d}, the cells of
+/// The time cell of a duration d ≥ 0: φ(d) = ⌊d/width⌋ + #{τ ∈ `times` : τ ≤ d}, the cells of
 /// width `width` split at the user's times τ (sorted, distinct), so that a curve is exact at
 /// each τ as at each cell edge (module docs).
-fn cell(width: f64, times: &[f64]) -> Expr {
-    let uniform = when(col(DURATION).gt(lit(0.0))).then((col(DURATION) / lit(width)).cast(DataType::Int64)).otherwise(lit(0i64));
-    times.iter().fold(uniform, |acc, &t| acc + col(DURATION).gt_eq(lit(t)).cast(DataType::Int64)).alias(CELL)
+fn cell(d: f64, width: f64, times: &[f64]) -> i64 {
+    let uniform = if d > 0.0 { (d / width) as i64 } else { 0 };
+    uniform + times.iter().filter(|&&t| d >= t).count() as i64
 }
 
 /// The evaluation points of a curve on the cells of `cell` (`width` = `COARSE`^`coarse` ρ): the
@@ -294,31 +337,17 @@ fn on_cells(grid: &[(f64, i64)], times: &[f64], coarse: bool) -> Vec<(f64, i64)>
     grid.iter().map(|&(t, c)| (t, c / step + times.iter().filter(|&&x| x <= t).count() as i64)).collect()
 }
 
-/// The bin of each entry's holding time d_s(x) (position X, belt velocity V: `v_f` forward,
-/// −`v_r` reverse) on the evaluation times `ts` (increasing): how many of them lie below d, so
-/// that the entry is held past `ts[j]` exactly when its bin exceeds j.
-fn holding_bin(p: PerUnitMass, (v_f, v_r): (f64, f64), ts: Vec<f64>) -> Expr {
-    col(X).map_many(
-        move |c: &mut [Column]| {
-            let (x, v) = (c[0].f64()?, c[1].f64()?);
-            let bin = |x: f64, v: f64| {
-                let d = p.stick_duration(x, if v > 0.0 { v_f } else { -v_r });
-                ts.partition_point(|&t| t < d) as i64
-            };
-            let out: Int64Chunked = x.iter().zip(v.iter()).map(|(x, v)| Some(bin(x?, v?))).collect();
-            Ok(out.with_name(c[0].name().clone()).into_column())
-        },
-        &[col(V)],
-        |_, f| Ok(Field::new(f[0].name().clone(), DataType::Int64)),
-    )
+/// The keys of the stick entries (position x, belt velocity v: `v_f` forward, −`v_r` reverse):
+/// cell = the bin of the holding time d_s(x) on the evaluation times `ts` (increasing), how many
+/// of them lie below it, so that the entry is held past `ts[j]` exactly when its bin exceeds j;
+/// flag = the belt state is forward.
+fn entry_keys(p: PerUnitMass, (v_f, v_r): (f64, f64), max_index: u32, ts: Vec<f64>) -> Expr {
+    element_keys(vec![name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY], vec![col(name::REALIZATION)], move |e, k, row| {
+        let (x, v) = (e[0], e[1]);
+        let d = p.stick_duration(x, if v > 0.0 { v_f } else { -v_r });
+        pack(max_index, ts.partition_point(|&t| t < d) as i64, k, v > 0.0, group_of(row[0]))
+    })
 }
-
-/// The stick entries of `sticks` per (G, K, holding-time bin on the times `ts`, FLAG = belt
-/// state forward).
-fn entry_plan(sticks: LazyFrame, p: PerUnitMass, speeds: (f64, f64), max_index: u32, ts: Vec<f64>) -> DslPlan {
-    count_plan(sticks.select([col(G), col(K), holding_bin(p, speeds, ts).alias(CELL), col(V).gt(lit(0.0)).alias(FLAG)]), max_index)
-}
-
 /// Per group: realizations, sticks, breakaways, and the exceedance counts of each threshold.
 fn extreme_plan(src: LazyFrame, opts: &TailOptions) -> DslPlan {
     let mut aggs = vec![
@@ -408,12 +437,12 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
         let mut plans = Vec::new();
         for stick in [true, false] {
             let entries = stick && entry_grid.is_some();
-            let base = intervals(src.clone(), stick, max_index, entries);
             // the estimate on fine cells (groups pooled), the leave-one-group-out curves on coarse ones
-            plans.push(count_plan(base.clone().select([lit(0i64).alias(G), col(K), cell(rho, &times), col(FLAG)]), max_index));
-            plans.push(count_plan(base.clone().select([col(G), col(K), cell(rho * COARSE as f64, &times), col(FLAG)]), max_index));
+            plans.push(count_plan(src.clone(), duration_keys(stick, max_index, rho, times.clone(), true)));
+            plans.push(count_plan(src.clone(), duration_keys(stick, max_index, rho * COARSE as f64, times.clone(), false)));
             if let (true, Ok((scene, (_, speeds))), Some(grid)) = (entries, &scene, &entry_grid) {
-                plans.push(entry_plan(base, scene.params.per_unit_mass(), *speeds, max_index, grid.iter().map(|g| g.0).collect()));
+                let keys = entry_keys(scene.params.per_unit_mass(), *speeds, max_index, grid.iter().map(|g| g.0).collect());
+                plans.push(count_plan(src.clone(), keys));
             }
         }
         let counted = plans.len();
