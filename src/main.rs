@@ -5,6 +5,10 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     bound_malloc_arenas();
+    if let Err(e) = size_polars_hot_tables() {
+        eprintln!("stickslip: error: {e}");
+        return ExitCode::from(2);
+    }
     stickslip::interrupt::install();
     match stickslip::cli::main() {
         Ok(()) => ExitCode::SUCCESS,
@@ -28,4 +32,21 @@ fn bound_malloc_arenas() {
             libc::mallopt(libc::M_ARENA_MAX, cores as libc::c_int);
         }
     }
+}
+
+/// Keys each streaming group-by of polars holds in its hot table before evicting to its
+/// partitions (polars' default: 4,096; read from `POLARS_HOT_TABLE_SIZE` whenever a query is
+/// planned). The tails' counts group 1.65·10^7 intervals per 10^6 realizations by 45,000 to
+/// 70,000 keys, which the default table evicts over and over: with 32,768, `analyze` of 10^6
+/// paper realizations took 4.8 s against 5.2 s (7 % less CPU), the same without the tails. Set
+/// here, before any thread starts (the environment is not safe to change later). A value the
+/// user set is kept if it is a positive integer, refused otherwise (polars would panic on it).
+fn size_polars_hot_tables() -> Result<(), String> {
+    const HOT_TABLE: &str = "POLARS_HOT_TABLE_SIZE";
+    match std::env::var_os(HOT_TABLE) {
+        None => std::env::set_var(HOT_TABLE, "32768"),
+        Some(v) if v.to_str().and_then(|s| s.parse::<usize>().ok()).is_some_and(|n| n > 0) => {}
+        Some(v) => return Err(format!("{HOT_TABLE}={}: not a positive whole number of keys (unset it for the default)", v.to_string_lossy())),
+    }
+    Ok(())
 }

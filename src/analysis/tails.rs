@@ -234,8 +234,10 @@ where
                     .map(|a| a.values().as_any().downcast_ref::<PrimitiveArray<f64>>())
                     .collect::<Option<_>>()
                     .ok_or_else(|| polars_err!(ComputeError: "{name}: a list of floats was expected"))?;
-                let first = arrs[0].offsets().as_slice();
-                let mut keys: Vec<i64> = Vec::with_capacity((first[height] - first[0]) as usize);
+                let offs: Vec<&[i64]> = arrs.iter().map(|a| a.offsets().as_slice()).collect();
+                let slices: Vec<&[f64]> = vals.iter().map(|v| v.values().as_slice()).collect();
+                let dense = vals.iter().all(|v| v.null_count() == 0);
+                let mut keys: Vec<i64> = Vec::with_capacity((offs[0][height] - offs[0][0]) as usize);
                 let mut offsets: Vec<i64> = Vec::with_capacity(height + 1);
                 offsets.push(0);
                 let mut valid = polars_arrow::bitmap::MutableBitmap::with_capacity(height);
@@ -249,19 +251,17 @@ where
                         }
                     }
                     if ok {
-                        for j in 0..(first[r + 1] - first[r]) {
-                            let mut present = true;
-                            for (i, (a, v)) in arrs.iter().zip(&vals).enumerate() {
-                                let o = a.offsets().as_slice();
-                                let at = (o[r] + j) as usize;
-                                present &= at < o[r + 1] as usize && v.is_valid(at);
-                                if present {
-                                    elements[i] = v.value(at);
-                                }
+                        // (the lists have equal lengths in a validated dataset)
+                        let len = offs.iter().map(|o| o[r + 1] - o[r]).min().unwrap_or(0) as usize;
+                        let starts: Vec<usize> = offs.iter().map(|o| o[r] as usize).collect();
+                        for j in 0..len {
+                            if !dense && vals.iter().zip(&starts).any(|(v, s)| !v.is_valid(s + j)) {
+                                continue;
                             }
-                            if present {
-                                keys.push(key(&elements, j + 1, &row));
+                            for ((e, x), s) in elements.iter_mut().zip(&slices).zip(&starts) {
+                                *e = x[s + j];
                             }
+                            keys.push(key(&elements, j as i64 + 1, &row));
                         }
                     }
                     offsets.push(keys.len() as i64);
