@@ -28,6 +28,7 @@ mod rules;
 pub(crate) mod sketch;
 pub(crate) mod summary;
 pub(crate) mod sweep;
+mod tail_counts;
 pub mod tails;
 
 use std::collections::BTreeMap;
@@ -384,7 +385,6 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
     let convergence: Vec<usize> = CONVERGENCE.iter().filter_map(|o| series.iter().position(|s| s == o)).collect();
     let most = cells.iter().map(|d| d.rows).max().unwrap_or(0);
     let grid = checkpoints(most);
-    let plan = query::Plan { series: &series, pairs: &pairs, convergence: &convergence, checkpoints: &grid };
     let refs: Vec<&Dataset> = cells.iter().collect();
     let failed = |e: polars::prelude::PolarsError| {
         // polars appends the query plan to its messages: one line is what a user reads
@@ -397,12 +397,16 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
             None => AnalysisError::Read { path: refs[0].files[0].clone(), message },
         }
     };
+    // what the tails count is fixed before the scan (module docs of `tails`)
+    let tail_plans: Option<Vec<tails::TailPlan>> =
+        opts.tails.then(|| refs.iter().map(|d| tails::TailPlan::new(d, opts.max_index, &opts.tail)).collect::<Result<_, _>>()).transpose().map_err(failed)?;
+    let plan = query::Plan { series: &series, pairs: &pairs, convergence: &convergence, checkpoints: &grid, tails: tail_plans.as_deref() };
     let bar = progress(opts.progress, refs.iter().map(|d| d.rows).sum());
     let mut pilots = query::pilots(&refs, &plan).map_err(failed)?;
     let aggregates = query::aggregate(&refs, &plan, &mut pilots, &bar).map_err(failed)?;
     bar.finish_and_clear();
     let tails: Vec<Option<tails::Tails>> =
-        refs.iter().map(|d| opts.tails.then(|| tails::tails(d, opts.max_index, &opts.tail)).transpose()).collect::<Result<_, _>>().map_err(failed)?;
+        aggregates.iter().enumerate().map(|(c, agg)| tail_plans.as_ref().map(|p| tails::finish(&p[c], &agg.tails))).collect();
     let mut out = Vec::with_capacity(cells.len());
     for (((data, agg), pilot), tails) in cells.into_iter().zip(aggregates).zip(&pilots).zip(tails) {
         if agg.rows != data.rows {

@@ -17,6 +17,8 @@
 //!   observable per value;
 //! - per (cell, bin x, bin y): the joint counts of every requested pair;
 //! - per (cell, convergence bucket): n, Σ(x − c), Σ(x − c)² of the convergence observables.
+//! - with the tails, per key of each of their sinks: its count, and per slot the sums of the
+//!   extremes' columns ([`super::tail_counts`]).
 //!
 //! The pass is made over runs of at most [`CHUNK_ROWS`] realizations and batches of at most
 //! [`SERIES_PER_QUERY`] observables, whose integer sums and counts add exactly: polars buffers a
@@ -44,6 +46,8 @@ use super::input::{scan, Dataset, Stamp, ROW};
 use super::jackknife::GROUPS;
 use super::rules::{locate, rules};
 use super::sketch;
+use super::tail_counts;
+use super::tails::{TailCounts, TailPlan};
 use crate::observables::Observable;
 
 /// Rows of each cell the pilot reads.
@@ -57,6 +61,8 @@ pub(crate) struct Plan<'a> {
     pub convergence: &'a [usize],
     /// the checkpoints of the convergence table (realizations read)
     pub checkpoints: &'a [u64],
+    /// what to count for the tails of each cell (None: no tails)
+    pub tails: Option<&'a [TailPlan]>,
 }
 
 /// A cell's pilot: per observable the centre and the exponent of the counts, per pair the
@@ -86,6 +92,8 @@ pub(crate) struct Aggregates {
     /// previous checkpoint, up to this one (the last entry: up to the last realization; only n
     /// and the powers 1 and 2 are filled)
     pub convergence: Vec<Vec<Sums>>,
+    /// what the tails count ([`super::tail_counts`])
+    pub tails: TailCounts,
 }
 
 impl Aggregates {
@@ -96,6 +104,7 @@ impl Aggregates {
             bins: vec![vec![Vec::new(); GROUPS]; plan.series.len()],
             joint: vec![Vec::new(); plan.pairs.len()],
             convergence: vec![vec![Sums::default(); plan.checkpoints.len() + 1]; plan.convergence.len()],
+            tails: TailCounts { sinks: vec![Default::default(); tail_counts::SINKS], extremes: Vec::new() },
         }
     }
 }
@@ -129,6 +138,12 @@ fn cut(i: usize) -> String {
 }
 fn flag(f: usize) -> String {
     format!("__f{f}")
+}
+fn tail_key(s: usize) -> String {
+    format!("__t{s}")
+}
+fn extreme(j: usize) -> String {
+    format!("__e{j}")
 }
 
 /// The bin of `x` on the grid of width 2^`exp` (x ≥ 0: the cast truncates, which is the floor).
@@ -183,6 +198,14 @@ fn file_frame(
     }
     for (f, r) in rules.into_iter().enumerate() {
         cols.push(r.bad.alias(flag(f)));
+    }
+    // the tails' key lists and extremes (module docs of `tail_counts`)
+    if let (true, Some(tails)) = (batch.extras, plan.tails) {
+        let keys = tail_counts::keys(&tails[cell], cell, tails.len());
+        cols.extend(keys.into_iter().enumerate().map(|(s, k)| k.alias(tail_key(s))));
+        if tails[cell].tails_state {
+            cols.extend(tail_counts::extreme_columns(&tails[cell]).into_iter().enumerate().map(|(j, e)| e.alias(extreme(j))));
+        }
     }
     let frame = scan(&data.files[file], None, true)?.slice(offset as i64, rows as IdxSize).select(cols);
     // 2. histogram bins and the integer parts of the power sums
@@ -380,6 +403,12 @@ fn aggregate_batch(
     for f in 0..n_rules {
         aggs.push(col(flag(f)).cast(DataType::Int64).sum().alias(flag(f)));
     }
+    // (the cells of one scan are of one kind: all with the tails' state, or none)
+    let tails = plan.tails.filter(|_| batch.extras);
+    let extremes = tails.map_or(0, |t| if t[0].tails_state { tail_counts::extreme_columns(&t[0]).len() } else { 0 });
+    for j in 0..extremes {
+        aggs.push(col(extreme(j)).cast(DataType::Int64).sum().alias(extreme(j)));
+    }
     let mut plans = vec![base.clone().group_by([col(SLOT)]).agg(aggs).logical_plan];
     // per (slot, bin): histogram counts, on one int64 key (one-column keys hash fastest); each
     // branch projects first: a group_by or filter on the wide shared frame copies every column
@@ -404,6 +433,13 @@ fn aggregate_batch(
         let cell = (col(SLOT) / lit(GROUPS as f64)).cast(DataType::Int64).alias(CELL);
         plans.push(base.clone().group_by([cell, col(BUCKET)]).agg(conv).logical_plan);
     }
+    // per key of each tails' sink: its count
+    for s in (0..tail_counts::SINKS).filter(|_| tails.is_some()) {
+        let key = tail_key(s);
+        let exploded =
+            base.clone().select([col(&key)]).explode(by_name([key.as_str()], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false });
+        plans.push(exploded.group_by([col(&key)]).agg(count()).logical_plan);
+    }
     let frames = LazyFrame::collect_all_with_engine(plans, Engine::Streaming, OptFlags::default())?;
     let mut frames = frames.into_iter();
 
@@ -419,6 +455,14 @@ fn aggregate_batch(
     let rows = ints("__rows")?;
     for r in (0..df.height()).filter(|_| batch.extras) {
         out[cell_of[r] as usize].rows += rows[r] as u64;
+    }
+    for j in 0..extremes {
+        let e = ints(&extreme(j))?;
+        for r in 0..df.height() {
+            let per_group = &mut out[cell_of[r] as usize].tails.extremes;
+            per_group.resize_with(GROUPS, || vec![0; extremes]);
+            per_group[group_of[r] as usize][j] += e[r] as u64;
+        }
     }
     for &i in &batch.owned {
         let o = plan.series[i];
@@ -477,6 +521,14 @@ fn aggregate_batch(
                 let sums = Sums { n: n[r] as u64, parts: [[h1[r], l1[r]], [h2[r], l2[r]], [0, 0], [0, 0]], ..Default::default() };
                 out[c[r] as usize].convergence[slot][b[r] as usize].add(&sums);
             }
+        }
+    }
+    for s in (0..tail_counts::SINKS).filter(|_| tails.is_some()) {
+        let df = frames.next().expect("a tails count");
+        let mut per_cell: Vec<tail_counts::HashCounts> = out.iter_mut().map(|a| std::mem::take(&mut a.tails.sinks[s])).collect();
+        tail_counts::add_counts(&df, &tail_key(s), "__n", plan.tails.map_or(0, |t| t[0].max_index), &mut per_cell)?;
+        for (agg, counts) in out.iter_mut().zip(per_cell) {
+            agg.tails.sinks[s] = counts;
         }
     }
     Ok(())

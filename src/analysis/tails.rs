@@ -1,11 +1,12 @@
 //! Tails: survival curves of stick and slip durations with the interval cut at t_a treated as
 //! censored, an exact-in-t conditional estimator of the stick tail, and the extremes.
 //!
-//! Three polars queries over `scan_parquet` of the part files (streaming): the durations
-//! exploded to one row per interval with its index k and whether it is the censored one, counted
-//! per (jackknife group, k, time cell, censored); the stick entries (x, belt velocity) with their
-//! holding times, counted per (group, k, belt state, cell); and per group the exceedances of the
-//! longest stick and the severity and the stick ends by breakaway. Rust finishes on those counts.
+//! Counted in the analysis' one scan (`query.rs`, keys and columns in `tail_counts.rs`): the
+//! durations, one integer key per interval — its time cell, index k, whether it is the censored
+//! one and its jackknife group — exploded and counted per key; the stick entries (x, belt
+//! velocity), one key per entry with the bin of its holding time and its belt state; and per
+//! group the exceedances of the longest stick and the severity and the stick ends by breakaway.
+//! Rust finishes on those counts ([`finish`]), whose plan ([`TailPlan`]) is fixed before the scan.
 //!
 //! **Time cells.** Durations are counted on cells of width ρ = t_a 2^-16 (0.15 ms at t_a = 10 s)
 //! split at the user's times τ (`--tail-times`): d is in cell φ(d) = ⌊d/ρ⌋ + #{τ ≤ d}, so every
@@ -55,11 +56,8 @@
 
 use polars::prelude::*;
 
-use std::collections::HashMap;
-
-use super::input::{scan, scan_all, Dataset};
+use super::input::{scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
-use crate::physics::PerUnitMass;
 use crate::scenario::ProcessName;
 use crate::simulation::belt::Process;
 use crate::simulation::dataset::columns as name;
@@ -67,7 +65,7 @@ use crate::simulation::dataset::columns as name;
 /// Time cells per t_a (module docs).
 const CELLS_PER_WINDOW: f64 = 65_536.0;
 /// Time cells per cell of the leave-one-group-out curves (module docs).
-const COARSE: i64 = 32;
+pub(crate) const COARSE: i64 = 32;
 /// The times `reproduce` asks of the paper scene's tails [s]: up to its longest sticks (≈ 2.4 s,
 /// the holding time from the far end of the stick region).
 pub const PAPER_TAIL_TIMES: [f64; 5] = [0.5, 1.0, 1.5, 2.0, 2.4];
@@ -154,180 +152,11 @@ impl Tails {
 }
 
 /// Counts per (group, index, cell, flag) as the queries return them.
-type Counts = Vec<(usize, u32, i64, bool, u64)>;
-
-const G: &str = "__g";
+pub(crate) type Counts = Vec<(usize, u32, i64, bool, u64)>;
 
 /// One frame of every part file of `data` (any order: the counts do not depend on it).
 fn frame(data: &Dataset) -> PolarsResult<LazyFrame> {
     scan_all(data, false)
-}
-
-/// Rows per run of the tails' pass: the sinks of one `collect_all` share its scan, and polars
-/// buffers a shared scan for its slowest sink without a bound (10^7 realizations in one run:
-/// 13 GB), so the pass is made over runs of at most this many realizations, whose counts add.
-const RUN_ROWS: u64 = 1 << 19;
-
-/// The runs of the pass: (file, first row, rows), at most [`RUN_ROWS`] rows each.
-fn runs(data: &Dataset) -> Vec<(usize, u64, u64)> {
-    let mut out = Vec::new();
-    for (f, &rows) in data.file_rows.iter().enumerate() {
-        let mut offset = 0;
-        while offset < rows {
-            let take = RUN_ROWS.min(rows - offset);
-            out.push((f, offset, take));
-            offset += take;
-        }
-    }
-    out
-}
-
-fn group() -> Expr {
-    (col(name::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64).alias(G)
-}
-
-/// The one int64 key of a counted interval or entry (a group-by on one integer column is a flat
-/// hash table; on four it encodes rows as bytes): key = ((cell·(K+1) + k)·2 + flag)·GROUPS + g,
-/// with K = `max_index` + 1, k clamped to K (the indices past the curves per k, kept for the
-/// pooled curve) and cell ≥ 0 (< 2^40 with k ≤ 1001); decoded by [`counts`].
-fn pack(max_index: u32, cell: i64, k: i64, flag: bool, g: i64) -> i64 {
-    let top = i64::from(max_index) + 1;
-    ((cell * (top + 1) + k.min(top)) * 2 + i64::from(flag)) * GROUPS as i64 + g
-}
-
-/// The jackknife group of a realization.
-fn group_of(realization: i64) -> i64 {
-    realization % GROUPS as i64
-}
-
-/// A list<int64> beside the lists `lists` (of equal lengths, as validated): for element j of a
-/// row, `key(the lists' j-th values, k = j + 1, the row's values of `rows`)`. One pass per row,
-/// so that polars explodes one integer list instead of several lists and the columns of an
-/// arithmetic expression per step. A row with a null input gets a null list (no key); a null
-/// element, no key.
-fn element_keys<F>(lists: Vec<&'static str>, rows: Vec<Expr>, key: F) -> Expr
-where
-    F: Fn(&[f64], i64, &[i64]) -> i64 + Send + Sync + 'static,
-{
-    use polars_arrow::array::{Array, ListArray, PrimitiveArray};
-    use polars_arrow::datatypes::ArrowDataType;
-    let n_lists = lists.len();
-    let mut inputs: Vec<Expr> = lists[1..].iter().map(|l| col(*l)).collect();
-    inputs.extend(rows);
-    col(lists[0])
-        .map_many(
-            move |c: &mut [Column]| {
-                let height = c[0].len();
-                let name = c[0].name().clone();
-                let ls: Vec<ListChunked> = c[..n_lists].iter().map(|c| Ok(c.list()?.rechunk().into_owned())).collect::<PolarsResult<_>>()?;
-                let rs: Vec<Int64Chunked> =
-                    c[n_lists..].iter().map(|c| Ok(c.cast(&DataType::Int64)?.i64()?.rechunk().into_owned())).collect::<PolarsResult<_>>()?;
-                let dtype = ListArray::<i64>::default_datatype(ArrowDataType::Int64);
-                let (Some(arrs), Some(ints)) = (
-                    ls.iter().map(|l| l.downcast_iter().next()).collect::<Option<Vec<&ListArray<i64>>>>(),
-                    rs.iter().map(|r| r.downcast_iter().next()).collect::<Option<Vec<&PrimitiveArray<i64>>>>(),
-                ) else {
-                    return Ok(ListChunked::full_null_with_dtype(name, height, &DataType::Int64).into_column());
-                };
-                let vals: Vec<&PrimitiveArray<f64>> = arrs
-                    .iter()
-                    .map(|a| a.values().as_any().downcast_ref::<PrimitiveArray<f64>>())
-                    .collect::<Option<_>>()
-                    .ok_or_else(|| polars_err!(ComputeError: "{name}: a list of floats was expected"))?;
-                let offs: Vec<&[i64]> = arrs.iter().map(|a| a.offsets().as_slice()).collect();
-                let slices: Vec<&[f64]> = vals.iter().map(|v| v.values().as_slice()).collect();
-                let dense = vals.iter().all(|v| v.null_count() == 0);
-                let mut keys: Vec<i64> = Vec::with_capacity((offs[0][height] - offs[0][0]) as usize);
-                let mut offsets: Vec<i64> = Vec::with_capacity(height + 1);
-                offsets.push(0);
-                let mut valid = polars_arrow::bitmap::MutableBitmap::with_capacity(height);
-                let (mut elements, mut row) = (vec![0.0; n_lists], vec![0i64; ints.len()]);
-                for r in 0..height {
-                    let mut ok = arrs.iter().all(|a| a.is_valid(r));
-                    for (x, a) in row.iter_mut().zip(&ints) {
-                        match a.get(r) {
-                            Some(v) => *x = v,
-                            None => ok = false,
-                        }
-                    }
-                    if ok {
-                        // (the lists have equal lengths in a validated dataset)
-                        let len = offs.iter().map(|o| o[r + 1] - o[r]).min().unwrap_or(0) as usize;
-                        let starts: Vec<usize> = offs.iter().map(|o| o[r] as usize).collect();
-                        for j in 0..len {
-                            if !dense && vals.iter().zip(&starts).any(|(v, s)| !v.is_valid(s + j)) {
-                                continue;
-                            }
-                            for ((e, x), s) in elements.iter_mut().zip(&slices).zip(&starts) {
-                                *e = x[s + j];
-                            }
-                            keys.push(key(&elements, j as i64 + 1, &row));
-                        }
-                    }
-                    offsets.push(keys.len() as i64);
-                    valid.push(ok);
-                }
-                let offsets = polars_arrow::offset::Offsets::<i64>::try_from(offsets)?.into();
-                let out = ListArray::<i64>::new(dtype, offsets, PrimitiveArray::from_vec(keys).boxed(), valid.into());
-                Ok(ListChunked::from_chunk_iter(name, [out]).into_column())
-            },
-            &inputs,
-            |_, f| Ok(Field::new(f[0].name().clone(), DataType::List(Box::new(DataType::Int64)))),
-        )
-        .alias(KEY)
-}
-
-const KEY: &str = "__key";
-
-/// The plan counting the keys of `keys` (a list per row, [`element_keys`]), one sink of the
-/// tails' pass.
-fn count_plan(src: LazyFrame, keys: Expr) -> DslPlan {
-    src.select([keys])
-        .explode(by_name([KEY], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false })
-        .group_by([col(KEY)])
-        .agg([len().cast(DataType::Int64).alias("n")])
-        .logical_plan
-}
-
-/// Counts per packed key ([`pack`]), decoded.
-fn counts(df: &DataFrame, max_index: u32) -> PolarsResult<Counts> {
-    let ks = i64::from(max_index) + 2;
-    let key = df.column(KEY)?.cast(&DataType::Int64)?;
-    let n = df.column("n")?.cast(&DataType::Int64)?;
-    let decode = |key: i64| {
-        let (g, rest) = (key % GROUPS as i64, key / GROUPS as i64);
-        let (flag, rest) = (rest % 2 == 1, rest / 2);
-        (g as usize, (rest % ks) as u32, rest / ks, flag)
-    };
-    Ok(key
-        .i64()?
-        .iter()
-        .zip(n.i64()?.iter())
-        .filter_map(|(key, n)| {
-            let (g, k, c, f) = decode(key?);
-            Some((g, k, c, f, n? as u64))
-        })
-        .collect())
-}
-
-/// The keys of the stick (`stick`) or slip durations on the time cells of width `width` split at
-/// `times` ([`cell`]): flag = the interval is the censored one (the one rule of
-/// `observables::last_cut`: the last interval cut at t_a), g = 0 when `pooled`.
-fn duration_keys(stick: bool, max_index: u32, width: f64, times: Vec<f64>, pooled: bool) -> Expr {
-    let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
-    let rows = vec![col(name::REALIZATION), col(count), crate::observables::last_cut(stick)];
-    element_keys(vec![list], rows, move |d, k, row| {
-        let g = if pooled { 0 } else { group_of(row[0]) };
-        pack(max_index, cell(d[0], width, &times), k, row[2] != 0 && k == row[1], g)
-    })
-}
-
-/// The time cell of a duration d ≥ 0: φ(d) = ⌊d/width⌋ + #{τ ∈ `times` : τ ≤ d}, the cells of
-/// width `width` split at the user's times τ (sorted, distinct), so that a curve is exact at
-/// each τ as at each cell edge (module docs).
-fn cell(d: f64, width: f64, times: &[f64]) -> i64 {
-    let uniform = if d > 0.0 { (d / width) as i64 } else { 0 };
-    uniform + times.iter().filter(|&&t| d >= t).count() as i64
 }
 
 /// The evaluation points of a curve on the cells of `cell` (`width` = `COARSE`^`coarse` ρ): the
@@ -335,51 +164,6 @@ fn cell(d: f64, width: f64, times: &[f64]) -> i64 {
 fn on_cells(grid: &[(f64, i64)], times: &[f64], coarse: bool) -> Vec<(f64, i64)> {
     let step = if coarse { COARSE } else { 1 };
     grid.iter().map(|&(t, c)| (t, c / step + times.iter().filter(|&&x| x <= t).count() as i64)).collect()
-}
-
-/// The keys of the stick entries (position x, belt velocity v: `v_f` forward, −`v_r` reverse):
-/// cell = the bin of the holding time d_s(x) on the evaluation times `ts` (increasing), how many
-/// of them lie below it, so that the entry is held past `ts[j]` exactly when its bin exceeds j;
-/// flag = the belt state is forward.
-fn entry_keys(p: PerUnitMass, (v_f, v_r): (f64, f64), max_index: u32, ts: Vec<f64>) -> Expr {
-    element_keys(vec![name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY], vec![col(name::REALIZATION)], move |e, k, row| {
-        let (x, v) = (e[0], e[1]);
-        let d = p.stick_duration(x, if v > 0.0 { v_f } else { -v_r });
-        pack(max_index, ts.partition_point(|&t| t < d) as i64, k, v > 0.0, group_of(row[0]))
-    })
-}
-/// Per group: realizations, sticks, breakaways, and the exceedance counts of each threshold.
-fn extreme_plan(src: LazyFrame, opts: &TailOptions) -> DslPlan {
-    let mut aggs = vec![
-        len().cast(DataType::Int64).alias("__rows"),
-        col(name::N_STICK).cast(DataType::Int64).sum().alias("__sticks"),
-        col("__breakaways").sum().alias("__b"),
-    ];
-    for (i, t) in opts.times.iter().enumerate() {
-        aggs.push(col(name::LONGEST_STICK).gt(lit(*t)).cast(DataType::Int64).sum().alias(format!("__l{i}")));
-    }
-    for (i, s) in opts.severity.iter().enumerate() {
-        aggs.push(col(name::SEVERITY).gt(lit(*s)).cast(DataType::Int64).sum().alias(format!("__s{i}")));
-    }
-    src.select([group(), col(name::N_STICK), col(name::LONGEST_STICK), col(name::SEVERITY), crate::observables::breakaways().alias("__breakaways")])
-        .group_by([col(G)])
-        .agg(aggs)
-        .logical_plan
-}
-
-/// The counts of [`extreme_plan`] as [group][column].
-fn extreme_counts(df: &DataFrame) -> PolarsResult<Vec<Vec<u64>>> {
-    let mut out = vec![vec![0u64; df.width() - 1]; GROUPS];
-    let g = df.column(G)?.cast(&DataType::Int64)?;
-    for (j, c) in df.columns().iter().skip(1).enumerate() {
-        let c = c.cast(&DataType::Int64)?;
-        for (gi, v) in g.i64()?.iter().zip(c.i64()?.iter()) {
-            if let (Some(gi), Some(v)) = (gi, v) {
-                out[gi as usize][j] = v as u64;
-            }
-        }
-    }
-    Ok(out)
 }
 
 /// The longest stick of the dataset [s] (0 without sticks).
@@ -413,64 +197,57 @@ fn conditional_scene(data: &Dataset) -> Result<(crate::simulation::keys::Scene, 
 /// The flip rates (λ forward, λ reverse) and speeds (v_f, v_r) of a two-state belt.
 type BeltRates = ((f64, f64), (f64, f64));
 
-/// The tails of one dataset (module docs): one streaming pass over the part files feeding every
-/// count, then the curves from the counts.
-pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult<Tails> {
-    let t_a = data.scenario.run.duration;
-    let rho = t_a / CELLS_PER_WINDOW;
-    let scene = conditional_scene(data);
-    let mut out = Tails { conditional_refused: scene.as_ref().err().cloned(), ..Tails::default() };
-    let mut times: Vec<f64> = opts.times.iter().copied().filter(|t| t.is_finite() && *t > 0.0).collect();
-    times.sort_by(f64::total_cmp);
-    times.dedup();
-    // the entries are binned on the D curve's times, so those are fixed before the pass
-    let entry_grid = match &scene {
-        Ok(_) => Some(grid((longest(data)? / rho) as i64 + 1, rho, &times)),
-        Err(_) => None,
-    };
-    // per run, the sinks in order: for sticks then slips the fine and the coarse counts (and for
-    // sticks the entries), then the extremes; their counts summed over the runs
-    let mut sums: Vec<HashMap<(usize, u32, i64, bool), u64>> = Vec::new();
-    let mut extremes: Vec<Vec<u64>> = Vec::new();
-    for (f, offset, rows) in runs(data) {
-        let src = scan(&data.files[f], None, false)?.slice(offset as i64, rows as IdxSize);
-        let mut plans = Vec::new();
-        for stick in [true, false] {
-            let entries = stick && entry_grid.is_some();
-            // the estimate on fine cells (groups pooled), the leave-one-group-out curves on coarse ones
-            plans.push(count_plan(src.clone(), duration_keys(stick, max_index, rho, times.clone(), true)));
-            plans.push(count_plan(src.clone(), duration_keys(stick, max_index, rho * COARSE as f64, times.clone(), false)));
-            if let (true, Ok((scene, (_, speeds))), Some(grid)) = (entries, &scene, &entry_grid) {
-                let keys = entry_keys(scene.params.per_unit_mass(), *speeds, max_index, grid.iter().map(|g| g.0).collect());
-                plans.push(count_plan(src.clone(), keys));
-            }
-        }
-        let counted = plans.len();
-        if data.tails_state {
-            plans.push(extreme_plan(src, opts));
-        }
-        let frames = LazyFrame::collect_all_with_engine(plans, Engine::Streaming, OptFlags::default())?;
-        sums.resize_with(counted, HashMap::new);
-        for (sum, df) in sums.iter_mut().zip(&frames) {
-            for (g, k, c, flag, n) in counts(df, max_index)? {
-                *sum.entry((g, k, c, flag)).or_insert(0) += n;
-            }
-        }
-        if let Some(df) = frames.get(counted) {
-            let e = extreme_counts(df)?;
-            extremes.resize_with(e.len(), Vec::new);
-            for (acc, row) in extremes.iter_mut().zip(e) {
-                acc.resize(row.len(), 0);
-                acc.iter_mut().zip(row).for_each(|(a, x)| *a += x);
-            }
-        }
+/// What the main pass counts for the tails of one cell, fixed before it (module docs; the
+/// keys and columns are `super::tail_counts`').
+pub(crate) struct TailPlan {
+    pub max_index: u32,
+    /// the width ρ of the time cells [s]
+    pub rho: f64,
+    /// the user's times: positive, sorted, distinct
+    pub times: Vec<f64>,
+    /// the scene of the conditional estimator, or why it is refused
+    pub scene: Result<(crate::simulation::keys::Scene, BeltRates), String>,
+    /// the D curve's evaluation points, on which the entries are binned (with the scene)
+    pub entry_grid: Option<Vec<(f64, i64)>>,
+    /// whether the dataset has the tails' state (schema v3): then the extremes are counted
+    pub tails_state: bool,
+    pub opts: TailOptions,
+}
+
+/// What the main pass counted for one cell's tails.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct TailCounts {
+    /// per sink (`tail_counts::SINKS`), the count of each (group, k, cell, flag)
+    pub sinks: Vec<super::tail_counts::HashCounts>,
+    /// [group][column of `tail_counts::extreme_columns`] (with the tails' state)
+    pub extremes: Vec<Vec<u64>>,
+}
+
+impl TailPlan {
+    /// The plan of `data`'s tails; with the conditional estimator, its longest stick is read
+    /// first (the entries are binned on the D curve's times).
+    pub(crate) fn new(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult<TailPlan> {
+        let rho = data.scenario.run.duration / CELLS_PER_WINDOW;
+        let scene = conditional_scene(data);
+        let mut times: Vec<f64> = opts.times.iter().copied().filter(|t| t.is_finite() && *t > 0.0).collect();
+        times.sort_by(f64::total_cmp);
+        times.dedup();
+        let entry_grid = match &scene {
+            Ok(_) => Some(grid((longest(data)? / rho) as i64 + 1, rho, &times)),
+            Err(_) => None,
+        };
+        Ok(TailPlan { max_index, rho, times, scene, entry_grid, tails_state: data.tails_state, opts: opts.clone() })
     }
-    // (a dataset without rows runs no query: every count is empty)
-    sums.resize_with(4 + usize::from(entry_grid.is_some()), HashMap::new);
-    let mut sinks = sums.into_iter().map(|m| m.into_iter().map(|((g, k, c, flag), n)| (g, k, c, flag, n)).collect::<Counts>());
-    let mut next = || sinks.next().ok_or_else(|| polars_err!(ComputeError: "a tails query returned nothing"));
+}
+
+/// The tails of one cell from what the main pass counted (module docs).
+pub(crate) fn finish(plan: &TailPlan, counts: &TailCounts) -> Tails {
+    let TailPlan { max_index, rho, ref times, ref scene, ref entry_grid, tails_state, ref opts } = *plan;
+    let mut out = Tails { conditional_refused: scene.as_ref().err().cloned(), ..Tails::default() };
+    let sink = |i: usize| counts.sinks.get(i).map(super::tail_counts::rows).unwrap_or_default();
     for (stick, variable) in [(true, "D"), (false, "H")] {
-        let (fine, coarse) = (next()?, next()?);
+        let first = if stick { 0 } else { 3 };
+        let (fine, coarse) = (sink(first), sink(first + 1));
         let grid = match (stick, &entry_grid) {
             (true, Some(g)) => g.clone(),
             _ => grid(fine.iter().map(|r| r.2).max().unwrap_or(0) + 1, rho, &times),
@@ -491,9 +268,9 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
                 out.curves.push(Curve { variable, index, method, n, censored: n_censored, points });
             }
         }
-        if let (true, Some(grid), Ok((_, (rates, _)))) = (stick, &entry_grid, &scene) {
-            let e = next()?;
-            // held past grid[j].t exactly when the bin exceeds j (`holding_bin`)
+        if let (true, Some(grid), Ok((_, (rates, _)))) = (stick, entry_grid, scene) {
+            let e = sink(2);
+            // held past grid[j].t exactly when the bin exceeds j (`tail_counts::entry_keys`)
             let bins: Vec<(f64, i64)> = grid.iter().enumerate().map(|(j, g)| (g.0, j as i64 + 1)).collect();
             for index in indices(max_index) {
                 let kept: Counts = e.iter().filter(|r| index.is_none_or(|k| r.1 == k)).copied().collect();
@@ -507,8 +284,9 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
             }
         }
     }
-    if data.tails_state {
-        let per_group = if extremes.is_empty() { vec![vec![0; 3 + opts.times.len() + opts.severity.len()]; GROUPS] } else { extremes };
+    if tails_state {
+        let extremes = &counts.extremes;
+        let per_group = if extremes.is_empty() { vec![vec![0; 3 + opts.times.len() + opts.severity.len()]; GROUPS] } else { extremes.clone() };
         let total = |j: usize, g: Option<usize>| -> u64 { per_group.iter().enumerate().filter(|(h, _)| Some(*h) != g).map(|(_, r)| r[j]).sum() };
         let ratio = |num: usize, den: usize, g: Option<usize>| -> Option<f64> { (total(den, g) > 0).then(|| total(num, g) as f64 / total(den, g) as f64) };
         let mut push = |statistic: &'static str, threshold: Option<f64>, num: usize, den: usize| {
@@ -524,7 +302,7 @@ pub fn tails(data: &Dataset, max_index: u32, opts: &TailOptions) -> PolarsResult
             push("severity", Some(*s), 3 + opts.times.len() + i, 0);
         }
     }
-    Ok(out)
+    out
 }
 
 /// None (pooled), then k = 1..=max_index.
@@ -631,7 +409,7 @@ fn product_limit(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]) -> Vec<f
 /// The conditional estimator at the grid's (t, bin) `at` from the sorted holding-time bins
 /// `cells` and their counts [reverse state, forward state]: (1/N) Σ_s exp(−λ_s t) #{entries in s
 /// held past t}, an entry counting as held past t when its bin is at least the one given with t
-/// (`holding_bin`: both the exponential and the indicator exact at t).
+/// (`tail_counts::entry_keys`: both the exponential and the indicator exact at t).
 fn conditional(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)], (rate_f, rate_r): (f64, f64)) -> Vec<f64> {
     // suffix sums: entries held at or past each cell, per state
     let mut held = vec![[0u64; 2]; cells.len() + 1];
