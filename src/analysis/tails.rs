@@ -250,9 +250,9 @@ pub(crate) fn finish(plan: &TailPlan, counts: &TailCounts) -> Tails {
         let (fine, coarse) = (sink(first), sink(first + 1));
         let grid = match (stick, &entry_grid) {
             (true, Some(g)) => g.clone(),
-            _ => grid(fine.iter().map(|r| r.2).max().unwrap_or(0) + 1, rho, &times),
+            _ => grid(fine.iter().map(|r| r.2).max().unwrap_or(0) + 1, rho, times),
         };
-        let (fine_grid, coarse_grid) = (on_cells(&grid, &times, false), on_cells(&grid, &times, true));
+        let (fine_grid, coarse_grid) = (on_cells(&grid, times, false), on_cells(&grid, times, true));
         for index in indices(max_index) {
             let of_k =
                 |rows: &Counts, censored: bool| -> Counts { rows.iter().filter(|r| index.is_none_or(|k| r.1 == k) && (censored || !r.3)).copied().collect() };
