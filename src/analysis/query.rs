@@ -142,6 +142,9 @@ fn flag(f: usize) -> String {
 fn tail_key(s: usize) -> String {
     format!("__t{s}")
 }
+fn tail_keys(variable: usize) -> String {
+    format!("__tv{variable}")
+}
 fn extreme(j: usize) -> String {
     format!("__e{j}")
 }
@@ -202,7 +205,7 @@ fn file_frame(
     // the tails' key lists and extremes (module docs of `tail_counts`)
     if let (true, Some(tails)) = (batch.extras, plan.tails) {
         let keys = tail_counts::keys(&tails[cell], cell, tails.len());
-        cols.extend(keys.into_iter().enumerate().map(|(s, k)| k.alias(tail_key(s))));
+        cols.extend(keys.into_iter().enumerate().map(|(v, k)| k.alias(tail_keys(v))));
         if tails[cell].tails_state {
             cols.extend(tail_counts::extreme_columns(&tails[cell]).into_iter().enumerate().map(|(j, e)| e.alias(extreme(j))));
         }
@@ -222,6 +225,10 @@ fn file_frame(
         let (ex, ey) = pilot.joint[p];
         next.push(bin_expr(col(value(i)), ex).alias(jbin(p, 'x')));
         next.push(bin_expr(col(value(j)), ey).alias(jbin(p, 'y')));
+    }
+    for s in (0..tail_counts::SINKS).filter(|_| batch.extras && plan.tails.is_some()) {
+        let (v, field) = tail_counts::sink(s);
+        next.push(col(tail_keys(v)).struct_().field_by_name(&field).alias(tail_key(s)));
     }
     Ok(frame.with_columns(next))
 }

@@ -16,17 +16,42 @@ use crate::simulation::dataset::columns as name;
 /// group), D's entries (none where the conditional estimator is refused), H fine, H coarse.
 pub(crate) const SINKS: usize = 5;
 
-/// The key lists of one part of cell `cell` (of `cells` in the scan), one per sink ([`SINKS`]).
-pub(crate) fn keys(plan: &TailPlan, cell: usize, cells: usize) -> [Expr; SINKS] {
-    let on = |coarse: bool| if coarse { plan.rho * COARSE as f64 } else { plan.rho };
-    let entries = match (&plan.scene, &plan.entry_grid) {
-        (Ok((scene, (_, speeds))), Some(grid)) => {
-            entry_keys(scene.params.per_unit_mass(), *speeds, plan.max_index, grid.iter().map(|g| g.0).collect(), (cell, cells))
-        }
-        _ => element_keys(vec![name::STICK_DURATION], Vec::new(), |_, _, _| None),
+/// The struct columns of one part of cell `cell` (of `cells` in the scan), one per variable
+/// (D, H), whose fields are the key lists of the sinks (see [`sink`]): every stick's or slip's
+/// keys made in one pass over its lists.
+pub(crate) fn keys(plan: &TailPlan, cell: usize, cells: usize) -> [Expr; 2] {
+    let (max_index, rho, at) = (plan.max_index, plan.rho, (cell, cells));
+    let durations = |stick: bool| {
+        let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
+        (list, vec![col(name::REALIZATION), col(count), crate::observables::last_cut(stick)])
     };
-    let durations = |stick: bool, coarse: bool| duration_keys(stick, plan.max_index, on(coarse), plan.times.clone(), !coarse, (cell, cells));
-    [durations(true, false), durations(true, true), entries, durations(false, false), durations(false, true)]
+    let times = plan.times.clone();
+    let (list, rows) = durations(true);
+    let sticks = match (&plan.scene, &plan.entry_grid) {
+        (Ok((scene, (_, speeds))), Some(grid)) => {
+            let entry = EntryBin::new(scene.params.per_unit_mass(), *speeds, grid.iter().map(|g| g.0).collect());
+            let lists = vec![list, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY];
+            element_keys(lists, rows, move |e, k, row| {
+                let [fine, coarse] = duration_keys(e[0], k, row, rho, &times, max_index, at);
+                let (bin, forward) = entry.bin(e[1], e[2]);
+                [Some(fine), Some(coarse), Some(pack(max_index, bin, k, forward, group_of(row[0]), at))]
+            })
+        }
+        _ => element_keys(vec![list], rows, move |e, k, row| {
+            let [fine, coarse] = duration_keys(e[0], k, row, rho, &times, max_index, at);
+            [Some(fine), Some(coarse), None]
+        }),
+    };
+    let times = plan.times.clone();
+    let (list, rows) = durations(false);
+    let slips = element_keys(vec![list], rows, move |e, k, row| duration_keys(e[0], k, row, rho, &times, max_index, at).map(Some));
+    [sticks, slips]
+}
+
+/// Sink `s`'s key list: (the variable of [`keys`], the field of its struct).
+pub(crate) fn sink(s: usize) -> (usize, String) {
+    let (variable, field) = if s < 3 { (0, s) } else { (1, s - 3) };
+    (variable, format!("k{field}"))
 }
 
 /// Per realization, the columns the extremes sum per jackknife group (with the tails' state):
@@ -81,20 +106,22 @@ fn group_of(realization: i64) -> i64 {
     realization % GROUPS as i64
 }
 
-/// A list<int64> beside the lists `lists` (of equal lengths, as validated): for element j of a
-/// row, `key(the lists' j-th values, k = j + 1, the row's values of `rows`)` (None: no key). One pass per row,
-/// so that polars explodes one integer list instead of several lists and the columns of an
-/// arithmetic expression per step. A row with a null input gets a null list (no key); a null
-/// element, no key.
-fn element_keys<F>(lists: Vec<&'static str>, rows: Vec<Expr>, key: F) -> Expr
+/// A struct of N list<int64> fields (`k0`, `k1`, …) beside the lists `lists` (of equal lengths,
+/// as validated): for element j of a row, `key(the lists' j-th values, k = j + 1, the row's values
+/// of `rows`)` gives one key per field (None: no key in that field). One pass per row, so that
+/// polars explodes integer lists instead of several lists and the columns of an arithmetic
+/// expression per step. A row with a null input gets null lists (no keys); a null element, none.
+fn element_keys<F, const N: usize>(lists: Vec<&'static str>, rows: Vec<Expr>, key: F) -> Expr
 where
-    F: Fn(&[f64], i64, &[i64]) -> Option<i64> + Send + Sync + 'static,
+    F: Fn(&[f64], i64, &[i64]) -> [Option<i64>; N] + Send + Sync + 'static,
 {
     use polars_arrow::array::{Array, ListArray, PrimitiveArray};
     use polars_arrow::datatypes::ArrowDataType;
     let n_lists = lists.len();
     let mut inputs: Vec<Expr> = lists[1..].iter().map(|l| col(*l)).collect();
     inputs.extend(rows);
+    let field = |i: usize| format!("k{i}");
+    let fields = move || (0..N).map(|i| Field::new(field(i).into(), DataType::List(Box::new(DataType::Int64)))).collect::<Vec<_>>();
     col(lists[0]).map_many(
         move |c: &mut [Column]| {
             let height = c[0].len();
@@ -107,7 +134,8 @@ where
                 ls.iter().map(|l| l.downcast_iter().next()).collect::<Option<Vec<&ListArray<i64>>>>(),
                 rs.iter().map(|r| r.downcast_iter().next()).collect::<Option<Vec<&PrimitiveArray<i64>>>>(),
             ) else {
-                return Ok(ListChunked::full_null_with_dtype(name, height, &DataType::Int64).into_column());
+                let empty: Vec<Column> = (0..N).map(|i| ListChunked::full_null_with_dtype(field(i).into(), height, &DataType::Int64).into_column()).collect();
+                return Ok(StructChunked::from_columns(name, height, &empty)?.into_column());
             };
             let vals: Vec<&PrimitiveArray<f64>> = arrs
                 .iter()
@@ -117,11 +145,15 @@ where
             let offs: Vec<&[i64]> = arrs.iter().map(|a| a.offsets().as_slice()).collect();
             let slices: Vec<&[f64]> = vals.iter().map(|v| v.values().as_slice()).collect();
             let dense = vals.iter().all(|v| v.null_count() == 0);
-            let mut keys: Vec<i64> = Vec::with_capacity((offs[0][height] - offs[0][0]) as usize);
-            let mut offsets: Vec<i64> = Vec::with_capacity(height + 1);
-            offsets.push(0);
+            let elements_total = (offs[0][height] - offs[0][0]) as usize;
+            let mut keys: [Vec<i64>; N] = std::array::from_fn(|_| Vec::with_capacity(elements_total));
+            let mut offsets: [Vec<i64>; N] = std::array::from_fn(|_| {
+                let mut o = Vec::with_capacity(height + 1);
+                o.push(0);
+                o
+            });
             let mut valid = polars_arrow::bitmap::MutableBitmap::with_capacity(height);
-            let (mut elements, mut row) = (vec![0.0; n_lists], vec![0i64; ints.len()]);
+            let (mut elements, mut row, mut starts) = (vec![0.0; n_lists], vec![0i64; ints.len()], vec![0usize; n_lists]);
             for r in 0..height {
                 let mut ok = arrs.iter().all(|a| a.is_valid(r));
                 for (x, a) in row.iter_mut().zip(&ints) {
@@ -133,7 +165,7 @@ where
                 if ok {
                     // (the lists have equal lengths in a validated dataset)
                     let len = offs.iter().map(|o| o[r + 1] - o[r]).min().unwrap_or(0) as usize;
-                    let starts: Vec<usize> = offs.iter().map(|o| o[r] as usize).collect();
+                    starts.iter_mut().zip(&offs).for_each(|(s, o)| *s = o[r] as usize);
                     for j in 0..len {
                         if !dense && vals.iter().zip(&starts).any(|(v, s)| !v.is_valid(s + j)) {
                             continue;
@@ -141,51 +173,136 @@ where
                         for ((e, x), s) in elements.iter_mut().zip(&slices).zip(&starts) {
                             *e = x[s + j];
                         }
-                        if let Some(k) = key(&elements, j as i64 + 1, &row) {
-                            keys.push(k);
+                        for (out, k) in keys.iter_mut().zip(key(&elements, j as i64 + 1, &row)) {
+                            if let Some(k) = k {
+                                out.push(k);
+                            }
                         }
                     }
                 }
-                offsets.push(keys.len() as i64);
+                for (o, k) in offsets.iter_mut().zip(&keys) {
+                    o.push(k.len() as i64);
+                }
                 valid.push(ok);
             }
-            let offsets = polars_arrow::offset::Offsets::<i64>::try_from(offsets)?.into();
-            let out = ListArray::<i64>::new(dtype, offsets, PrimitiveArray::from_vec(keys).boxed(), valid.into());
-            Ok(ListChunked::from_chunk_iter(name, [out]).into_column())
+            let validity: Option<polars_arrow::bitmap::Bitmap> = valid.into();
+            let mut columns = Vec::with_capacity(N);
+            for (i, (k, o)) in keys.into_iter().zip(offsets).enumerate() {
+                let o = polars_arrow::offset::Offsets::<i64>::try_from(o)?.into();
+                let list = ListArray::<i64>::new(dtype.clone(), o, PrimitiveArray::from_vec(k).boxed(), validity.clone());
+                columns.push(ListChunked::from_chunk_iter(field(i).into(), [list]).into_column());
+            }
+            Ok(StructChunked::from_columns(name, height, &columns)?.into_column())
         },
         &inputs,
-        |_, f| Ok(Field::new(f[0].name().clone(), DataType::List(Box::new(DataType::Int64)))),
+        move |_, f| Ok(Field::new(f[0].name().clone(), DataType::Struct(fields()))),
     )
 }
 
-/// The keys of the stick (`stick`) or slip durations on the time cells of width `width` split at
-/// `times` ([`cell`]): flag = the interval is the censored one (the one rule of
-/// `observables::last_cut`: the last interval cut at t_a), g = 0 when `pooled`.
-fn duration_keys(stick: bool, max_index: u32, width: f64, times: Vec<f64>, pooled: bool, cell_of: (usize, usize)) -> Expr {
-    let (list, count) = if stick { (name::STICK_DURATION, name::N_STICK) } else { (name::SLIP_DURATION, name::N_SLIP) };
-    let rows = vec![col(name::REALIZATION), col(count), crate::observables::last_cut(stick)];
-    element_keys(vec![list], rows, move |d, k, row| {
-        let g = if pooled { 0 } else { group_of(row[0]) };
-        Some(pack(max_index, cell(d[0], width, &times), k, row[2] != 0 && k == row[1], g, cell_of))
-    })
+/// The fine and coarse keys of a stick's or slip's duration d, its k-th (row: realization,
+/// count of its kind, whether the last interval is cut): the time cells of width ρ (groups
+/// pooled) and 32ρ (per group), split at `times` ([`cell`]); flag = it is the censored interval
+/// (the one rule of `observables::last_cut`: the last interval cut at t_a).
+fn duration_keys(d: f64, k: i64, row: &[i64], rho: f64, times: &[f64], max_index: u32, at: (usize, usize)) -> [i64; 2] {
+    let (uniform, split) = cell(d, rho, times);
+    let flag = row[2] != 0 && k == row[1];
+    // ⌊d/(32ρ)⌋ = ⌊⌊d/ρ⌋/32⌋ exactly: 32ρ is exact, and dividing by a power of two commutes
+    // with rounding
+    [pack(max_index, uniform + split, k, flag, 0, at), pack(max_index, uniform / COARSE + split, k, flag, group_of(row[0]), at)]
 }
 
-/// The time cell of a duration d ≥ 0: φ(d) = ⌊d/width⌋ + #{τ ∈ `times` : τ ≤ d}, the cells of
-/// width `width` split at the user's times τ (sorted, distinct), so that a curve is exact at
-/// each τ as at each cell edge (module docs).
-fn cell(d: f64, width: f64, times: &[f64]) -> i64 {
-    let uniform = if d > 0.0 { (d / width) as i64 } else { 0 };
-    uniform + times.iter().filter(|&&t| d >= t).count() as i64
+/// The time cell of a duration d ≥ 0 on cells of width ρ split at the user's times τ (sorted,
+/// distinct): φ(d) = ⌊d/ρ⌋ + #{τ ≤ d}, returned as its two terms, so that every cell edge and
+/// every τ is a boundary and a curve is exact at each τ as at each cell edge (module docs of
+/// [`super::tails`]).
+fn cell(d: f64, rho: f64, times: &[f64]) -> (i64, i64) {
+    let uniform = if d > 0.0 { (d / rho) as i64 } else { 0 };
+    (uniform, times.iter().filter(|&&t| d >= t).count() as i64)
 }
 
-/// The keys of the stick entries (position x, belt velocity v: `v_f` forward, −`v_r` reverse):
-/// cell = the bin of the holding time d_s(x) on the evaluation times `ts` (increasing), how many
-/// of them lie below it, so that the entry is held past `ts[j]` exactly when its bin exceeds j;
-/// flag = the belt state is forward.
-fn entry_keys(p: PerUnitMass, (v_f, v_r): (f64, f64), max_index: u32, ts: Vec<f64>, cell_of: (usize, usize)) -> Expr {
-    element_keys(vec![name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY], vec![col(name::REALIZATION)], move |e, k, row| {
-        let (x, v) = (e[0], e[1]);
-        let d = p.stick_duration(x, if v > 0.0 { v_f } else { -v_r });
-        Some(pack(max_index, ts.partition_point(|&t| t < d) as i64, k, v > 0.0, group_of(row[0]), cell_of))
-    })
+/// The bin of a stick entry (position x, belt velocity v: `v_f` forward, −`v_r` reverse): how
+/// many of the evaluation times `ts` (increasing) lie below its holding time d_s(x), so that the
+/// entry is held past `ts[j]` exactly when its bin exceeds j; and whether the belt is forward.
+struct EntryBin {
+    p: PerUnitMass,
+    speeds: (f64, f64),
+    below: Below,
+}
+
+impl EntryBin {
+    fn new(p: PerUnitMass, speeds: (f64, f64), ts: Vec<f64>) -> EntryBin {
+        EntryBin { p, speeds, below: Below::new(ts) }
+    }
+
+    fn bin(&self, x: f64, v: f64) -> (i64, bool) {
+        let d = self.p.stick_duration(x, if v > 0.0 { self.speeds.0 } else { -self.speeds.1 });
+        (self.below.count(d) as i64, v > 0.0)
+    }
+}
+
+/// #{t ∈ ts : t < d} for sorted times ts ≥ 0 in a step or two (a binary search of the ~200 times
+/// was a third of the keys' cost): the count at the start of each of 4·|ts| equal buckets over
+/// [0, max ts], then a walk from the bucket of d to the exact count — forward past the times
+/// below d, back over those at or above it, so a bucket index off by rounding costs a step, not a
+/// wrong count (NaN: 0, as the search gives).
+struct Below {
+    ts: Vec<f64>,
+    step: f64,
+    start: Vec<usize>,
+}
+
+impl Below {
+    fn new(ts: Vec<f64>) -> Below {
+        let top = ts.last().copied().unwrap_or(0.0);
+        let buckets = 4 * ts.len().max(1);
+        let step = if top > 0.0 && top.is_finite() { top / buckets as f64 } else { 1.0 };
+        let start = (0..buckets).map(|b| ts.partition_point(|&t| t < b as f64 * step)).collect();
+        Below { ts, step, start }
+    }
+
+    fn count(&self, d: f64) -> usize {
+        // (`as` saturates: negative and NaN to bucket 0, +∞ to the last)
+        let mut i = self.start[((d / self.step) as usize).min(self.start.len() - 1)];
+        while i < self.ts.len() && self.ts[i] < d {
+            i += 1;
+        }
+        while i > 0 && !(self.ts[i - 1] < d) {
+            i -= 1;
+        }
+        i
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn below_counts_as_a_binary_search_does() {
+        // uneven times (a grid with the user's times among them), values on, between and
+        // beyond them, and the special values
+        let mut ts: Vec<f64> = (0..=200).map(|j| (j * 16_001 / 200) as f64 * 1.5e-4).chain([0.5, 1.0, 2.4]).collect();
+        ts.sort_by(f64::total_cmp);
+        ts.dedup();
+        let below = Below::new(ts.clone());
+        let mut values: Vec<f64> = ts.iter().flat_map(|&t| [t, t.next_down(), t.next_up()]).collect();
+        values.extend([-1.0, 0.0, 1e-300, 0.3, 2.39, 2.41, 1e9, f64::INFINITY, f64::NEG_INFINITY, f64::NAN]);
+        for d in values {
+            assert_eq!(below.count(d), ts.partition_point(|&t| t < d), "d = {d}");
+        }
+        assert_eq!(Below::new(Vec::new()).count(1.0), 0);
+    }
+
+    #[test]
+    fn the_coarse_cell_is_the_fine_cell_over_32() {
+        // ⌊d/(32ρ)⌋ = ⌊⌊d/ρ⌋/32⌋ for durations on and around the cell edges
+        let rho = 10.0 / 65_536.0;
+        for c in [0i64, 1, 31, 32, 33, 1023, 1024, 16_000, 65_535] {
+            let edge = c as f64 * rho;
+            for d in [edge, edge.next_down(), edge.next_up(), edge + 0.5 * rho] {
+                let fine = cell(d, rho, &[]).0;
+                assert_eq!(fine / COARSE, cell(d, rho * COARSE as f64, &[]).0, "d = {d}");
+            }
+        }
+    }
 }
