@@ -189,3 +189,30 @@ fn scenes_lists_prints_and_writes_the_shipped_scenarios() {
     assert_eq!(std::fs::read_to_string(t.join("mine.toml")).unwrap(), "mine");
     refused_in_one_line(&["scenes", "nope"], t, "stribeck_damped");
 }
+
+/// The command sets polars' hot group-by table size for the analysis (`src/main.rs`); a value the
+/// user gives is kept when it is a positive whole number and refused in one line otherwise
+/// (polars would panic on it), before anything is written.
+#[test]
+fn a_malformed_polars_hot_table_size_is_refused_before_anything_runs() {
+    let tmp = tempfile::tempdir().unwrap();
+    for bad in ["abc", "0", "-5", ""] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+            .args(["simulate", "--out", "d", "--realizations", "20", "-q"])
+            .env("POLARS_HOT_TABLE_SIZE", bad)
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{bad:?}: {e}");
+        assert!(e.contains("POLARS_HOT_TABLE_SIZE") && e.trim_end().lines().count() == 1, "{bad:?}: {e}");
+        assert!(!tmp.path().join("d").exists(), "{bad:?}: wrote a dataset");
+    }
+    let ok = std::process::Command::new(env!("CARGO_BIN_EXE_stickslip"))
+        .args(["simulate", "--out", "d", "--realizations", "20", "-q"])
+        .env("POLARS_HOT_TABLE_SIZE", "1024")
+        .current_dir(tmp.path())
+        .output()
+        .unwrap();
+    assert!(ok.status.success(), "{}", stderr(&ok));
+}
