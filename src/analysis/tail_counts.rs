@@ -33,18 +33,21 @@ pub(crate) fn keys(plan: &TailPlan, cell: usize, cells: usize) -> [Expr; 2] {
             let lists = vec![list, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY];
             element_keys(lists, rows, move |e, k, row| {
                 let [fine, coarse] = duration_keys(e[0], k, row, rho, &times, max_index, at);
-                let (bin, forward) = entry.bin(e[1], e[2]);
-                [Some(fine), Some(coarse), Some(pack(max_index, bin, k, forward, group_of(row[0]), at))]
+                let entry = e[1].zip(e[2]).map(|(x, v)| {
+                    let (bin, forward) = entry.bin(x, v);
+                    pack(max_index, bin, k, forward, group_of(row[0]), at)
+                });
+                [fine, coarse, entry]
             })
         }
         _ => element_keys(vec![list], rows, move |e, k, row| {
             let [fine, coarse] = duration_keys(e[0], k, row, rho, &times, max_index, at);
-            [Some(fine), Some(coarse), None]
+            [fine, coarse, None]
         }),
     };
     let times = plan.times.clone();
     let (list, rows) = durations(false);
-    let slips = element_keys(vec![list], rows, move |e, k, row| duration_keys(e[0], k, row, rho, &times, max_index, at).map(Some));
+    let slips = element_keys(vec![list], rows, move |e, k, row| duration_keys(e[0], k, row, rho, &times, max_index, at));
     [sticks, slips]
 }
 
@@ -108,12 +111,12 @@ fn group_of(realization: i64) -> i64 {
 
 /// A struct of N list<int64> fields (`k0`, `k1`, …) beside the lists `lists` (of equal lengths,
 /// as validated): for element j of a row, `key(the lists' j-th values, k = j + 1, the row's values
-/// of `rows`)` gives one key per field (None: no key in that field). One pass per row, so that
-/// polars explodes integer lists instead of several lists and the columns of an arithmetic
-/// expression per step. A row with a null input gets null lists (no keys); a null element, none.
+/// of `rows`; a null element is None)` gives one key per field (None: no key in that field). One
+/// pass per row, so that polars explodes integer lists instead of several lists and the columns
+/// of an arithmetic expression per step. A row with a null input gets null lists (no keys).
 fn element_keys<F, const N: usize>(lists: Vec<&'static str>, rows: Vec<Expr>, key: F) -> Expr
 where
-    F: Fn(&[f64], i64, &[i64]) -> [Option<i64>; N] + Send + Sync + 'static,
+    F: Fn(&[Option<f64>], i64, &[i64]) -> [Option<i64>; N] + Send + Sync + 'static,
 {
     use polars_arrow::array::{Array, ListArray, PrimitiveArray};
     use polars_arrow::datatypes::ArrowDataType;
@@ -153,7 +156,7 @@ where
                 o
             });
             let mut valid = polars_arrow::bitmap::MutableBitmap::with_capacity(height);
-            let (mut elements, mut row, mut starts) = (vec![0.0; n_lists], vec![0i64; ints.len()], vec![0usize; n_lists]);
+            let (mut elements, mut row, mut starts) = (vec![None; n_lists], vec![0i64; ints.len()], vec![0usize; n_lists]);
             for r in 0..height {
                 let mut ok = arrs.iter().all(|a| a.is_valid(r));
                 for (x, a) in row.iter_mut().zip(&ints) {
@@ -167,11 +170,8 @@ where
                     let len = offs.iter().map(|o| o[r + 1] - o[r]).min().unwrap_or(0) as usize;
                     starts.iter_mut().zip(&offs).for_each(|(s, o)| *s = o[r] as usize);
                     for j in 0..len {
-                        if !dense && vals.iter().zip(&starts).any(|(v, s)| !v.is_valid(s + j)) {
-                            continue;
-                        }
-                        for ((e, x), s) in elements.iter_mut().zip(&slices).zip(&starts) {
-                            *e = x[s + j];
+                        for (((e, x), s), v) in elements.iter_mut().zip(&slices).zip(&starts).zip(&vals) {
+                            *e = (dense || v.is_valid(s + j)).then(|| x[s + j]);
                         }
                         for (out, k) in keys.iter_mut().zip(key(&elements, j as i64 + 1, &row)) {
                             if let Some(k) = k {
@@ -202,22 +202,23 @@ where
 /// The fine and coarse keys of a stick's or slip's duration d, its k-th (row: realization,
 /// count of its kind, whether the last interval is cut): the time cells of width ρ (groups
 /// pooled) and 32ρ (per group), split at `times` ([`cell`]); flag = it is the censored interval
-/// (the one rule of `observables::last_cut`: the last interval cut at t_a).
-fn duration_keys(d: f64, k: i64, row: &[i64], rho: f64, times: &[f64], max_index: u32, at: (usize, usize)) -> [i64; 2] {
-    let (uniform, split) = cell(d, rho, times);
+/// (the one rule of `observables::last_cut`: the last interval cut at t_a). No keys for a null
+/// duration or one past 2^40 cells (validation refuses either: a duration lies in [0, t_a]).
+fn duration_keys(d: Option<f64>, k: i64, row: &[i64], rho: f64, times: &[f64], max_index: u32, at: (usize, usize)) -> [Option<i64>; 2] {
+    let Some((uniform, split)) = d.and_then(|d| cell(d, rho, times)) else { return [None, None] };
     let flag = row[2] != 0 && k == row[1];
     // ⌊d/(32ρ)⌋ = ⌊⌊d/ρ⌋/32⌋ exactly: 32ρ is exact, and dividing by a power of two commutes
     // with rounding
-    [pack(max_index, uniform + split, k, flag, 0, at), pack(max_index, uniform / COARSE + split, k, flag, group_of(row[0]), at)]
+    [Some(pack(max_index, uniform + split, k, flag, 0, at)), Some(pack(max_index, uniform / COARSE + split, k, flag, group_of(row[0]), at))]
 }
 
 /// The time cell of a duration d ≥ 0 on cells of width ρ split at the user's times τ (sorted,
 /// distinct): φ(d) = ⌊d/ρ⌋ + #{τ ≤ d}, returned as its two terms, so that every cell edge and
 /// every τ is a boundary and a curve is exact at each τ as at each cell edge (module docs of
-/// [`super::tails`]).
-fn cell(d: f64, rho: f64, times: &[f64]) -> (i64, i64) {
-    let uniform = if d > 0.0 { (d / rho) as i64 } else { 0 };
-    (uniform, times.iter().filter(|&&t| d >= t).count() as i64)
+/// [`super::tails`]); None past 2^40 cells (+∞ included), where the key would overflow.
+fn cell(d: f64, rho: f64, times: &[f64]) -> Option<(i64, i64)> {
+    let q = if d > 0.0 { d / rho } else { 0.0 };
+    (q < (1u64 << 40) as f64).then(|| (q as i64, times.iter().filter(|&&t| d >= t).count() as i64))
 }
 
 /// The bin of a stick entry (position x, belt velocity v: `v_f` forward, −`v_r` reverse): how
@@ -294,14 +295,42 @@ mod tests {
     }
 
     #[test]
+    fn keys_decode_to_the_cells_groups_indices_and_flags_they_were_made_from() {
+        // durations on both sides of a user's time and of cell edges, k past max_index (pooled into
+        // K = max_index + 1), the censored flag only on the last interval of a cut realization,
+        // and five cells of a sweep; the expected cells are computed here from d directly
+        let (max_index, cells, rho, times) = (3u32, 5usize, 10.0 / 65_536.0, [0.5, 1.0]);
+        // (d, k, realization, count of its kind, last interval cut, cell)
+        let cases = [(0.0, 1, 0, 4, 0, 0), (0.4999, 2, 7, 4, 0, 1), (0.5, 3, 19, 3, 1, 4), (1.7, 4, 21, 4, 1, 2), (2.4, 9, 40, 9, 0, 3), (0.05, 6, 3, 6, 1, 1)];
+        let mut keys = Vec::new();
+        let mut per_cell = vec![HashCounts::new(); cells];
+        for (d, k, r, n, cut, c) in cases {
+            let [fine, coarse] = duration_keys(Some(d), k, &[r, n, cut], rho, &times, max_index, (c, cells));
+            keys.extend([fine.unwrap(), coarse.unwrap()]);
+            let split = times.iter().filter(|&&t| d >= t).count() as i64;
+            let (kk, flag) = (k.min(i64::from(max_index) + 1) as u32, cut == 1 && k == n);
+            *per_cell[c].entry((0, kk, (d / rho).floor() as i64 + split, flag)).or_insert(0) += 1;
+            *per_cell[c].entry(((r % 20) as usize, kk, (d / (32.0 * rho)).floor() as i64 + split, flag)).or_insert(0) += 1;
+        }
+        let n = keys.len();
+        let df = DataFrame::new_infer_height(vec![Column::new("key".into(), keys), Column::new("n".into(), vec![1i64; n])]).unwrap();
+        let mut out = vec![HashCounts::new(); cells];
+        add_counts(&df, "key", "n", max_index, &mut out).unwrap();
+        assert_eq!(out, per_cell);
+        // a duration past the cells' range (refused by validation) makes no key, not an overflow
+        assert_eq!(duration_keys(Some(f64::INFINITY), 1, &[0, 1, 0], rho, &times, max_index, (0, 1)), [None, None]);
+        assert_eq!(duration_keys(None, 1, &[0, 1, 0], rho, &times, max_index, (0, 1)), [None, None]);
+    }
+
+    #[test]
     fn the_coarse_cell_is_the_fine_cell_over_32() {
         // ⌊d/(32ρ)⌋ = ⌊⌊d/ρ⌋/32⌋ for durations on and around the cell edges
         let rho = 10.0 / 65_536.0;
         for c in [0i64, 1, 31, 32, 33, 1023, 1024, 16_000, 65_535] {
             let edge = c as f64 * rho;
             for d in [edge, edge.next_down(), edge.next_up(), edge + 0.5 * rho] {
-                let fine = cell(d, rho, &[]).0;
-                assert_eq!(fine / COARSE, cell(d, rho * COARSE as f64, &[]).0, "d = {d}");
+                let fine = cell(d, rho, &[]).unwrap().0;
+                assert_eq!(fine / COARSE, cell(d, rho * COARSE as f64, &[]).unwrap().0, "d = {d}");
             }
         }
     }

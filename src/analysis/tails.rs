@@ -233,7 +233,8 @@ impl TailPlan {
         times.sort_by(f64::total_cmp);
         times.dedup();
         let entry_grid = match &scene {
-            Ok(_) => Some(grid((longest(data)? / rho) as i64 + 1, rho, &times)),
+            // (clamped: the scan that validates the longest stick, the main one, comes after)
+            Ok(_) => Some(grid((longest(data)? / rho).clamp(0.0, 2.0 * CELLS_PER_WINDOW) as i64 + 1, rho, &times)),
             Err(_) => None,
         };
         Ok(TailPlan { max_index, rho, times, scene, entry_grid, tails_state: data.tails_state, opts: opts.clone() })
@@ -270,7 +271,7 @@ pub(crate) fn finish(plan: &TailPlan, counts: &TailCounts) -> Tails {
         }
         if let (true, Some(grid), Ok((_, (rates, _)))) = (stick, entry_grid, scene) {
             let e = sink(2);
-            // held past grid[j].t exactly when the bin exceeds j (`tail_counts::entry_keys`)
+            // held past grid[j].t exactly when the bin exceeds j (`tail_counts::EntryBin`)
             let bins: Vec<(f64, i64)> = grid.iter().enumerate().map(|(j, g)| (g.0, j as i64 + 1)).collect();
             for index in indices(max_index) {
                 let kept: Counts = e.iter().filter(|r| index.is_none_or(|k| r.1 == k)).copied().collect();
@@ -409,7 +410,7 @@ fn product_limit(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)]) -> Vec<f
 /// The conditional estimator at the grid's (t, bin) `at` from the sorted holding-time bins
 /// `cells` and their counts [reverse state, forward state]: (1/N) Σ_s exp(−λ_s t) #{entries in s
 /// held past t}, an entry counting as held past t when its bin is at least the one given with t
-/// (`tail_counts::entry_keys`: both the exponential and the indicator exact at t).
+/// (`tail_counts::EntryBin`: both the exponential and the indicator exact at t).
 fn conditional(cells: &[i64], counts: &[[u64; 2]], at: &[(f64, i64)], (rate_f, rate_r): (f64, f64)) -> Vec<f64> {
     // suffix sums: entries held at or past each cell, per state
     let mut held = vec![[0u64; 2]; cells.len() + 1];
