@@ -53,8 +53,13 @@ pub(crate) fn keys(plan: &TailPlan, cell: usize, cells: usize) -> [Expr; 2] {
 
 /// Sink `s`'s key list: (the variable of [`keys`], the field of its struct).
 pub(crate) fn sink(s: usize) -> (usize, String) {
-    let (variable, field) = if s < 3 { (0, s) } else { (1, s - 3) };
-    (variable, format!("k{field}"))
+    let (variable, i) = if s < 3 { (0, s) } else { (1, s - 3) };
+    (variable, field(i))
+}
+
+/// The name of field `i` of an [`element_keys`] struct.
+fn field(i: usize) -> String {
+    format!("k{i}")
 }
 
 /// Per realization, the columns the extremes sum per jackknife group (with the tails' state):
@@ -123,7 +128,6 @@ where
     let n_lists = lists.len();
     let mut inputs: Vec<Expr> = lists[1..].iter().map(|l| col(*l)).collect();
     inputs.extend(rows);
-    let field = |i: usize| format!("k{i}");
     let fields = move || (0..N).map(|i| Field::new(field(i).into(), DataType::List(Box::new(DataType::Int64)))).collect::<Vec<_>>();
     col(lists[0]).map_many(
         move |c: &mut [Column]| {
