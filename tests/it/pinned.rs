@@ -8,7 +8,7 @@ use stickslip::table::{Col, Table};
 
 use crate::common::stickslip;
 
-const TABLES: [&str; 6] = ["moments", "histograms", "joint_histograms", "independence", "growth", "convergence"];
+const TABLES: [&str; 8] = ["moments", "histograms", "joint_histograms", "independence", "growth", "convergence", "survival", "tails"];
 
 fn close(a: f64, b: f64) -> bool {
     a == b || (a - b).abs() <= 1e-12 * a.abs().max(b.abs())
