@@ -141,19 +141,18 @@ const ORDER: super::Order = super::Order::Irregular;
 /// The rows of `counts.parquet` and of `moments.parquet` (S_T, S_L: mean, variance, errors)
 /// from the levels (coarsest first).
 pub(crate) fn rows(levels: &[(f64, Tails)]) -> (Vec<CountRow>, Vec<super::sticks::Row>) {
-    let order = ORDER;
     let (mut counts, mut moments) = (Vec::new(), Vec::new());
     for (v, variable) in VARIABLES.iter().enumerate() {
         let pick = |t: &Tails| if v == 0 { t.sticks.clone() } else { t.slips.clone() };
         let laws: Vec<(f64, Vec<f64>)> = levels.iter().map(|(h, t)| (*h, probabilities(&pick(t)))).collect();
         let top = laws.iter().map(|(_, l)| l.len()).max().unwrap_or(0);
         for n in 0..top {
-            let (p, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l.get(n).copied().unwrap_or(0.0))).collect::<Vec<_>>(), order);
+            let (p, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l.get(n).copied().unwrap_or(0.0))).collect::<Vec<_>>(), ORDER);
             counts.push(CountRow { variable, value: n as u32, probability: p.clamp(0.0, 1.0), error });
         }
         let mv: Vec<(f64, (f64, f64))> = levels.iter().map(|(h, t)| (*h, mean_var(&pick(t)))).collect();
-        let mean = super::guarded(&mv.iter().map(|(h, m)| (*h, m.0)).collect::<Vec<_>>(), order);
-        let variance = super::guarded(&mv.iter().map(|(h, m)| (*h, m.1)).collect::<Vec<_>>(), order);
+        let mean = super::guarded(&mv.iter().map(|(h, m)| (*h, m.0)).collect::<Vec<_>>(), ORDER);
+        let variance = super::guarded(&mv.iter().map(|(h, m)| (*h, m.1)).collect::<Vec<_>>(), ORDER);
         moments.push(super::sticks::Row {
             variable,
             index: 0,
@@ -189,11 +188,10 @@ pub fn markdown(rows: &[CountRow]) -> String {
 /// `reached_fraction`: T_k and D_k need stick k to start, P(S_T ≥ k); L_k and H_k need it to
 /// end, P(S_L ≥ k)), extrapolated from the levels (coarsest first).
 pub(crate) fn reach(levels: &[(f64, Tails)], rows: &mut [super::sticks::Row]) {
-    let order = ORDER;
     for r in rows.iter_mut().filter(|r| r.index > 0) {
         let k = r.index as usize - 1;
         let pick = |t: &Tails| if matches!(r.variable, "T" | "D") { t.sticks.get(k).copied().unwrap_or(0.0) } else { t.slips.get(k).copied().unwrap_or(0.0) };
-        let (p, error) = super::guarded(&levels.iter().map(|(h, t)| (*h, pick(t))).collect::<Vec<_>>(), order);
+        let (p, error) = super::guarded(&levels.iter().map(|(h, t)| (*h, pick(t))).collect::<Vec<_>>(), ORDER);
         r.reached = Some((p.clamp(0.0, 1.0), error));
     }
 }
