@@ -142,6 +142,9 @@ fn flag(f: usize) -> String {
 fn tail_key(s: usize) -> String {
     format!("__t{s}")
 }
+fn tail_count(s: usize) -> String {
+    format!("__tn{s}")
+}
 fn tail_keys(variable: usize) -> String {
     format!("__tv{variable}")
 }
@@ -227,8 +230,9 @@ fn file_frame(
         next.push(bin_expr(col(value(j)), ey).alias(jbin(p, 'y')));
     }
     for s in (0..tail_counts::SINKS).filter(|_| batch.extras && plan.tails.is_some()) {
-        let (v, field) = tail_counts::sink(s);
-        next.push(col(tail_keys(v)).struct_().field_by_name(&field).alias(tail_key(s)));
+        let (v, keys, counts) = tail_counts::sink(s);
+        next.push(col(tail_keys(v)).struct_().field_by_name(&keys).alias(tail_key(s)));
+        next.push(col(tail_keys(v)).struct_().field_by_name(&counts).alias(tail_count(s)));
     }
     Ok(frame.with_columns(next))
 }
@@ -440,12 +444,14 @@ fn aggregate_batch(
         let cell = (col(SLOT) / lit(GROUPS as f64)).cast(DataType::Int64).alias(CELL);
         plans.push(base.clone().group_by([cell, col(BUCKET)]).agg(conv).logical_plan);
     }
-    // per key of each tails' sink: its count
+    // per key of each tails' sink: the sum of its counts over the batches
     for s in (0..tail_counts::SINKS).filter(|_| tails.is_some()) {
-        let key = tail_key(s);
-        let exploded =
-            base.clone().select([col(&key)]).explode(by_name([key.as_str()], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false });
-        plans.push(exploded.group_by([col(&key)]).agg(count()).logical_plan);
+        let (key, n) = (tail_key(s), tail_count(s));
+        let exploded = base
+            .clone()
+            .select([col(&key), col(&n)])
+            .explode(by_name([key.as_str(), n.as_str()], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false });
+        plans.push(exploded.group_by([col(&key)]).agg([col(&n).sum().alias("__n")]).logical_plan);
     }
     let frames = LazyFrame::collect_all_with_engine(plans, Engine::Streaming, OptFlags::default())?;
     let mut frames = frames.into_iter();

@@ -3,10 +3,11 @@
 //!
 //! Counted in the analysis' one scan (`query.rs`, keys and columns in `tail_counts.rs`): the
 //! durations, one integer key per interval — its time cell, index k, whether it is the censored
-//! one and its jackknife group — exploded and counted per key; the stick entries (x, belt
-//! velocity), one key per entry with the bin of its holding time and its belt state; and per
-//! group the exceedances of the longest stick and the severity and the stick ends by breakaway.
-//! Rust finishes on those counts ([`finish`]), whose plan ([`TailPlan`]) is fixed before the scan.
+//! one and its jackknife group — counted per key (per batch, then summed by polars); the stick
+//! entries (x, belt velocity), one key per entry with the bin of its holding time and its belt
+//! state; and per group the exceedances of the longest stick and the severity and the stick
+//! ends by breakaway. Rust finishes on those counts ([`finish`]), whose plan ([`TailPlan`]) is
+//! fixed before the scan.
 //!
 //! **Time cells.** Durations are counted on cells of width ρ = t_a 2^-16 (0.15 ms at t_a = 10 s)
 //! split at the user's times τ (`--tail-times`): d is in cell φ(d) = ⌊d/ρ⌋ + #{τ ≤ d}, so every
@@ -63,7 +64,7 @@ use crate::simulation::belt::Process;
 use crate::simulation::dataset::columns as name;
 
 /// Time cells per t_a (module docs).
-const CELLS_PER_WINDOW: f64 = 65_536.0;
+pub(crate) const CELLS_PER_WINDOW: f64 = 65_536.0;
 /// Time cells per cell of the leave-one-group-out curves (module docs).
 pub(crate) const COARSE: i64 = 32;
 /// The times `reproduce` asks of the paper scene's tails [s]: up to its longest sticks (≈ 2.4 s,
