@@ -43,7 +43,7 @@ pub(crate) fn keys(plan: &TailPlan, cell: usize, cells: usize) -> [Expr; 2] {
         (Ok((scene, (_, speeds))), Some(grid)) => {
             let entry = EntryBin::new(scene.params.per_unit_mass(), *speeds, grid.iter().map(|g| g.0).collect());
             let bins = Space::new(grid.len() as i64 + 1, max_index, GROUPS as i64);
-            let lists = vec![list, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY];
+            let lists = [list, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY];
             element_counts(lists, rows, [fine, coarse, bins], (max_index, at), move |e, k, row| {
                 let [fine, coarse] = duration_keys(e[0], k, row, rho, &times);
                 let entry = e[1].zip(e[2]).map(|(x, v)| {
@@ -53,14 +53,14 @@ pub(crate) fn keys(plan: &TailPlan, cell: usize, cells: usize) -> [Expr; 2] {
                 [fine, coarse, entry]
             })
         }
-        _ => element_counts(vec![list], rows, [fine, coarse, Space::new(0, max_index, 1)], (max_index, at), move |e, k, row| {
+        _ => element_counts([list], rows, [fine, coarse, Space::new(0, max_index, 1)], (max_index, at), move |e, k, row| {
             let [fine, coarse] = duration_keys(e[0], k, row, rho, &times);
             [fine, coarse, None]
         }),
     };
     let times = plan.times.clone();
     let (list, rows) = durations(false);
-    let slips = element_counts(vec![list], rows, [fine, coarse], (max_index, at), move |e, k, row| duration_keys(e[0], k, row, rho, &times));
+    let slips = element_counts([list], rows, [fine, coarse], (max_index, at), move |e, k, row| duration_keys(e[0], k, row, rho, &times));
     [sticks, slips]
 }
 
@@ -149,7 +149,7 @@ struct Space {
     groups: i64,
 }
 
-/// Dense arrays are used up to this many entries per field (32 MiB of u32); a larger space (a
+/// Dense arrays are used up to this many entries per field (16 MiB); a larger space (a
 /// very large `--max-index`) is counted in the map alone.
 const DENSE_MAX: i64 = 1 << 23;
 
@@ -164,6 +164,7 @@ impl Space {
         (self.times * (self.top + 1) * 2 * self.groups) as usize
     }
 
+    #[inline]
     fn index(&self, (t, k, flag, g): Key) -> Option<usize> {
         ((0..self.times).contains(&t) && (0..self.groups).contains(&g) && k >= 0)
             .then(|| (((t * (self.top + 1) + k.min(self.top)) * 2 + i64::from(flag)) * self.groups + g) as usize)
@@ -177,11 +178,16 @@ impl Space {
     }
 }
 
+/// A dense counter: 16 bits keep the arrays of the paper scene's hot cells (durations below 1-2 s)
+/// in a core's L2 cache (2 bytes a key; a key counted 65,535 times in one batch moves its count
+/// to the map and starts again).
+type Count = u16;
+
 /// The counts of one field over one batch of rows: a dense array over its [`Space`] (with the
 /// indices touched, so that emptying it costs what filling it did) and a map for the rest.
 struct Tally {
     space: Space,
-    dense: Vec<u32>,
+    dense: Vec<Count>,
     touched: Vec<u32>,
     over: std::collections::HashMap<i64, i64>,
 }
@@ -191,6 +197,7 @@ impl Tally {
         Tally { space, dense: vec![0; space.len()], touched: Vec::new(), over: Default::default() }
     }
 
+    #[inline]
     fn add(&mut self, key: Key, max_index: u32, at: (usize, usize)) {
         match self.space.index(key) {
             Some(i) => {
@@ -198,10 +205,10 @@ impl Tally {
                 if *c == 0 {
                     self.touched.push(i as u32);
                 }
-                if *c == u32::MAX {
+                if *c == Count::MAX {
                     // (a full counter moves to the map; its key is then emitted twice, which the
                     // sums over keys add up)
-                    *self.over.entry(pack(max_index, key.0, key.1, key.2, key.3, at)).or_insert(0) += i64::from(u32::MAX);
+                    *self.over.entry(pack(max_index, key.0, key.1, key.2, key.3, at)).or_insert(0) += i64::from(Count::MAX);
                     *c = 0;
                 }
                 *c += 1;
@@ -233,13 +240,19 @@ impl Tally {
 /// holds its keys (packed, [`pack`]) and their counts, the other rows empty lists, so that
 /// polars' explode and a sum per key add the batches' counts: a sum that does not depend on how
 /// polars cuts the rows into batches. A row with a null input has no keys.
-fn element_counts<F, const N: usize>(lists: Vec<&'static str>, rows: Vec<Expr>, spaces: [Space; N], (max_index, at): (u32, (usize, usize)), key: F) -> Expr
+fn element_counts<F, const M: usize, const N: usize>(
+    lists: [&'static str; M],
+    rows: Vec<Expr>,
+    spaces: [Space; N],
+    (max_index, at): (u32, (usize, usize)),
+    key: F,
+) -> Expr
 where
-    F: Fn(&[Option<f64>], i64, &[i64]) -> [Option<Key>; N] + Send + Sync + 'static,
+    F: Fn(&[Option<f64>; M], i64, &[i64]) -> [Option<Key>; N] + Send + Sync + 'static,
 {
     use polars_arrow::array::{Array, ListArray, PrimitiveArray};
     use polars_arrow::datatypes::ArrowDataType;
-    let n_lists = lists.len();
+    let n_lists = M;
     let mut inputs: Vec<Expr> = lists[1..].iter().map(|l| col(*l)).collect();
     inputs.extend(rows);
     let fields = move || {
@@ -265,10 +278,12 @@ where
                     .map(|a| a.values().as_any().downcast_ref::<PrimitiveArray<f64>>())
                     .collect::<Option<_>>()
                     .ok_or_else(|| polars_err!(ComputeError: "{name}: a list of floats was expected"))?;
-                let offs: Vec<&[i64]> = arrs.iter().map(|a| a.offsets().as_slice()).collect();
-                let slices: Vec<&[f64]> = vals.iter().map(|v| v.values().as_slice()).collect();
+                // (arrays of the lists' count M, so that the loop over an element's lists unrolls)
+                let offs: [&[i64]; M] = std::array::from_fn(|i| arrs[i].offsets().as_slice());
+                let slices: [&[f64]; M] = std::array::from_fn(|i| vals[i].values().as_slice());
+                let vals: [&PrimitiveArray<f64>; M] = std::array::from_fn(|i| vals[i]);
                 let dense = vals.iter().all(|v| v.null_count() == 0);
-                let (mut elements, mut row, mut starts) = (vec![None; n_lists], vec![0i64; ints.len()], vec![0usize; n_lists]);
+                let (mut elements, mut row, mut starts) = ([None; M], vec![0i64; ints.len()], [0usize; M]);
                 for r in 0..height {
                     let mut ok = arrs.iter().all(|a| a.is_valid(r));
                     for (x, a) in row.iter_mut().zip(&ints) {
@@ -367,7 +382,8 @@ impl EntryBin {
 /// wrong count (NaN: 0, as the search gives).
 struct Below {
     ts: Vec<f64>,
-    step: f64,
+    /// buckets per unit of d: 1 / the bucket width
+    per_step: f64,
     start: Vec<usize>,
 }
 
@@ -377,12 +393,12 @@ impl Below {
         let buckets = 4 * ts.len().max(1);
         let step = if top > 0.0 && top.is_finite() { top / buckets as f64 } else { 1.0 };
         let start = (0..buckets).map(|b| ts.partition_point(|&t| t < b as f64 * step)).collect();
-        Below { ts, step, start }
+        Below { ts, per_step: 1.0 / step, start }
     }
 
     fn count(&self, d: f64) -> usize {
         // (`as` saturates: negative and NaN to bucket 0, +∞ to the last)
-        let mut i = self.start[((d / self.step) as usize).min(self.start.len() - 1)];
+        let mut i = self.start[((d * self.per_step) as usize).min(self.start.len() - 1)];
         while i < self.ts.len() && self.ts[i] < d {
             i += 1;
         }
@@ -455,8 +471,8 @@ mod tests {
                 if let (0, Some(i)) = (round, space.index(keys[0])) {
                     // a full counter: the next add of its key moves it to the map
                     tally.add(keys[0], max_index, at);
-                    tally.dense[i] = u32::MAX;
-                    expected.insert(pack(max_index, keys[0].0, keys[0].1, keys[0].2, keys[0].3, at), i64::from(u32::MAX));
+                    tally.dense[i] = Count::MAX;
+                    expected.insert(pack(max_index, keys[0].0, keys[0].1, keys[0].2, keys[0].3, at), i64::from(Count::MAX));
                 }
                 for &(t, k, flag, g) in &keys {
                     tally.add((t, k, flag, g), max_index, at);
