@@ -17,7 +17,8 @@
 //!   observable per value;
 //! - per (cell, bin x, bin y): the joint counts of every requested pair;
 //! - per (cell, convergence bucket): n, Σ(x − c), Σ(x − c)² of the convergence observables.
-//! - with the tails, per key of each of their sinks: its count, and per slot the sums of the
+//! - with the tails, per key of each of their sinks: the sum of its counts over the batches
+//!   (each batch's keys are counted where they are made), and per slot the sums of the
 //!   extremes' columns ([`super::tail_counts`]).
 //!
 //! The pass is made over runs of at most [`CHUNK_ROWS`] realizations and batches of at most
@@ -205,7 +206,7 @@ fn file_frame(
     for (f, r) in rules.into_iter().enumerate() {
         cols.push(r.bad.alias(flag(f)));
     }
-    // the tails' key lists and extremes (module docs of `tail_counts`)
+    // the tails' (key, count) lists of each batch and extremes (module docs of `tail_counts`)
     if let (true, Some(tails)) = (batch.extras, plan.tails) {
         let keys = tail_counts::keys(&tails[cell], cell, tails.len());
         cols.extend(keys.into_iter().enumerate().map(|(v, k)| k.alias(tail_keys(v))));

@@ -92,15 +92,14 @@ pub(crate) fn extreme_columns(plan: &TailPlan) -> Vec<Expr> {
 }
 
 /// Add the counts of one sink's table (`key`, `n`: [`keys`]' pairs exploded and summed per key)
-/// to the cells'
-/// counts of that sink.
+/// to the cells' counts of that sink.
 pub(crate) fn add_counts(df: &DataFrame, key: &str, n: &str, max_index: u32, out: &mut [HashCounts]) -> PolarsResult<()> {
     let cells = out.len() as i64;
     let ks = i64::from(max_index) + 2;
     let keys = df.column(key)?.cast(&DataType::Int64)?;
     let ns = df.column(n)?.cast(&DataType::Int64)?;
     for (key, n) in keys.i64()?.iter().zip(ns.i64()?.iter()) {
-        // (realizations without a value: the null key)
+        // (no null comes out of the explode; skipped all the same)
         let (Some(key), Some(n)) = (key, n) else { continue };
         let (cell, key) = (key % cells, key / cells);
         let (g, rest) = (key % GROUPS as i64, key / GROUPS as i64);
@@ -140,11 +139,12 @@ fn group_of(realization: i64) -> i64 {
 type Key = (i64, i64, bool, i64);
 
 /// The keys of one field that are counted in a dense array: t in [0, `times`), g in [0,
-/// `groups`), k clamped to `top` = `max_index` + 1 as [`pack`] does; index
-/// ((t·(top + 1) + k)·2 + flag)·groups + g. Anything else is counted in a map by its packed key.
+/// `groups`), k clamped to `top` = `max_index` + 1 as [`pack`] does and then below `ks`; index
+/// ((t·ks + k)·2 + flag)·groups + g. Anything else is counted in a map by its packed key.
 #[derive(Clone, Copy)]
 struct Space {
     times: i64,
+    ks: i64,
     top: i64,
     groups: i64,
 }
@@ -153,28 +153,45 @@ struct Space {
 /// very large `--max-index`) is counted in the map alone.
 const DENSE_MAX: i64 = 1 << 23;
 
+/// Indices k counted densely: k ≤ 16 (a paper realization has 16.5 sticks on average), so that
+/// a large `--max-index` does not make the arrays larger, only its rarer indices go to the map.
+const DENSE_INDICES: i64 = 17;
+
 impl Space {
     fn new(times: i64, max_index: u32, groups: i64) -> Space {
         let top = i64::from(max_index) + 1;
-        let times = if times.saturating_mul((top + 1) * 2 * groups) <= DENSE_MAX { times } else { 0 };
-        Space { times, top, groups }
+        let ks = (top + 1).min(DENSE_INDICES);
+        let times = if times.saturating_mul(ks * 2 * groups) <= DENSE_MAX { times } else { 0 };
+        Space { times, ks, top, groups }
+    }
+
+    /// The space for a batch of `keys` keys: the map alone when the array would be more than
+    /// four times larger than the keys (a small sweep cell: allocating and emptying the array
+    /// would cost more than the counting).
+    fn for_batch(self, keys: usize) -> Space {
+        if keys.saturating_mul(4) < self.len() {
+            Space { times: 0, ..self }
+        } else {
+            self
+        }
     }
 
     fn len(&self) -> usize {
-        (self.times * (self.top + 1) * 2 * self.groups) as usize
+        (self.times * self.ks * 2 * self.groups) as usize
     }
 
     #[inline]
     fn index(&self, (t, k, flag, g): Key) -> Option<usize> {
-        ((0..self.times).contains(&t) && (0..self.groups).contains(&g) && k >= 0)
-            .then(|| (((t * (self.top + 1) + k.min(self.top)) * 2 + i64::from(flag)) * self.groups + g) as usize)
+        let k = k.min(self.top);
+        ((0..self.times).contains(&t) && (0..self.groups).contains(&g) && (0..self.ks).contains(&k))
+            .then(|| (((t * self.ks + k) * 2 + i64::from(flag)) * self.groups + g) as usize)
     }
 
     fn key(&self, i: usize) -> Key {
         let i = i as i64;
         let (g, rest) = (i % self.groups, i / self.groups);
         let (flag, rest) = (rest % 2 == 1, rest / 2);
-        (rest / (self.top + 1), rest % (self.top + 1), flag, g)
+        (rest / self.ks, rest % self.ks, flag, g)
     }
 }
 
@@ -189,7 +206,7 @@ struct Tally {
     space: Space,
     dense: Vec<Count>,
     touched: Vec<u32>,
-    over: std::collections::HashMap<i64, i64>,
+    over: PlHashMap<i64, i64>,
 }
 
 impl Tally {
@@ -236,7 +253,9 @@ impl Tally {
 /// `lists` (of equal lengths, as validated): for element j of a row, `key(the lists' j-th values,
 /// k = j + 1, the row's values of `rows`; a null element is None)` gives one [`Key`] per field
 /// (None: none in that field), and each batch of rows polars hands over is counted per key
-/// (a partial aggregate) into dense arrays whose space `spaces` gives. The batch's first row
+/// (a partial aggregate) into dense arrays whose space `spaces` gives ([`Space::for_batch`];
+/// allocated per batch, so that memory follows the batches in flight, not the cells of a sweep
+/// or the files of a run). The batch's first row
 /// holds its keys (packed, [`pack`]) and their counts, the other rows empty lists, so that
 /// polars' explode and a sum per key add the batches' counts: a sum that does not depend on how
 /// polars cuts the rows into batches. A row with a null input has no keys.
@@ -258,9 +277,6 @@ where
     let fields = move || {
         (0..N).flat_map(|i| [key_field(i), count_field(i)]).map(|f| Field::new(f.into(), DataType::List(Box::new(DataType::Int64)))).collect::<Vec<_>>()
     };
-    // tallies kept between batches (at most one set per thread at a time), so that the dense
-    // arrays are allocated once per thread, not per batch
-    let pool: std::sync::Arc<std::sync::Mutex<Vec<[Tally; N]>>> = Default::default();
     col(lists[0]).map_many(
         move |c: &mut [Column]| {
             let height = c[0].len();
@@ -268,7 +284,9 @@ where
             let ls: Vec<ListChunked> = c[..n_lists].iter().map(|c| Ok(c.list()?.rechunk().into_owned())).collect::<PolarsResult<_>>()?;
             let rs: Vec<Int64Chunked> =
                 c[n_lists..].iter().map(|c| Ok(c.cast(&DataType::Int64)?.i64()?.rechunk().into_owned())).collect::<PolarsResult<_>>()?;
-            let mut tallies = pool.lock().ok().and_then(|mut p| p.pop()).unwrap_or_else(|| spaces.map(Tally::new));
+            // (keys of the batch: at most one per element of the first list and field)
+            let elements = ls[0].downcast_iter().next().map_or(0, |a| (a.offsets().last() - a.offsets().first()) as usize);
+            let mut tallies = spaces.map(|s| Tally::new(s.for_batch(elements)));
             if let (Some(arrs), Some(ints)) = (
                 ls.iter().map(|l| l.downcast_iter().next()).collect::<Option<Vec<&ListArray<i64>>>>(),
                 rs.iter().map(|r| r.downcast_iter().next()).collect::<Option<Vec<&PrimitiveArray<i64>>>>(),
@@ -322,9 +340,6 @@ where
                     let list = ListArray::<i64>::new(dtype.clone(), o, PrimitiveArray::from_vec(values).boxed(), None);
                     columns.push(ListChunked::from_chunk_iter(f.into(), [list]).into_column());
                 }
-            }
-            if let Ok(mut p) = pool.lock() {
-                p.push(tallies);
             }
             Ok(StructChunked::from_columns(name, height, &columns)?.into_column())
         },
@@ -459,12 +474,23 @@ mod tests {
 
     #[test]
     fn a_tally_counts_each_key_once_per_add_whether_dense_or_in_the_map() {
-        // keys inside the dense space, past it (t, g, k beyond top), a space too large to be
-        // dense, and a counter that fills up: the (packed key, count) pairs summed per key are
-        // the adds counted directly, and draining leaves the tally empty
-        let (max_index, at) = (3u32, (2usize, 5usize));
-        let keys: Vec<Key> = (0..4000i64).map(|i| ((i * 7919) % 61, 1 + (i * 31) % 7, i % 3 == 0, (i * 13) % 23)).collect();
-        for space in [Space::new(50, max_index, 20), Space::new(1 << 40, max_index, 20), Space::new(0, max_index, 1)] {
+        // keys inside the dense space and past it (t beyond its cells, g beyond its groups, k
+        // beyond its dense indices with a large max_index), a space too large to be dense, one
+        // left to the map for a small batch, and a counter that fills up: the (packed key,
+        // count) pairs summed per key are the adds counted directly, no pair has a count of 0,
+        // and draining leaves the tally empty
+        let at = (2usize, 5usize);
+        let keys: Vec<Key> = (0..4000i64).map(|i| ((i * 7919) % 61, 1 + (i * 31) % 25, i % 3 == 0, (i * 13) % 23)).collect();
+        let cases = [
+            (3, Space::new(50, 3, 20)),
+            (20, Space::new(50, 20, 20)),
+            (3, Space::new(1 << 40, 3, 20)),
+            (3, Space::new(0, 3, 1)),
+            (3, Space::new(50, 3, 20).for_batch(100)),
+        ];
+        assert_eq!(cases.map(|(_, s)| s.len()), [50 * 5 * 2 * 20, 50 * 17 * 2 * 20, 0, 0, 0]);
+        assert_eq!(Space::new(50, 3, 20).for_batch(2500).len(), 10_000);
+        for (max_index, space) in cases {
             let mut tally = Tally::new(space);
             let mut expected = std::collections::HashMap::<i64, i64>::new();
             for round in 0..2 {
@@ -480,20 +506,22 @@ mod tests {
                 }
                 let (mut packed, mut counts) = (Vec::new(), Vec::new());
                 tally.drain(max_index, at, &mut packed, &mut counts);
+                assert!(counts.iter().all(|&n| n > 0), "a pair with no count");
                 let mut got = std::collections::HashMap::<i64, i64>::new();
                 for (k, n) in packed.into_iter().zip(counts) {
                     *got.entry(k).or_insert(0) += n;
                 }
-                assert_eq!(got, expected, "round {round}, dense length {}", space.len());
+                assert_eq!(got, expected, "round {round}, max_index {max_index}, dense length {}", space.len());
                 assert!(tally.dense.iter().all(|&c| c == 0) && tally.touched.is_empty() && tally.over.is_empty());
                 expected.clear();
             }
         }
         // the index and its inverse
-        let space = Space::new(50, max_index, 20);
-        for &key in &keys {
-            if let Some(i) = space.index(key) {
-                assert_eq!(space.key(i), (key.0, key.1.min(i64::from(max_index) + 1), key.2, key.3));
+        for (max_index, space) in cases {
+            for &key in &keys {
+                if let Some(i) = space.index(key) {
+                    assert_eq!(space.key(i), (key.0, key.1.min(i64::from(max_index) + 1), key.2, key.3));
+                }
             }
         }
     }
