@@ -190,9 +190,9 @@ fn scenes_lists_prints_and_writes_the_shipped_scenarios() {
     refused_in_one_line(&["scenes", "nope"], t, "stribeck_damped");
 }
 
-/// The command sets polars' hot group-by table size for the analysis (`src/main.rs`); a value the
-/// user gives is kept when it is a positive whole number and refused in one line otherwise
-/// (polars would panic on it), before anything is written.
+/// polars reads its hot group-by table size from `POLARS_HOT_TABLE_SIZE` and panics on a
+/// malformed one: a value the user gives is kept when it is a positive whole number and refused
+/// in one line otherwise (`src/main.rs`), before anything is written.
 #[test]
 fn a_malformed_polars_hot_table_size_is_refused_before_anything_runs() {
     let tmp = tempfile::tempdir().unwrap();
