@@ -201,7 +201,7 @@ impl Space {
 type Count = u16;
 
 /// The counts of one field over one batch of rows: a dense array over its [`Space`] (with the
-/// indices touched, so that emptying it costs what filling it did) and a map for the rest.
+/// indices touched, so that reading it out costs what filling it did) and a map for the rest.
 struct Tally {
     space: Space,
     dense: Vec<Count>,
@@ -234,18 +234,20 @@ impl Tally {
         }
     }
 
-    /// Move the counts to (packed key, count) lists and leave the tally empty.
-    fn drain(&mut self, max_index: u32, at: (usize, usize), keys: &mut Vec<i64>, counts: &mut Vec<i64>) {
+    /// The counts as (packed key, count) lists.
+    fn into_pairs(self, max_index: u32, at: (usize, usize)) -> (Vec<i64>, Vec<i64>) {
+        let n = self.touched.len() + self.over.len();
+        let (mut keys, mut counts) = (Vec::with_capacity(n), Vec::with_capacity(n));
         for &i in &self.touched {
             let (t, k, flag, g) = self.space.key(i as usize);
             keys.push(pack(max_index, t, k, flag, g, at));
-            counts.push(i64::from(std::mem::take(&mut self.dense[i as usize])));
+            counts.push(i64::from(self.dense[i as usize]));
         }
-        self.touched.clear();
-        for (key, n) in self.over.drain() {
+        for (key, n) in self.over {
             keys.push(key);
             counts.push(n);
         }
+        (keys, counts)
     }
 }
 
@@ -330,9 +332,8 @@ where
             }
             let dtype = ListArray::<i64>::default_datatype(ArrowDataType::Int64);
             let mut columns = Vec::with_capacity(2 * N);
-            for (i, t) in tallies.iter_mut().enumerate() {
-                let (mut keys, mut counts) = (Vec::new(), Vec::new());
-                t.drain(max_index, at, &mut keys, &mut counts);
+            for (i, t) in tallies.into_iter().enumerate() {
+                let (keys, counts) = t.into_pairs(max_index, at);
                 // the first row holds every pair (a batch of no rows has none)
                 let offsets: Vec<i64> = std::iter::once(0).chain((0..height).map(|_| keys.len() as i64)).collect();
                 for (f, values) in [(key_field(i), keys), (count_field(i), counts)] {
@@ -477,8 +478,7 @@ mod tests {
         // keys inside the dense space and past it (t beyond its cells, g beyond its groups, k
         // beyond its dense indices with a large max_index), a space too large to be dense, one
         // left to the map for a small batch, and a counter that fills up: the (packed key,
-        // count) pairs summed per key are the adds counted directly, no pair has a count of 0,
-        // and draining leaves the tally empty
+        // count) pairs summed per key are the adds counted directly, and no pair has a count of 0
         let at = (2usize, 5usize);
         let keys: Vec<Key> = (0..4000i64).map(|i| ((i * 7919) % 61, 1 + (i * 31) % 25, i % 3 == 0, (i * 13) % 23)).collect();
         let cases = [
@@ -493,28 +493,24 @@ mod tests {
         for (max_index, space) in cases {
             let mut tally = Tally::new(space);
             let mut expected = std::collections::HashMap::<i64, i64>::new();
-            for round in 0..2 {
-                if let (0, Some(i)) = (round, space.index(keys[0])) {
-                    // a full counter: the next add of its key moves it to the map
-                    tally.add(keys[0], max_index, at);
-                    tally.dense[i] = Count::MAX;
-                    expected.insert(pack(max_index, keys[0].0, keys[0].1, keys[0].2, keys[0].3, at), i64::from(Count::MAX));
-                }
-                for &(t, k, flag, g) in &keys {
-                    tally.add((t, k, flag, g), max_index, at);
-                    *expected.entry(pack(max_index, t, k, flag, g, at)).or_insert(0) += 1;
-                }
-                let (mut packed, mut counts) = (Vec::new(), Vec::new());
-                tally.drain(max_index, at, &mut packed, &mut counts);
-                assert!(counts.iter().all(|&n| n > 0), "a pair with no count");
-                let mut got = std::collections::HashMap::<i64, i64>::new();
-                for (k, n) in packed.into_iter().zip(counts) {
-                    *got.entry(k).or_insert(0) += n;
-                }
-                assert_eq!(got, expected, "round {round}, max_index {max_index}, dense length {}", space.len());
-                assert!(tally.dense.iter().all(|&c| c == 0) && tally.touched.is_empty() && tally.over.is_empty());
-                expected.clear();
+            if let Some(i) = space.index(keys[0]) {
+                // a full counter: the next add of its key moves it to the map
+                tally.add(keys[0], max_index, at);
+                tally.dense[i] = Count::MAX;
+                expected.insert(pack(max_index, keys[0].0, keys[0].1, keys[0].2, keys[0].3, at), i64::from(Count::MAX));
             }
+            // (every key twice, the second time on counters already touched)
+            for &(t, k, flag, g) in keys.iter().chain(&keys) {
+                tally.add((t, k, flag, g), max_index, at);
+                *expected.entry(pack(max_index, t, k, flag, g, at)).or_insert(0) += 1;
+            }
+            let (packed, counts) = tally.into_pairs(max_index, at);
+            assert!(counts.iter().all(|&n| n > 0), "a pair with no count");
+            let mut got = std::collections::HashMap::<i64, i64>::new();
+            for (k, n) in packed.into_iter().zip(counts) {
+                *got.entry(k).or_insert(0) += n;
+            }
+            assert_eq!(got, expected, "max_index {max_index}, dense length {}", space.len());
         }
         // the index and its inverse
         for (max_index, space) in cases {
