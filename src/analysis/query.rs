@@ -539,11 +539,8 @@ fn aggregate_batch(
     }
     for s in (0..tail_counts::SINKS).filter(|_| tails.is_some()) {
         let df = frames.next().expect("a tails count");
-        let mut per_cell: Vec<tail_counts::HashCounts> = out.iter_mut().map(|a| std::mem::take(&mut a.tails.sinks[s])).collect();
+        let mut per_cell: Vec<&mut tail_counts::HashCounts> = out.iter_mut().map(|a| &mut a.tails.sinks[s]).collect();
         tail_counts::add_counts(&df, &tail_key(s), "__n", plan.tails.map_or(0, |t| t[0].max_index), &mut per_cell)?;
-        for (agg, counts) in out.iter_mut().zip(per_cell) {
-            agg.tails.sinks[s] = counts;
-        }
     }
     Ok(())
 }

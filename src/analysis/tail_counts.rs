@@ -93,18 +93,16 @@ pub(crate) fn extreme_columns(plan: &TailPlan) -> Vec<Expr> {
 
 /// Add the counts of one sink's table (`key`, `n`: [`keys`]' pairs exploded and summed per key)
 /// to the cells' counts of that sink.
-pub(crate) fn add_counts(df: &DataFrame, key: &str, n: &str, max_index: u32, out: &mut [HashCounts]) -> PolarsResult<()> {
-    let cells = out.len() as i64;
-    let ks = i64::from(max_index) + 2;
+pub(crate) fn add_counts(df: &DataFrame, key: &str, n: &str, max_index: u32, out: &mut [&mut HashCounts]) -> PolarsResult<()> {
+    let (cells, packing) = (out.len() as i64, Space::packing(max_index));
     let keys = df.column(key)?.cast(&DataType::Int64)?;
     let ns = df.column(n)?.cast(&DataType::Int64)?;
     for (key, n) in keys.i64()?.iter().zip(ns.i64()?.iter()) {
         // (no null comes out of the explode; skipped all the same)
         let (Some(key), Some(n)) = (key, n) else { continue };
         let (cell, key) = (key % cells, key / cells);
-        let (g, rest) = (key % GROUPS as i64, key / GROUPS as i64);
-        let (flag, rest) = (rest % 2 == 1, rest / 2);
-        *out[cell as usize].entry((g as usize, (rest % ks) as u32, rest / ks, flag)).or_insert(0) += n as u64;
+        let (t, k, flag, g) = packing.decode(key);
+        *out[cell as usize].entry((g as usize, k as u32, t, flag)).or_insert(0) += n as u64;
     }
     Ok(())
 }
@@ -119,14 +117,14 @@ pub(crate) fn rows(counts: &HashCounts) -> Counts {
 
 /// The one int64 key of a counted interval or entry of cell `cell` of `cells` (a group-by on one
 /// integer column is a flat hash table; on several it encodes rows as bytes):
-/// key = (((t·(K+1) + k)·2 + flag)·GROUPS + g)·cells + cell, with t the time cell (or holding-time
-/// bin), K = `max_index` + 1 and k clamped to K (the indices past the curves per k, kept for the
-/// pooled curve); t ≥ 0 is below 2^17 (a window's 2^16 cells and the user's times), so the key
-/// stays far below 2^63 for any index and sweep a user can run. Decoded by [`add_counts`]
-/// (the dense arrays of [`element_counts`] index (t, k, flag, g) alone: the cell is one per call).
-fn pack(max_index: u32, t: i64, k: i64, flag: bool, g: i64, (cell, cells): (usize, usize)) -> i64 {
-    let top = i64::from(max_index) + 1;
-    (((t * (top + 1) + k.min(top)) * 2 + i64::from(flag)) * GROUPS as i64 + g) * cells as i64 + cell as i64
+/// key = (((t·(K+1) + k)·2 + flag)·GROUPS + g)·cells + cell ([`Space::packing`]), with t the
+/// time cell (or holding-time bin), K = `max_index` + 1 and k clamped to K (the indices past the
+/// curves per k, kept for the pooled curve); t ≥ 0 is below 2^17 (a window's 2^16 cells and the
+/// user's times), so the key stays far below 2^63 for any index and sweep a user can run.
+/// Decoded by [`add_counts`] (the dense arrays of [`element_counts`] index (t, k, flag, g) alone:
+/// the cell is one per call).
+fn pack(max_index: u32, key: Key, (cell, cells): (usize, usize)) -> i64 {
+    Space::packing(max_index).encode(key) * cells as i64 + cell as i64
 }
 
 /// The jackknife group of a realization.
@@ -138,9 +136,10 @@ fn group_of(realization: i64) -> i64 {
 /// t, index k, flag, jackknife group g).
 type Key = (i64, i64, bool, i64);
 
-/// The keys of one field that are counted in a dense array: t in [0, `times`), g in [0,
-/// `groups`), k clamped to `top` = `max_index` + 1 as [`pack`] does and then below `ks`; index
-/// ((t·ks + k)·2 + flag)·groups + g. Anything else is counted in a map by its packed key.
+/// The layout of (t, k, flag, g) as one integer, ((t·ks + k)·2 + flag)·groups + g with k clamped
+/// to `top` = `max_index` + 1 ([`Space::encode`]): of [`pack`], all k and groups and any t; of
+/// one field's dense array, t in [0, `times`), g in [0, `groups`) and k below `ks`. Anything
+/// outside the dense array is counted in a map by its packed key.
 #[derive(Clone, Copy)]
 struct Space {
     times: i64,
@@ -158,6 +157,12 @@ const DENSE_MAX: i64 = 1 << 23;
 const DENSE_INDICES: i64 = 17;
 
 impl Space {
+    /// The layout of [`pack`] (no dense array).
+    fn packing(max_index: u32) -> Space {
+        let top = i64::from(max_index) + 1;
+        Space { times: 0, ks: top + 1, top, groups: GROUPS as i64 }
+    }
+
     fn new(times: i64, max_index: u32, groups: i64) -> Space {
         let top = i64::from(max_index) + 1;
         let ks = (top + 1).min(DENSE_INDICES);
@@ -181,17 +186,21 @@ impl Space {
     }
 
     #[inline]
-    fn index(&self, (t, k, flag, g): Key) -> Option<usize> {
-        let k = k.min(self.top);
-        ((0..self.times).contains(&t) && (0..self.groups).contains(&g) && (0..self.ks).contains(&k))
-            .then(|| (((t * self.ks + k) * 2 + i64::from(flag)) * self.groups + g) as usize)
+    fn encode(&self, (t, k, flag, g): Key) -> i64 {
+        ((t * self.ks + k.min(self.top)) * 2 + i64::from(flag)) * self.groups + g
     }
 
-    fn key(&self, i: usize) -> Key {
-        let i = i as i64;
+    fn decode(&self, i: i64) -> Key {
         let (g, rest) = (i % self.groups, i / self.groups);
         let (flag, rest) = (rest % 2 == 1, rest / 2);
         (rest / self.ks, rest % self.ks, flag, g)
+    }
+
+    /// The key's place in the dense array, if it has one.
+    #[inline]
+    fn index(&self, key: Key) -> Option<usize> {
+        let (t, k, g) = (key.0, key.1.min(self.top), key.3);
+        ((0..self.times).contains(&t) && (0..self.groups).contains(&g) && (0..self.ks).contains(&k)).then(|| self.encode(key) as usize)
     }
 }
 
@@ -225,12 +234,12 @@ impl Tally {
                 if *c == Count::MAX {
                     // (a full counter moves to the map; its key is then emitted twice, which the
                     // sums over keys add up)
-                    *self.over.entry(pack(max_index, key.0, key.1, key.2, key.3, at)).or_insert(0) += i64::from(Count::MAX);
+                    *self.over.entry(pack(max_index, key, at)).or_insert(0) += i64::from(Count::MAX);
                     *c = 0;
                 }
                 *c += 1;
             }
-            None => *self.over.entry(pack(max_index, key.0, key.1, key.2, key.3, at)).or_insert(0) += 1,
+            None => *self.over.entry(pack(max_index, key, at)).or_insert(0) += 1,
         }
     }
 
@@ -239,8 +248,7 @@ impl Tally {
         let n = self.touched.len() + self.over.len();
         let (mut keys, mut counts) = (Vec::with_capacity(n), Vec::with_capacity(n));
         for &i in &self.touched {
-            let (t, k, flag, g) = self.space.key(i as usize);
-            keys.push(pack(max_index, t, k, flag, g, at));
+            keys.push(pack(max_index, self.space.decode(i64::from(i)), at));
             counts.push(i64::from(self.dense[i as usize]));
         }
         for (key, n) in self.over {
@@ -457,7 +465,7 @@ mod tests {
         let mut per_cell = vec![HashCounts::new(); cells];
         for (d, k, r, n, cut, c) in cases {
             let [fine, coarse] = duration_keys(Some(d), k, &[r, n, cut], rho, &times);
-            keys.extend([fine.unwrap(), coarse.unwrap()].map(|(t, k, flag, g)| pack(max_index, t, k, flag, g, (c, cells))));
+            keys.extend([fine.unwrap(), coarse.unwrap()].map(|key| pack(max_index, key, (c, cells))));
             let split = times.iter().filter(|&&t| d >= t).count() as i64;
             let (kk, flag) = (k.min(i64::from(max_index) + 1) as u32, cut == 1 && k == n);
             *per_cell[c].entry((0, kk, (d / rho).floor() as i64 + split, flag)).or_insert(0) += 1;
@@ -466,7 +474,7 @@ mod tests {
         let n = keys.len();
         let df = DataFrame::new_infer_height(vec![Column::new("key".into(), keys), Column::new("n".into(), vec![1i64; n])]).unwrap();
         let mut out = vec![HashCounts::new(); cells];
-        add_counts(&df, "key", "n", max_index, &mut out).unwrap();
+        add_counts(&df, "key", "n", max_index, &mut out.iter_mut().collect::<Vec<_>>()).unwrap();
         assert_eq!(out, per_cell);
         // a duration past the cells' range (refused by validation) makes no key, not an overflow
         assert_eq!(duration_keys(Some(f64::INFINITY), 1, &[0, 1, 0], rho, &times), [None, None]);
@@ -497,12 +505,12 @@ mod tests {
                 // a full counter: the next add of its key moves it to the map
                 tally.add(keys[0], max_index, at);
                 tally.dense[i] = Count::MAX;
-                expected.insert(pack(max_index, keys[0].0, keys[0].1, keys[0].2, keys[0].3, at), i64::from(Count::MAX));
+                expected.insert(pack(max_index, keys[0], at), i64::from(Count::MAX));
             }
             // (every key twice, the second time on counters already touched)
             for &(t, k, flag, g) in keys.iter().chain(&keys) {
                 tally.add((t, k, flag, g), max_index, at);
-                *expected.entry(pack(max_index, t, k, flag, g, at)).or_insert(0) += 1;
+                *expected.entry(pack(max_index, (t, k, flag, g), at)).or_insert(0) += 1;
             }
             let (packed, counts) = tally.into_pairs(max_index, at);
             assert!(counts.iter().all(|&n| n > 0), "a pair with no count");
@@ -516,7 +524,7 @@ mod tests {
         for (max_index, space) in cases {
             for &key in &keys {
                 if let Some(i) = space.index(key) {
-                    assert_eq!(space.key(i), (key.0, key.1.min(i64::from(max_index) + 1), key.2, key.3));
+                    assert_eq!(space.decode(i as i64), (key.0, key.1.min(i64::from(max_index) + 1), key.2, key.3));
                 }
             }
         }

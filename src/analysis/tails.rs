@@ -155,11 +155,6 @@ impl Tails {
 /// Counts per (group, index, cell, flag) as the queries return them.
 pub(crate) type Counts = Vec<(usize, u32, i64, bool, u64)>;
 
-/// One frame of every part file of `data` (any order: the counts do not depend on it).
-fn frame(data: &Dataset) -> PolarsResult<LazyFrame> {
-    scan_all(data, false)
-}
-
 /// The evaluation points of a curve on the cells of `cell` (`width` = `COARSE`^`coarse` ρ): the
 /// grid's (t, ⌊t/ρ⌋) mapped to (t, φ(t)).
 fn on_cells(grid: &[(f64, i64)], times: &[f64], coarse: bool) -> Vec<(f64, i64)> {
@@ -169,7 +164,7 @@ fn on_cells(grid: &[(f64, i64)], times: &[f64], coarse: bool) -> Vec<(f64, i64)>
 
 /// The longest stick of the dataset [s] (0 without sticks).
 fn longest(data: &Dataset) -> PolarsResult<f64> {
-    let df = frame(data)?.select([col(name::LONGEST_STICK).max()]).collect_with_engine(Engine::Streaming)?.unwrap_single();
+    let df = scan_all(data, false)?.select([col(name::LONGEST_STICK).max()]).collect_with_engine(Engine::Streaming)?.unwrap_single();
     Ok(df.column(name::LONGEST_STICK)?.f64()?.get(0).unwrap_or(0.0))
 }
 
@@ -288,7 +283,7 @@ pub(crate) fn finish(plan: &TailPlan, counts: &TailCounts) -> Tails {
     }
     if tails_state {
         let extremes = &counts.extremes;
-        let per_group = if extremes.is_empty() { vec![vec![0; 3 + opts.times.len() + opts.severity.len()]; GROUPS] } else { extremes.clone() };
+        let per_group = if extremes.is_empty() { vec![vec![0; super::tail_counts::extreme_columns(plan).len()]; GROUPS] } else { extremes.clone() };
         let total = |j: usize, g: Option<usize>| -> u64 { per_group.iter().enumerate().filter(|(h, _)| Some(*h) != g).map(|(_, r)| r[j]).sum() };
         let ratio = |num: usize, den: usize, g: Option<usize>| -> Option<f64> { (total(den, g) > 0).then(|| total(num, g) as f64 / total(den, g) as f64) };
         let mut push = |statistic: &'static str, threshold: Option<f64>, num: usize, den: usize| {
