@@ -25,6 +25,29 @@ def run(command):
     return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss
 
 
+def measure(commands, rounds, before=None):
+    """Per command, one (wall, CPU, peak RSS) per round: each round runs every command once, in
+    the order given; `before(i)`, if given, runs untimed before command i (e.g. to remove what the
+    previous run wrote)."""
+    results = [[] for _ in commands]
+    for _ in range(rounds):
+        for i, command in enumerate(commands):
+            if before:
+                before(i)
+            results[i].append(run(command))
+    return results
+
+
+def medians(rows):
+    """Median wall, CPU and peak RSS (KiB) of one command's rounds."""
+    return tuple(statistics.median(r[j] for r in rows) for j in range(3))
+
+
+def ratio(results, j, i):
+    """Median of the per-round ratios command j / command i: (wall, CPU)."""
+    return tuple(statistics.median(a[k] / b[k] if b[k] else float("nan") for a, b in zip(results[j], results[i])) for k in range(2))
+
+
 def main(argv):
     rounds = 7
     if argv[:1] == ["--rounds"]:
@@ -33,17 +56,13 @@ def main(argv):
         argv = argv[1:]
     if len(argv) < 2:
         sys.exit(__doc__)
-    results = [[] for _ in argv]
-    for _ in range(rounds):
-        for i, command in enumerate(argv):
-            results[i].append(run(command))
+    results = measure(argv, rounds)
     for n, (command, rows) in enumerate(zip(argv, results), 1):
-        wall, cpu, rss = (statistics.median(r[j] for r in rows) for j in range(3))
+        wall, cpu, rss = medians(rows)
         print(f"#{n} {wall:7.2f} s wall {cpu:7.2f} CPU-s {rss / 1048576:6.2f} GiB  {command}")
     for i in range(len(argv)):
         for j in range(i + 1, len(argv)):
-            walls = statistics.median(a[0] / b[0] for a, b in zip(results[j], results[i]))
-            cpus = statistics.median(a[1] / b[1] for a, b in zip(results[j], results[i]))
+            walls, cpus = ratio(results, j, i)
             print(f"#{j + 1} / #{i + 1} (median of {rounds} per-round ratios): wall {walls:.3f}, CPU {cpus:.3f}")
 
 

@@ -1,15 +1,22 @@
-//! Throughput benchmark (`cargo bench --bench throughput`): numbers for the README.
+//! In-process speed benchmark (`cargo bench --bench throughput`): numbers for the README.
 //!
-//! 1. The exact solver alone on the paper scenario, one thread: realizations per second.
-//! 2. The exact solver against `rk45` on the same 200 paper realizations, in the same run: the
-//!    paper's ode45 settings, rtol = 1e-6 with the paper's other settings, and rtol = atol = 1e-6
-//!    without a step limit.
-//! 3. `simulate` end to end to Parquet with all cores, then `analyze` of that dataset, for 10^5
-//!    and 10^6 realizations (and 10^7 with `--large`), each stage in a fresh child process so
-//!    that its peak RSS (VmHWM) is its own. Events = all list elements in the dataset.
+//! Per-realization cost of the solvers on the same realizations, measured side by side: every
+//! round runs each setting once, in turn (so a slower moment of the machine falls on all alike);
+//! printed are the medians over the rounds and, for each setting, the median of its per-round
+//! ratio to the exact solver on the paper scene.
+//!
+//! - the exact solver on the paper scene, on 200 realizations (repeated) and on 100,000 fresh ones
+//!   (realizations per second, one thread);
+//! - the exact solver on the damped scene (`pipelines/scenes/damped.toml`);
+//! - `rk45` on the paper scene at the paper's ode45 settings, at rtol = 1e-6 with the paper's other
+//!   settings, and at rtol = atol = 1e-6 without a step limit;
+//! - `rk45` on the Stribeck scene (`pipelines/stribeck.toml`) at its recommended tolerance and at
+//!   1e-6.
+//!
+//! Then the figures and report of the paper scenario, once. Whole-process figures (`simulate` and
+//! `analyze` of 10^6 and 10^7 realizations, peak memory) come from `benches/speed.py`.
 
 use std::path::Path;
-use std::process::Command;
 use std::time::Instant;
 
 use stickslip::analysis;
@@ -18,125 +25,91 @@ use stickslip::simulation::ensemble::{Ensemble, Outcome};
 use stickslip::simulation::simulate::{self, Options, Shard};
 use stickslip::solver::SolverKind;
 
-fn peak_rss_mib() -> f64 {
-    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse::<f64>().ok())
-        .map_or(f64::NAN, |kb| kb / 1024.0)
+const ROUNDS: usize = 5;
+
+/// One setting: a label, the scene, how many realizations (from index `first`) and repetitions.
+struct Setting {
+    label: String,
+    ensemble: Ensemble,
+    first: u64,
+    n: u64,
+    reps: u64,
 }
 
-fn simulate_child(n: u64, dir: &Path) {
-    let mut sc = Scenario::paper();
-    sc.run.realizations = n;
-    let opts = Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: None, progress: false };
-    let s = simulate::run(&sc, &opts).unwrap();
-    let bytes = std::fs::metadata(&s.path).unwrap().len();
-    println!(
-        "simulate -> Parquet  N = {n:>8}: {:7.2} s  {:>9.0} realizations/s  peak RSS {:6.1} MiB  file {:6.1} MiB  mean S_T {:.3}",
-        s.seconds,
-        n as f64 / s.seconds,
-        peak_rss_mib(),
-        bytes as f64 / (1 << 20) as f64,
-        s.total_sticks as f64 / n as f64
-    );
+impl Setting {
+    fn new(label: &str, scene: Scenario, (first, n, reps): (u64, u64, u64)) -> Setting {
+        scene.check().unwrap();
+        Setting { label: label.into(), ensemble: Ensemble::new(&scene).unwrap(), first, n, reps }
+    }
+
+    /// Seconds per realization, one pass.
+    fn time(&self, out: &mut Outcome) -> f64 {
+        let start = Instant::now();
+        for _ in 0..self.reps {
+            for i in self.first..self.first + self.n {
+                self.ensemble.realization(i, out).unwrap();
+            }
+        }
+        start.elapsed().as_secs_f64() / (self.n * self.reps) as f64
+    }
 }
 
-fn analyze_child(n: u64, dir: &Path) {
-    let start = Instant::now();
-    let a = analysis::analyze(dir, &analysis::Options::default()).unwrap();
-    analysis::output::write(&a, &dir.with_extension("analysis")).unwrap();
-    let secs = start.elapsed().as_secs_f64();
-    // every list element of the dataset: T, D (S_T each), L, H (S_L each)
-    let st = a.stats.iter().find(|s| s.series.to_string() == "S_T").unwrap().moments;
-    let sl = a.stats.iter().find(|s| s.series.to_string() == "S_L").unwrap().moments;
-    let events = 2.0 * (st.mean + sl.mean) * n as f64;
-    println!("analyze             N = {n:>8}: {secs:7.2} s  {:>9.1} M events/s  peak RSS {:6.1} MiB", events / secs / 1e6, peak_rss_mib());
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn scene(file: &str) -> Scenario {
+    Scenario::resolve(Some(&Path::new(env!("CARGO_MANIFEST_DIR")).join(file)), &[]).unwrap()
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    if let Some(pos) = args.iter().position(|a| a == "--simulate" || a == "--analyze") {
-        let (n, dir) = (args[pos + 1].parse().unwrap(), Path::new(&args[pos + 2]));
-        if args[pos] == "--simulate" {
-            simulate_child(n, dir)
-        } else {
-            analyze_child(n, dir)
-        }
-        return;
-    }
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    println!("machine: {cores} cores");
-
-    // The exact solver alone: 5 repetitions of 100,000 realizations (this VM's speed varies by
-    // ±20% from run to run; best and median are reported).
-    let ens = Ensemble::new(&Scenario::paper()).unwrap();
+    println!("machine: {cores} cores; {ROUNDS} interleaved rounds, medians");
+    let paper = Scenario::paper;
+    let with = |mut sc: Scenario, f: &dyn Fn(&mut Scenario)| {
+        f(&mut sc);
+        sc
+    };
+    let stribeck = scene("pipelines/stribeck.toml");
+    let recommended = stribeck.numerics.rtol;
+    let settings = [
+        Setting::new("exact, paper scene (200 realizations x 500)", paper(), (0, 200, 500)),
+        Setting::new("exact, paper scene (100,000 fresh realizations)", paper(), (10_000, 100_000, 1)),
+        Setting::new("exact, damped scene (200 x 50)", scene("pipelines/scenes/damped.toml"), (0, 200, 50)),
+        Setting::new("rk45, paper's ode45 settings (rtol = atol = 1e-9, max_step = 1e-4)", with(paper(), &|sc| sc.run.solver = SolverKind::Rk45), (0, 200, 1)),
+        Setting::new(
+            "rk45, rtol = 1e-6 (atol = 1e-9, max_step = 1e-4 as the paper)",
+            with(paper(), &|sc| (sc.run.solver, sc.numerics.rtol) = (SolverKind::Rk45, 1e-6)),
+            (0, 200, 1),
+        ),
+        Setting::new(
+            "rk45, rtol = atol = 1e-6, no max_step",
+            with(paper(), &|sc| (sc.run.solver, sc.numerics.rtol, sc.numerics.atol, sc.numerics.max_step) = (SolverKind::Rk45, 1e-6, 1e-6, 10.0)),
+            (0, 200, 50),
+        ),
+        Setting::new(&format!("Stribeck scene, rk45 at rtol = atol = {recommended:e} (recommended)"), stribeck.clone(), (0, 200, 50)),
+        Setting::new(
+            "Stribeck scene, rk45 at rtol = atol = 1e-6",
+            with(stribeck.clone(), &|sc| (sc.numerics.rtol, sc.numerics.atol) = (1e-6, 1e-6)),
+            (0, 200, 50),
+        ),
+    ];
     let mut out = Outcome::default();
-    for i in 0..10_000 {
-        ens.realization(i, &mut out).unwrap();
+    // warm up (page in the code, grow the buffers)
+    for s in &settings {
+        s.ensemble.realization(0, &mut out).unwrap();
     }
-    let n = 100_000u64;
-    let mut rates: Vec<f64> = (0..5)
-        .map(|rep| {
-            let start = Instant::now();
-            for i in rep * n..(rep + 1) * n {
-                ens.realization(i, &mut out).unwrap();
-            }
-            n as f64 / start.elapsed().as_secs_f64()
-        })
-        .collect();
-    rates.sort_by(f64::total_cmp);
-    println!("exact solver, 1 thread, paper scenario: best {:.0}, median {:.0} realizations/s (5 x {n})", rates[4], rates[2]);
-
-    // The exact solver against rk45, same realizations, same run.
-    {
-        let per_realization = |set: &dyn Fn(&mut Scenario), n: u64, reps: u64| {
-            let mut sc = Scenario::paper();
-            set(&mut sc);
-            sc.check().unwrap();
-            let ens = Ensemble::new(&sc).unwrap();
-            let mut out = Outcome::default();
-            let start = Instant::now();
-            for _ in 0..reps {
-                for i in 0..n {
-                    ens.realization(i, &mut out).unwrap();
-                }
-            }
-            start.elapsed().as_secs_f64() / (n * reps) as f64
-        };
-        let exact = per_realization(&|_| {}, 200, 500);
-        println!("exact solver: {:.2} us per realization (200 paper realizations x 500)", exact * 1e6);
-        let settings: [(&str, &dyn Fn(&mut Scenario), u64); 3] = [
-            ("rk45, paper ode45 settings (rtol = atol = 1e-9, max_step = 1e-4)", &|sc| sc.run.solver = SolverKind::Rk45, 1),
-            ("rk45, rtol = 1e-6 (atol = 1e-9, max_step = 1e-4 as the paper)", &|sc| (sc.run.solver, sc.numerics.rtol) = (SolverKind::Rk45, 1e-6), 1),
-            (
-                "rk45, rtol = atol = 1e-6, no max_step",
-                &|sc| (sc.run.solver, sc.numerics.rtol, sc.numerics.atol, sc.numerics.max_step) = (SolverKind::Rk45, 1e-6, 1e-6, 10.0),
-                50,
-            ),
-        ];
-        for (label, set, reps) in settings {
-            let t = per_realization(set, 200, reps);
-            println!("{label}: {:.2} us per realization, exact is {:.0}x faster", t * 1e6, t / exact);
+    let mut times = vec![Vec::new(); settings.len()];
+    for _ in 0..ROUNDS {
+        for (s, t) in settings.iter().zip(&mut times) {
+            t.push(s.time(&mut out));
         }
-        // the Stribeck scene as shipped (pipelines/stribeck.toml: mu_s = 0.6, mu_k = 0.51,
-        // v_s = 0.1, δ = 2, rk45 at the setting `tradeoff` recommends for it), and at 1e-6
-        let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("pipelines/stribeck.toml");
-        let scene = Scenario::resolve(Some(&file), &[]).unwrap();
-        let rtol = scene.numerics.rtol;
-        for tol in [rtol, 1e-6] {
-            let t = per_realization(
-                &|sc| {
-                    (sc.model, sc.numerics) = (scene.model.clone(), scene.numerics);
-                    (sc.numerics.rtol, sc.numerics.atol) = (tol, tol);
-                },
-                200,
-                50,
-            );
-            let which = if tol == rtol { "the recommended setting" } else { "tighter" };
-            println!("Stribeck scene, rk45 at rtol = atol = {tol:e} ({which}): {:.2} us per realization ({:.0} realizations/s per core)", t * 1e6, 1.0 / t);
-        }
+    }
+    for (s, t) in settings.iter().zip(&times) {
+        let ratio = median(t.iter().zip(&times[0]).map(|(a, b)| a / b).collect());
+        let per_s = 1.0 / median(t.clone());
+        println!("{:<78} {:10.2} us per realization {:10.0} realizations/s  x{ratio:.1} the first", s.label, median(t.clone()) * 1e6, per_s);
     }
 
     // Figures + report of the paper scenario (18,000 realizations, trajectories and switch times on).
@@ -158,18 +131,5 @@ fn main() {
             figures.len(),
             start.elapsed().as_secs_f64() - drawn
         );
-    }
-
-    let exe = std::env::current_exe().unwrap();
-    let mut sizes = vec![100_000u64, 1_000_000];
-    if args.iter().any(|a| a == "--large") {
-        sizes.push(10_000_000);
-    }
-    for n in sizes {
-        let dir = tempfile::tempdir().unwrap();
-        for stage in ["--simulate", "--analyze"] {
-            let status = Command::new(&exe).args([stage, &n.to_string(), dir.path().to_str().unwrap()]).status().unwrap();
-            assert!(status.success());
-        }
     }
 }
