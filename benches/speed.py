@@ -54,6 +54,7 @@ def main():
     ap.add_argument("--vs", help="another stickslip binary, measured in the same rounds")
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--large", action="store_true", help="also 10^7 realizations (minutes, GBs)")
+    ap.add_argument("--simulate-only", action="store_true", help="only section 1 (a change to the solver or the writer)")
     a = ap.parse_args()
     bins = [("stickslip", os.path.abspath(a.bin))] + ([("--vs binary", os.path.abspath(a.vs))] if a.vs else [])
     tmp = tempfile.mkdtemp(prefix="stickslip-speed-")
@@ -67,6 +68,8 @@ def main():
         clean(*outs[1:])
         size = sum(os.path.getsize(os.path.join(r, f)) for r, _, fs in os.walk(data) for f in fs if f.endswith(".parquet"))
         print(f"  dataset: {size / 2**20:,.0f} MiB")
+        if a.simulate_only:
+            return
 
         # 2. analyze 10^6 beside the yardsticks
         ana = os.path.join(tmp, "analysis")

@@ -183,8 +183,11 @@ struct ListColumn {
 }
 
 impl ListColumn {
-    fn new() -> Self {
-        ListColumn { offsets: vec![0], values: Vec::new() }
+    /// Room for `rows` lists of `values` values in all.
+    fn with_capacity(rows: usize, values: usize) -> Self {
+        let mut offsets = Vec::with_capacity(rows + 1);
+        offsets.push(0);
+        ListColumn { offsets, values: Vec::with_capacity(values) }
     }
 
     fn push(&mut self, row: &[f64]) {
@@ -226,24 +229,29 @@ pub struct Rows {
 }
 
 impl Rows {
-    /// Rows with the switch times column (or not) and `drawn` columns of drawn scene keys.
-    pub fn new(with_switch_times: bool, drawn: usize) -> Rows {
+    /// Rows with the switch times column (or not) and `drawn` columns of drawn scene keys, with
+    /// room for `rows` rows of about `per_list` values in each list (a hint: the columns grow
+    /// past it; sized right, no column is copied while the rows are gathered).
+    pub fn new(with_switch_times: bool, drawn: usize, rows: usize, per_list: usize) -> Rows {
+        let list = || ListColumn::with_capacity(rows, rows * per_list);
+        let mut stick_end = (Vec::with_capacity(rows + 1), Vec::with_capacity(rows * per_list));
+        stick_end.0.push(0);
         Rows {
-            realization: Vec::new(),
-            x0: Vec::new(),
-            xdot0: Vec::new(),
-            initial_sign: Vec::new(),
-            initial_velocity: Vec::new(),
-            n_switches: Vec::new(),
-            n_stick: Vec::new(),
-            n_slip: Vec::new(),
-            lists: std::array::from_fn(|_| ListColumn::new()),
-            last_truncated: Vec::new(),
-            stick_end: (vec![0], Vec::new()),
-            stick_lists: std::array::from_fn(|_| ListColumn::new()),
-            tail_scalars: std::array::from_fn(|_| Vec::new()),
-            switch_times: with_switch_times.then(|| [ListColumn::new(), ListColumn::new()]),
-            drawn: vec![Vec::new(); drawn],
+            realization: Vec::with_capacity(rows),
+            x0: Vec::with_capacity(rows),
+            xdot0: Vec::with_capacity(rows),
+            initial_sign: Vec::with_capacity(rows),
+            initial_velocity: Vec::with_capacity(rows),
+            n_switches: Vec::with_capacity(rows),
+            n_stick: Vec::with_capacity(rows),
+            n_slip: Vec::with_capacity(rows),
+            lists: std::array::from_fn(|_| list()),
+            last_truncated: Vec::with_capacity(rows),
+            stick_end,
+            stick_lists: std::array::from_fn(|_| list()),
+            tail_scalars: std::array::from_fn(|_| Vec::with_capacity(rows)),
+            switch_times: with_switch_times.then(|| [list(), list()]),
+            drawn: vec![Vec::with_capacity(rows); drawn],
         }
     }
 

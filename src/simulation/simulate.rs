@@ -373,7 +373,7 @@ pub fn write_batches(batches: &[arrow_array::RecordBatch], scenario: &Scenario, 
 
 /// Simulate a contiguous range of realizations into dataset rows, and the targets' quantities.
 fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target]) -> Result<(Rows, Tracker), RunError> {
-    let mut rows = Rows::new(ensemble.store_switch_times(), ensemble.scene().columns().len());
+    let mut rows = Rows::new(ensemble.store_switch_times(), ensemble.scene().columns().len(), (range.end - range.start) as usize, ensemble.list_len_hint());
     let mut tracker = Tracker::new(targets);
     let mut out = Outcome::default();
     for index in range {
