@@ -44,8 +44,9 @@ def medians(rows):
 
 
 def ratio(results, j, i):
-    """Median of the per-round ratios command j / command i: (wall, CPU)."""
-    return tuple(statistics.median(a[k] / b[k] if b[k] else float("nan") for a, b in zip(results[j], results[i])) for k in range(2))
+    """Median of the per-round ratios command j / command i: (wall, CPU); NaN where a divisor was
+    0 in every round (a command that used no measurable CPU)."""
+    return tuple(statistics.median([a[k] / b[k] for a, b in zip(results[j], results[i]) if b[k]] or [float("nan")]) for k in range(2))
 
 
 def main(argv):

@@ -1,7 +1,8 @@
 """The README's speed table, measured in one interleaved run (rounds of A B C ..., medians, and the
 median of the per-round ratios; `benches/interleaved.py`). Usage:
 
-    python3 benches/speed.py --bin target/release/stickslip [--vs OLD_BINARY] [--rounds N] [--large]
+    python3 benches/speed.py --bin target/release/stickslip [--vs OLD_BINARY] [--rounds N]
+                             [--large | --simulate-only]
 
 1. `simulate` of 10^6 paper realizations (`--threads` all cores, to Parquet): wall, CPU, peak RSS,
    realizations per second; with `--vs`, the other binary's `simulate` in the same rounds.
@@ -12,13 +13,17 @@ median of the per-round ratios; `benches/interleaved.py`). Usage:
 3. With `--large` (about 6 minutes and 15 GB of disk): `simulate` of 10^7 realizations against ten
    runs of 10^6 one after the other, and `analyze` of the 10^7 dataset against the 10^6 one (peak
    RSS ratio).
+`--simulate-only` stops after section 1 (for a change to the solver or the writer).
 
-Every run writes into a temporary directory that the bench removes before the next one (untimed).
+Every run writes into a temporary directory; what a command wrote is removed (untimed) before that
+command runs again, and the whole directory when the bench ends or is interrupted.
 """
 import argparse
 import importlib.util
 import os
+import shlex
 import shutil
+import signal
 import sys
 import tempfile
 
@@ -52,16 +57,21 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bin", required=True, help="the stickslip binary to measure")
     ap.add_argument("--vs", help="another stickslip binary, measured in the same rounds")
-    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("--rounds", type=int, default=7, help="rounds of every command (default 7)")
     ap.add_argument("--large", action="store_true", help="also 10^7 realizations (minutes, GBs)")
     ap.add_argument("--simulate-only", action="store_true", help="only section 1 (a change to the solver or the writer)")
     a = ap.parse_args()
-    bins = [("stickslip", os.path.abspath(a.bin))] + ([("--vs binary", os.path.abspath(a.vs))] if a.vs else [])
+    if a.rounds < 1:
+        ap.error("--rounds must be at least 1")
+    q = shlex.quote
+    bins = [("stickslip", q(os.path.abspath(a.bin)))] + ([("--vs binary", q(os.path.abspath(a.vs)))] if a.vs else [])
     tmp = tempfile.mkdtemp(prefix="stickslip-speed-")
+    # (a kill runs the `finally` below too: the datasets are GBs)
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     try:
         # 1. simulate 10^6
         outs = [os.path.join(tmp, f"sim{i}") for i in range(len(bins))]
-        cmds = [f"{b} simulate -q --realizations 1000000 --out {o}" for (_, b), o in zip(bins, outs)]
+        cmds = [f"{b} simulate -q --realizations 1000000 --out {q(o)}" for (_, b), o in zip(bins, outs)]
         res = measure(cmds, a.rounds, before=lambda i: clean(outs[i]))
         table("simulate, 10^6 paper realizations, to Parquet", [f"{n} simulate" for n, _ in bins], res, a.rounds, per=[1e6] * len(bins))
         data = outs[0]
@@ -76,23 +86,23 @@ def main():
         labels, cmds = [], []
         for n, b in bins:
             labels += [f"{n} analyze", f"{n} analyze --no-tails"]
-            cmds += [f"{b} analyze {data} -q --out {ana}", f"{b} analyze {data} -q --no-tails --out {ana}"]
+            cmds += [f"{b} analyze {q(data)} -q --out {q(ana)}", f"{b} analyze {q(data)} -q --no-tails --out {q(ana)}"]
         for engine, module in [("duckdb", "duckdb"), ("polars", "polars"), ("read", "polars")]:
             if importlib.util.find_spec(module):
                 labels.append(f"analyze_vs.py {engine}")
-                cmds.append(f"{sys.executable} {HERE}/analyze_vs.py {engine} {data}")
+                cmds.append(f"{q(sys.executable)} {q(os.path.join(HERE, 'analyze_vs.py'))} {engine} {q(data)}")
         res = measure(cmds, a.rounds, before=lambda i: clean(ana))
-        table("analyze, the 10^6 dataset", labels, res, a.rounds, lead=2 * len(bins))
+        table("analyze, the 10^6 dataset", labels, res, a.rounds, lead=len(labels) - 1)
 
         if a.large:
             b = bins[0][1]
             big = os.path.join(tmp, "big")
-            ten = " && ".join(f"{b} simulate -q --realizations 1000000 --out {tmp}/ten/{i}" for i in range(10))
-            rounds = max(1, min(a.rounds, 3))
-            res = measure([f"{b} simulate -q --realizations 10000000 --out {big}", f"sh -c '{ten}'"], rounds, before=lambda i: clean([big, f"{tmp}/ten"][i]))
+            ten = " && ".join(f"{b} simulate -q --realizations 1000000 --out {q(os.path.join(tmp, 'ten', str(i)))}" for i in range(10))
+            rounds = min(a.rounds, 3)
+            res = measure([f"{b} simulate -q --realizations 10000000 --out {q(big)}", f"sh -c {q(ten)}"], rounds, before=lambda i: clean([big, os.path.join(tmp, "ten")][i]))
             table("simulate, 10^7 realizations against ten runs of 10^6", ["10^7 at once", "ten of 10^6"], res, rounds, per=[1e7, 1e7])
-            clean(f"{tmp}/ten")
-            res = measure([f"{b} analyze {big} -q --out {ana}", f"{b} analyze {data} -q --out {ana}"], rounds, before=lambda i: clean(ana))
+            clean(os.path.join(tmp, "ten"))
+            res = measure([f"{b} analyze {q(big)} -q --out {q(ana)}", f"{b} analyze {q(data)} -q --out {q(ana)}"], rounds, before=lambda i: clean(ana))
             table("analyze, 10^7 against 10^6 (the peak RSS ratio is the medians')", ["analyze 10^7", "analyze 10^6"], res, rounds)
             print(f"  peak RSS 10^7 / 10^6: {medians(res[0])[2] / medians(res[1])[2]:.2f}")
     finally:

@@ -72,7 +72,7 @@ fn main() {
         sc
     };
     let stribeck = scene("pipelines/stribeck.toml");
-    let recommended = stribeck.numerics.rtol;
+    let (rtol, atol) = (stribeck.numerics.rtol, stribeck.numerics.atol);
     let settings = [
         Setting::new("exact, paper scene (200 realizations x 500)", paper(), (0, 200, 500)),
         Setting::new("exact, paper scene (100,000 fresh realizations)", paper(), (10_000, 100_000, 1)),
@@ -88,7 +88,7 @@ fn main() {
             with(paper(), &|sc| (sc.run.solver, sc.numerics.rtol, sc.numerics.atol, sc.numerics.max_step) = (SolverKind::Rk45, 1e-6, 1e-6, 10.0)),
             (0, 200, 50),
         ),
-        Setting::new(&format!("Stribeck scene, rk45 at rtol = atol = {recommended:e} (recommended)"), stribeck.clone(), (0, 200, 50)),
+        Setting::new(&format!("Stribeck scene, rk45 at rtol = {rtol:e}, atol = {atol:e} (recommended)"), stribeck.clone(), (0, 200, 50)),
         Setting::new(
             "Stribeck scene, rk45 at rtol = atol = 1e-6",
             with(stribeck.clone(), &|sc| (sc.numerics.rtol, sc.numerics.atol) = (1e-6, 1e-6)),

@@ -199,12 +199,18 @@ impl ListColumn {
         self.offsets.push(i32::try_from(self.values.len()).expect("a chunk holds < 2^31 list values"));
     }
 
-    fn into_array(self) -> ArrayRef {
+    /// The column as an Arrow list array, its unused reserve given back first (the Python
+    /// package holds every batch of a run).
+    fn into_array(mut self) -> ArrayRef {
+        self.values.shrink_to_fit();
         let field = Arc::new(Field::new("element", DataType::Float64, false));
         let offsets = OffsetBuffer::new(ScalarBuffer::from(self.offsets));
         Arc::new(ListArray::new(field, offsets, Arc::new(Float64Array::from(self.values)), None))
     }
 }
+
+/// The most values a list column reserves up front (512 KiB of f64; [`Rows::new`]).
+const LIST_RESERVE: usize = 1 << 16;
 
 /// The rows of a contiguous run of realizations, column by column.
 #[derive(Debug, Clone)]
@@ -231,10 +237,15 @@ pub struct Rows {
 impl Rows {
     /// Rows with the switch times column (or not) and `drawn` columns of drawn scene keys, with
     /// room for `rows` rows of about `per_list` values in each list (a hint: the columns grow
-    /// past it; sized right, no column is copied while the rows are gathered).
+    /// past it; sized right, no column is copied while the rows are gathered). A list reserves at
+    /// most [`LIST_RESERVE`] values: a chunk holds about 2^18 list values in all
+    /// ([`crate::simulation::ensemble::Ensemble::chunk_len`]), and a scene with far more events per
+    /// realization than that (one row per chunk) grows its lists as it goes rather than reserving
+    /// its whole hint up front.
     pub fn new(with_switch_times: bool, drawn: usize, rows: usize, per_list: usize) -> Rows {
-        let list = || ListColumn::with_capacity(rows, rows * per_list);
-        let mut stick_end = (Vec::with_capacity(rows + 1), Vec::with_capacity(rows * per_list));
+        let values = rows.saturating_mul(per_list).min(LIST_RESERVE);
+        let list = || ListColumn::with_capacity(rows, values);
+        let mut stick_end = (Vec::with_capacity(rows + 1), Vec::with_capacity(values));
         stick_end.0.push(0);
         Rows {
             realization: Vec::with_capacity(rows),
@@ -251,7 +262,8 @@ impl Rows {
             stick_lists: std::array::from_fn(|_| list()),
             tail_scalars: std::array::from_fn(|_| Vec::with_capacity(rows)),
             switch_times: with_switch_times.then(|| [list(), list()]),
-            drawn: vec![Vec::with_capacity(rows); drawn],
+            // (not `vec![…; drawn]`: a clone of an empty Vec has no capacity)
+            drawn: (0..drawn).map(|_| Vec::with_capacity(rows)).collect(),
         }
     }
 
@@ -509,4 +521,29 @@ fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterPropert
             .set_column_compression(col, Compression::UNCOMPRESSED);
     }
     builder.build()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_reserve_what_the_chunk_needs_and_no_more_than_the_cap() {
+        // a chunk of 1,000 rows of 30 values per list, two drawn keys, switch times kept
+        let rows = Rows::new(true, 2, 1000, 30);
+        let lists = rows.lists.iter().chain(&rows.stick_lists).chain(rows.switch_times.iter().flatten());
+        for col in lists {
+            assert!(col.values.capacity() >= 30_000 && col.offsets.capacity() >= 1001);
+        }
+        assert!(rows.stick_end.1.capacity() >= 30_000);
+        // every drawn column, not only the last (a clone of an empty Vec has no capacity)
+        assert!(rows.drawn.iter().all(|c| c.capacity() >= 1000), "{:?}", rows.drawn.iter().map(Vec::capacity).collect::<Vec<_>>());
+        // a scene with 10^7 expected events per realization (one row per chunk) grows its lists
+        // instead of reserving 80 MB each up front
+        let huge = Rows::new(true, 0, 1, 10_000_000);
+        for col in huge.lists.iter().chain(&huge.stick_lists).chain(huge.switch_times.iter().flatten()) {
+            assert!(col.values.capacity() <= LIST_RESERVE);
+        }
+        assert!(huge.stick_end.1.capacity() <= LIST_RESERVE);
+    }
 }

@@ -191,10 +191,11 @@ impl Ensemble {
         (262_144.0 / per_realization).clamp(1.0, 8192.0) as u64
     }
 
-    /// Room to reserve per realization in each event list: one value per expected belt change
-    /// (the paper scene: 50 changes for 16.6 sticks on average). Reserved but untouched memory is
-    /// not resident, so a generous hint costs address space, not RSS.
+    /// Room to reserve per realization in each event list: half a value per expected belt change,
+    /// and 4 (the paper scene: 29 for 16.6 sticks and as many slips on average). A scene with
+    /// more events per change grows its lists once; reserved memory that is never written is
+    /// not resident unless the allocator hands out memory an earlier chunk had touched.
     pub fn list_len_hint(&self) -> usize {
-        self.scene.belt.expected_switches().ceil() as usize
+        (0.5 * self.scene.belt.expected_switches()).ceil() as usize + 4
     }
 }
