@@ -195,7 +195,7 @@ impl Ensemble {
     /// and 4 (the paper scene: 29 for 16.6 sticks and as many slips on average). A scene with
     /// more events per change grows its lists once; reserved memory that is never written is
     /// not resident unless the allocator hands out memory an earlier chunk had touched.
-    pub fn list_len_hint(&self) -> usize {
+    pub(crate) fn list_len_hint(&self) -> usize {
         (0.5 * self.scene.belt.expected_switches()).ceil() as usize + 4
     }
 }
