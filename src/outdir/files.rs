@@ -129,6 +129,17 @@ impl Drop for TempFile {
 /// (`ours` says so from its first bytes); written atomically under the lock.
 pub fn write_file(path: &Path, bytes: &[u8], ours: impl Fn(&[u8]) -> bool, flag: &str) -> Result<(), OutDirError> {
     let _lock = Lock::acquire(path)?;
+    check_file_replaceable(path, &ours, flag)?;
+    let (tmp, mut file) = TempFile::create(path)?;
+    file.write_all(bytes).map_err(|e| fail(path, e))?;
+    drop(file);
+    tmp.commit().map(drop)
+}
+
+/// Whether [`write_file`] may write `path`: nothing there, or a regular file whose first 4 KiB
+/// `ours` recognises. A command that writes several files asks for each before it writes any,
+/// so that a refusal leaves nothing behind.
+pub fn check_file_replaceable(path: &Path, ours: &impl Fn(&[u8]) -> bool, flag: &str) -> Result<(), OutDirError> {
     match std::fs::symlink_metadata(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
         Err(e) => return Err(fail(path, e)),
@@ -141,10 +152,7 @@ pub fn write_file(path: &Path, bytes: &[u8], ours: impl Fn(&[u8]) -> bool, flag:
             }
         }
     }
-    let (tmp, mut file) = TempFile::create(path)?;
-    file.write_all(bytes).map_err(|e| fail(path, e))?;
-    drop(file);
-    tmp.commit().map(drop)
+    Ok(())
 }
 
 /// Write a new file at `path`: refused if anything is there (a file the user asked for, never a

@@ -34,7 +34,7 @@ mod files;
 mod names;
 
 pub use dirs::{prepare_reproduce, Created, DatasetDir, StagedDir};
-pub use files::{write_file, write_new_file, Lock, TempFile};
+pub use files::{check_file_replaceable, write_file, write_new_file, Lock, TempFile};
 use names::{hidden, remove_stale, unique, STAGING};
 
 /// The marker file in every directory the tool writes (JSON: kind and files), but a dataset's.

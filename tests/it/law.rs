@@ -154,6 +154,13 @@ fn a_damped_scene_agrees_with_a_long_monte_carlo_run() {
     agrees(&["model.damping=0.5", "model.static_friction_coefficient=0.8", "belt.switch_rate=2.0"], 2000, 400.0, 32);
 }
 
+/// The largest damping the method takes, ζ = 1/2 (c = 2 N·s/m): the stick region shifted by
+/// c v0/k = 0.5 m, 40 % of c_s.
+#[test]
+fn the_most_damped_scene_the_method_takes_agrees_with_a_long_monte_carlo_run() {
+    agrees(&["model.damping=2.0"], 2000, 400.0, 16);
+}
+
 #[test]
 fn scenes_outside_the_method_are_refused_with_the_reason() {
     for (sets, reason) in [
@@ -168,6 +175,9 @@ fn scenes_outside_the_method_are_refused_with_the_reason() {
         (&["belt.switch_rate=1e6"][..], "between belt flips"),
         (&["belt.speed=1e-9"][..], "velocity scale"),
         (&["model.stiffness=1e9"][..], "velocity scale"),
+        // ζ = 0.51, and ζ = 2.5e8, whose grid would not fit in memory
+        (&["model.damping=2.04"][..], "zeta <= 0.5"),
+        (&["model.damping=1e9"][..], "zeta <= 0.5"),
     ] {
         let e = stationary(&scenario(sets).scene().unwrap(), 8, 1).expect_err("refused");
         assert!(e.contains(reason), "{sets:?}: {e}");

@@ -116,6 +116,11 @@ fn an_output_that_is_or_holds_an_input_is_refused_and_the_input_survives() {
     // a file the report did not write is not replaced; its own output is
     std::fs::write(t.join("r.html"), "<html>someone else's page</html>").unwrap();
     refused(&stickslip(&["report", "top/ds", "an", "fig", "--out", "r.html"], t), "r.html");
+    // nor is its Markdown twin, and then the page is not written either
+    std::fs::write(t.join("m.md"), "my notes").unwrap();
+    refused(&stickslip(&["report", "top/ds", "an", "fig", "--out", "m.html"], t), "m.md");
+    assert!(!t.join("m.html").exists(), "a refused report left its page behind");
+    assert_eq!(std::fs::read_to_string(t.join("m.md")).unwrap(), "my notes");
     ok(&stickslip(&["report", "top/ds", "an", "fig", "--out", "mine.html", "-q"], t));
     ok(&stickslip(&["report", "top/ds", "an", "fig", "--out", "mine.html", "-q"], t));
     // simulate adds parts only to a dataset directory: never into a directory of other files
