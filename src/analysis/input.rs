@@ -247,13 +247,25 @@ pub fn open_cells(dir: &Path, allow_partial: bool) -> Result<Vec<(String, Datase
     for f in files {
         groups.entry(f.parent().unwrap_or(dir).to_owned()).or_default().push(f);
     }
-    groups
+    let cells: Vec<(String, Dataset)> = groups
         .into_iter()
         .map(|(cell_dir, files)| {
             let rel = cell_dir.strip_prefix(dir).unwrap_or(&cell_dir).to_string_lossy().replace('\\', "/");
             Ok((rel, checked(&cell_dir, files, allow_partial)?))
         })
-        .collect()
+        .collect::<Result<_, InputError>>()?;
+    // the cells of one sweep sweep the same keys in the same order: two sweeps (or a plain run
+    // and a sweep) written into one directory would otherwise be summarised as one, their cells
+    // labelled by the first one's keys
+    let keys = |rel: &str| rel.split('/').map(|c| c.split_once('=').map_or("", |(k, _)| k).to_string()).collect::<Vec<_>>();
+    if let Some((rel, _)) = cells.iter().find(|(rel, _)| keys(rel) != keys(&cells[0].0)) {
+        let name = |r: &str| if r.is_empty() { "a plain dataset at the top".to_string() } else { r.to_string() };
+        return Err(bad(
+            dir,
+            format!("holds two different runs: {} and {} sweep different keys; analyse each in a directory of its own", name(&cells[0].0), name(rel)),
+        ));
+    }
+    Ok(cells)
 }
 
 /// Check the part files of one directory as one dataset: one scenario, and realization ranges

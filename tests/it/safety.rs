@@ -235,6 +235,24 @@ fn a_failed_sweep_rerun_leaves_the_previous_sweep_untouched() {
     assert!(snapshot(&t.join("s")) == before, "a failed sweep changed the previous sweep");
 }
 
+/// Two sweeps of different keys, or a plain run and a sweep, written into one directory are not
+/// summarised as one sweep (the second's cells were labelled by the first's keys).
+#[test]
+fn two_different_runs_in_one_directory_are_not_analysed_as_one_sweep() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    ok(&stickslip(&["simulate", "--out", "m", "--realizations", "20", "-q", "--set", "model.damping=[0, 1]"], t));
+    ok(&stickslip(&["simulate", "--out", "m", "--realizations", "20", "-q", "--set", "belt.switch_rate=[1, 2]"], t));
+    refused(&stickslip(&["analyze", "m", "--out", "a"], t), "sweep different keys");
+    assert!(!t.join("a").exists());
+    ok(&stickslip(&["simulate", "--out", "p", "--realizations", "20", "-q"], t));
+    ok(&stickslip(&["simulate", "--out", "p", "--realizations", "20", "-q", "--set", "model.damping=[0, 1]"], t));
+    refused(&stickslip(&["analyze", "p", "--out", "a"], t), "a plain dataset at the top");
+    // one sweep of two keys is one sweep
+    ok(&stickslip(&["simulate", "--out", "two", "--realizations", "20", "-q", "--set", "model.damping=[0, 1]", "--set", "belt.switch_rate=[1, 2]"], t));
+    ok(&stickslip(&["analyze", "two", "--out", "a", "-q"], t));
+}
+
 #[test]
 fn values_that_used_to_slip_through_are_refused_or_made_safe() {
     let tmp = tempfile::tempdir().unwrap();
