@@ -258,7 +258,8 @@ pub fn open_cells(dir: &Path, allow_partial: bool) -> Result<Vec<(String, Datase
     // and a sweep) written into one directory would otherwise be summarised as one, their cells
     // labelled by the first one's keys
     let keys = |rel: &str| rel.split('/').map(|c| c.split_once('=').map_or("", |(k, _)| k).to_string()).collect::<Vec<_>>();
-    if let Some((rel, _)) = cells.iter().find(|(rel, _)| keys(rel) != keys(&cells[0].0)) {
+    let first = keys(&cells[0].0);
+    if let Some((rel, _)) = cells.iter().find(|(rel, _)| keys(rel) != first) {
         let name = |r: &str| if r.is_empty() { "a plain dataset at the top".to_string() } else { r.to_string() };
         return Err(bad(
             dir,

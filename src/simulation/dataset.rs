@@ -185,9 +185,7 @@ struct ListColumn {
 impl ListColumn {
     /// Room for `rows` lists of `values` values in all.
     fn with_capacity(rows: usize, values: usize) -> Self {
-        let mut offsets = Vec::with_capacity(rows + 1);
-        offsets.push(0);
-        ListColumn { offsets, values: Vec::with_capacity(values) }
+        ListColumn { offsets: offsets_for(rows), values: Vec::with_capacity(values) }
     }
 
     fn push(&mut self, row: &[f64]) {
@@ -207,6 +205,13 @@ impl ListColumn {
         let offsets = OffsetBuffer::new(ScalarBuffer::from(self.offsets));
         Arc::new(ListArray::new(field, offsets, Arc::new(Float64Array::from(self.values)), None))
     }
+}
+
+/// A list column's offsets before its first row (`[0]`), with room for `rows` rows.
+fn offsets_for(rows: usize) -> Vec<i32> {
+    let mut offsets = Vec::with_capacity(rows + 1);
+    offsets.push(0);
+    offsets
 }
 
 /// The most values a list column reserves up front (512 KiB of f64; [`Rows::new`]).
@@ -245,8 +250,6 @@ impl Rows {
     pub fn new(with_switch_times: bool, drawn: usize, rows: usize, per_list: usize) -> Rows {
         let values = rows.saturating_mul(per_list).min(LIST_RESERVE);
         let list = || ListColumn::with_capacity(rows, values);
-        let mut stick_end = (Vec::with_capacity(rows + 1), Vec::with_capacity(values));
-        stick_end.0.push(0);
         Rows {
             realization: Vec::with_capacity(rows),
             x0: Vec::with_capacity(rows),
@@ -258,7 +261,7 @@ impl Rows {
             n_slip: Vec::with_capacity(rows),
             lists: std::array::from_fn(|_| list()),
             last_truncated: Vec::with_capacity(rows),
-            stick_end,
+            stick_end: (offsets_for(rows), Vec::with_capacity(values)),
             stick_lists: std::array::from_fn(|_| list()),
             tail_scalars: std::array::from_fn(|_| Vec::with_capacity(rows)),
             switch_times: with_switch_times.then(|| [list(), list()]),
