@@ -144,7 +144,8 @@ pub fn default_horizon(scenario: &Scenario) -> Result<f64, ScenarioError> {
 pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>, progress: &mut dyn FnMut(&str)) -> Result<Prediction, LawError> {
     let scene = scenario.scene()?;
     if !(state.x.is_finite() && state.velocity.is_finite() && state.belt.is_finite()) {
-        return Err(LawError::Refused(format!("--state {},{},{}: must be three finite numbers", state.x, state.velocity, state.belt)));
+        let shown = crate::scenario::short;
+        return Err(LawError::Refused(format!("--state {},{},{}: must be three finite numbers", shown(state.x), shown(state.velocity), shown(state.belt))));
     }
     use crate::simulation::keys::Key;
     if let Some((key, _)) = scene.random.iter().find(|(k, _)| matches!(k, Key::Speed | Key::ReverseSpeed)) {
@@ -160,6 +161,20 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         )));
     }
     stuck_or_not(&scene, state, sign).map_err(LawError::Refused)?;
+    // the flags and the futures' scenario checked before anything runs (the exact part takes
+    // seconds), each refusal naming its flag
+    let horizon = match opts.horizon {
+        Some(h) => h,
+        None => default_horizon(scenario)?,
+    };
+    let (lo, hi) = crate::scenario::DURATION_RANGE;
+    if !(horizon >= lo && horizon <= hi) {
+        return Err(LawError::Refused(format!("--horizon {}: must be between {lo:e} and {hi:e} s", crate::scenario::short(horizon))));
+    }
+    if let Some(n) = opts.futures.filter(|&n| n == 0 || n > crate::scenario::MAX_REALIZATIONS) {
+        return Err(LawError::Refused(format!("--futures {n}: must be between 1 and {}", crate::scenario::MAX_REALIZATIONS)));
+    }
+    let futures_scenario = futures_scenario(scenario, state, sign, opts.futures.unwrap_or(DEFAULT_FUTURES), horizon)?;
     let staged = out.map(|o| StagedDir::new(o, Kind::Predict, "--out", &[])).transpose()?;
     let mut rows = Vec::new();
     let mut survival = None;
@@ -190,14 +205,10 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         survival = Some(s);
     }
     let futures = opts.futures.or(if exact_refused.is_some() { Some(DEFAULT_FUTURES) } else { None });
-    let horizon = match opts.horizon {
-        Some(h) => h,
-        None => default_horizon(scenario)?,
-    };
     let mut censored = 0;
     if let Some(n) = futures {
-        progress(&format!("conditional Monte Carlo: {n} futures over {horizon:.4} s"));
-        let (r, c) = monte_carlo(scenario, state, sign, n, horizon)?;
+        progress(&format!("conditional Monte Carlo: {n} futures over {} s", crate::scenario::short(horizon)));
+        let (r, c) = monte_carlo(&futures_scenario, state.stuck, n)?;
         rows.extend(r);
         censored = c;
     }
@@ -312,17 +323,31 @@ struct Future {
 /// Futures per parallel chunk (fixed: the rows do not depend on the threads).
 const CHUNK: u64 = 1024;
 
-/// The conditional Monte Carlo rows from `n` futures, and how many were cut by the horizon.
-fn monte_carlo(scenario: &Scenario, state: State, sign: i32, n: u64, horizon: f64) -> Result<(Vec<Row>, u64), LawError> {
+/// The scenario of the futures: the point initial state, the belt in its state, the window the
+/// horizon and `n` realizations, checked (a state the solvers are not proven on is refused
+/// naming `--state`).
+fn futures_scenario(scenario: &Scenario, state: State, sign: i32, n: u64, horizon: f64) -> Result<Scenario, LawError> {
     let mut s = scenario.clone();
     s.initial_conditions.position = [state.x; 2];
     s.initial_conditions.velocity = [state.velocity; 2];
     s.belt.initial_sign = crate::scenario::Sign(if sign > 0 { InitialSign::Positive } else { InitialSign::Negative });
     s.run.duration = horizon;
     s.run.realizations = n;
-    s.check().map_err(|e| LawError::Refused(format!("the futures' scenario: {e}")))?;
-    let ensemble = Ensemble::new(&s)?;
-    let stuck = state.stuck;
+    s.check().map_err(|e| {
+        let shown = |x: f64| crate::scenario::short(x);
+        match e {
+            ScenarioError::Invalid { key, reason, .. } if key.starts_with("initial_conditions") => {
+                LawError::Refused(format!("--state {},{},{}: {reason}", shown(state.x), shown(state.velocity), shown(state.belt)))
+            }
+            e => LawError::Refused(format!("the futures' scenario: {e}")),
+        }
+    })?;
+    Ok(s)
+}
+
+/// The conditional Monte Carlo rows from `n` futures, and how many were cut by the horizon.
+fn monte_carlo(s: &Scenario, stuck: bool, n: u64) -> Result<(Vec<Row>, u64), LawError> {
+    let ensemble = Ensemble::new(s)?;
     // per chunk, the moments of each variable (in the order of VARIABLES) and the futures cut by
     // the horizon; merged in chunk order (the same for any number of threads), nothing per future
     // kept
@@ -418,7 +443,8 @@ pub fn markdown(p: &Prediction) -> String {
                 Some(n) => (format!("± {:.2e} (95 %)", 1.96 * r.error), n.to_string()),
                 None => (format!("{:.1e}", r.error), String::new()),
             };
-            m += &format!("| {} | {} | {:.6} | {:.6} | {error} | {n} |\n", r.variable, r.method.replace('_', " "), r.mean, r.variance.sqrt());
+            let six = crate::figures::format::six_decimals;
+            m += &format!("| {} | {} | {} | {} | {error} | {n} |\n", r.variable, r.method.replace('_', " "), six(r.mean), six(r.variance.sqrt()));
         }
     }
     m

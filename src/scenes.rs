@@ -11,12 +11,14 @@ pub struct Shipped {
     pub name: &'static str,
     /// the file's text, as in `pipelines/`
     pub text: &'static str,
+    /// files the scene reads, written beside it: (file name, text)
+    pub companions: &'static [(&'static str, &'static str)],
 }
 
 /// A scenario file of `pipelines/`, embedded.
 macro_rules! shipped {
     ($name:literal, $file:literal) => {
-        Shipped { name: $name, text: include_str!(concat!("../pipelines/", $file)) }
+        Shipped { name: $name, text: include_str!(concat!("../pipelines/", $file)), companions: &[] }
     };
 }
 
@@ -31,8 +33,8 @@ impl Shipped {
 }
 
 /// Every shipped scenario, the paper's first.
-pub const SHIPPED: [Shipped; 9] = [
-    Shipped { name: "paper", text: PAPER_TOML },
+pub const SHIPPED: [Shipped; 10] = [
+    Shipped { name: "paper", text: PAPER_TOML, companions: &[] },
     shipped!("stribeck", "stribeck.toml"),
     shipped!("damped", "scenes/damped.toml"),
     shipped!("static_friction", "scenes/static_friction.toml"),
@@ -40,8 +42,13 @@ pub const SHIPPED: [Shipped; 9] = [
     shipped!("uncertain_friction", "scenes/uncertain_friction.toml"),
     shipped!("stribeck_damped", "scenes/stribeck_damped.toml"),
     shipped!("viscous", "scenes/viscous.toml"),
-    // (the recorded-belt example is not shipped: it needs its log file, pipelines/scenes/rotary_log.csv)
     shipped!("markov_belt", "scenes/markov_belt.toml"),
+    // (its velocity log is written beside it: `belt.file` is relative to the scenario's directory)
+    Shipped {
+        name: "recorded_belt",
+        text: include_str!("../pipelines/scenes/recorded_belt.toml"),
+        companions: &[("rotary_log.csv", include_str!("../pipelines/scenes/rotary_log.csv"))],
+    },
 ];
 
 /// The shipped scenario called `name`.

@@ -7,6 +7,23 @@ use std::path::Path;
 
 use polars::prelude::*;
 
+/// The columns of the stages' tables that hold counts, variances, standard errors or densities:
+/// never negative.
+const NON_NEGATIVE: [&str; 12] = [
+    "n",
+    "count",
+    "density",
+    "variance",
+    "mean_se",
+    "variance_se",
+    "reached",
+    "reached_fraction",
+    "n_truncated_excluded",
+    "futures",
+    "error",
+    "variance_error",
+];
+
 /// A small tidy table, column by column.
 #[derive(Debug, Clone, Default)]
 pub struct Table {
@@ -41,7 +58,40 @@ impl Table {
             };
             t.columns.push((name, col));
         }
+        if let Some(problem) = t.first_impossible() {
+            polars_bail!(ComputeError: "{}: {problem}; it is not a table this tool wrote (or it was edited since)", path.display());
+        }
         Ok(t)
+    }
+
+    /// The first value that no table of this tool holds — NaN or ±∞ in any float column, or a
+    /// negative value in a column of counts, variances, standard errors or densities
+    /// ([`NON_NEGATIVE`]) — as a message naming the column and the row (0-based).
+    fn first_impossible(&self) -> Option<String> {
+        for (name, col) in &self.columns {
+            let Col::Float(values) = col else { continue };
+            let non_negative = NON_NEGATIVE.contains(&name.as_str());
+            for (row, x) in values.iter().enumerate() {
+                let Some(x) = *x else { continue };
+                if !x.is_finite() {
+                    return Some(format!("column `{name}` row {row}: {x} is not a finite number"));
+                }
+                if non_negative && x < 0.0 {
+                    return Some(format!(
+                        "column `{name}` row {row}: {} is negative (a count, variance, standard error or density)",
+                        crate::scenario::short(x)
+                    ));
+                }
+            }
+        }
+        for (name, col) in &self.columns {
+            if let (true, Col::Int(values)) = (NON_NEGATIVE.contains(&name.as_str()), col) {
+                if let Some((row, Some(x))) = values.iter().enumerate().find(|(_, x)| x.is_some_and(|x| x < 0)) {
+                    return Some(format!("column `{name}` row {row}: {x} is negative (a count)"));
+                }
+            }
+        }
+        None
     }
 
     /// Read a table and check that it has `columns`, each of the kind given ('s' string,
@@ -110,8 +160,13 @@ impl Table {
         self
     }
 
-    /// Write as Parquet (zstd) to `path`.
+    /// Write as Parquet (zstd) to `path`; a table holding NaN, ±∞ or a negative count, variance,
+    /// standard error or density is refused before anything is written (the last guard of
+    /// every stage's tables).
     pub fn write_parquet(&self, path: &Path) -> PolarsResult<()> {
+        if let Some(problem) = self.first_impossible() {
+            polars_bail!(ComputeError: "{}: refused to write {problem}", path.display());
+        }
         let columns: Vec<Column> = self
             .columns
             .iter()

@@ -10,29 +10,80 @@ A thin layer over the Rust library (the same code as the ``stickslip`` command l
   stick from a given state (exact, and by conditional Monte Carlo futures);
 - :func:`scenes` lists the shipped scenarios.
 
+A scenario is a path (a ``str`` or ``os.PathLike``: always a file, ``=`` or ``[`` in its name
+included), a dict of sections (``{"belt": {"switch_rate": 1.0}}``) or TOML text wrapped as
+:class:`Toml` (``stickslip.Toml("[belt]\\nswitch_rate = 1.0\\n")``).
+
 Units are SI throughout: seconds, metres, kilograms, newtons. Bad input raises ``ValueError`` with
-the command line's one-line message (naming the key, value or file); a failure while running raises
-``RuntimeError``; Ctrl-C during :func:`simulate` raises ``KeyboardInterrupt``.
+a one-line message naming the argument, key, value or file (the package's own checks of its
+arguments, or the command line's message); a failure while running raises ``RuntimeError``;
+Ctrl-C during :func:`simulate` raises ``KeyboardInterrupt``.
 """
 
 from __future__ import annotations
 
 import json
+import math
+import numbers
+import operator
 import os
+import re
 import signal
 import subprocess
 import sys
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 from . import _stickslip
 from ._stickslip import Table
 
-__all__ = ["Table", "Analysis", "simulate", "analyze", "tradeoff", "sensitivity", "exact_law", "predict", "scenes", "__version__"]
+__all__ = ["Table", "Toml", "Analysis", "simulate", "analyze", "tradeoff", "sensitivity", "exact_law", "predict", "scenes", "__version__"]
 __version__: str = _stickslip.__version__
 
-Scenario = Union[str, "os.PathLike[str]", Mapping[str, Any], None]
+_MAX_I64 = 2**63 - 1  # TOML's integers (run.seed, run.realizations) are 64-bit signed
+_MAX_U32 = 2**32 - 1  # the CLI's resolutions
+_ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
+
+
+@dataclass(frozen=True)
+class Toml:
+    """Scenario TOML text, told apart from a path by its type.
+
+    A ``str`` or ``os.PathLike`` scenario is always a path (sweep cells are named like
+    ``hive/mass=1/scene.toml``); TOML text is passed wrapped: ``stickslip.Toml("[belt]\\nswitch_rate = 1.0\\n")``.
+
+    Parameters
+    ----------
+    text : str
+        The scenario as TOML (keys it omits keep the paper's values).
+    """
+
+    text: str
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.text, str):
+            raise ValueError(f"Toml(text): text must be a str of TOML, not {type(self.text).__name__}")
+
+
+Scenario = Union[str, "os.PathLike[str]", Mapping[str, Any], Toml, None]
+
+
+def _error_line(err: Optional[str], returncode: int) -> str:
+    """The one-line error in a child's stderr: the last line starting with ``stickslip: error:`` or
+    clap's ``error:`` (prefix removed); else the last non-empty line that is not clap's ``Usage:``
+    / ``For more information`` boilerplate; else a line naming the exit code."""
+    # (splitlines also splits at a progress bar's '\r'; colours are dropped)
+    lines = [_ANSI.sub("", line).strip() for line in (err or "").splitlines()]
+    for line in reversed(lines):
+        for prefix in ("stickslip: error:", "error:"):
+            if line.startswith(prefix) and line[len(prefix):].strip():
+                return line[len(prefix):].strip()
+    for line in reversed(lines):
+        if line and not line.startswith(("For more information", "Usage:")):
+            return line
+    return f"stickslip exited with code {returncode}" + (" (its message is above)" if err is None else "")
 
 
 def _run_stage(argv: list, progress: bool = False) -> None:
@@ -52,26 +103,72 @@ def _run_stage(argv: list, progress: bool = False) -> None:
         if err:
             sys.stderr.write(err)
         return
-    message = err.strip().splitlines()[-1] if err and err.strip() else f"stickslip exited with code {child.returncode} (its message is above)"
-    message = message.removeprefix("stickslip: error: ") if hasattr(message, "removeprefix") else message
-    raise (ValueError if child.returncode == 2 else RuntimeError)(message)
+    raise (ValueError if child.returncode == 2 else RuntimeError)(_error_line(err, child.returncode))
+
+
+def _is_bool(v: Any) -> bool:
+    """A Python or numpy boolean (``numpy.bool_``; named ``bool`` from numpy 2)."""
+    return isinstance(v, bool) or (type(v).__module__ == "numpy" and type(v).__name__ in ("bool_", "bool"))
+
+
+def _integer(name: str, value: Any, low: int = 1, high: int = _MAX_I64) -> int:
+    """``value`` as an int in [low, high] (a numpy integer too; not a bool or a float), else a
+    ``ValueError`` naming ``name`` and the value."""
+    n: Any = value
+    if not _is_bool(value):
+        try:
+            n = operator.index(value)
+        except TypeError:
+            pass
+    if not isinstance(n, int) or isinstance(n, bool) or not low <= n <= high:
+        raise ValueError(f"{name} = {n!r}: must be an integer between {low} and {high}")
+    return n
+
+
+def _optional_integer(name: str, value: Any, low: int = 1, high: int = _MAX_I64) -> Optional[int]:
+    return None if value is None else _integer(name, value, low, high)
+
+
+def _real(name: str, value: Any) -> float:
+    """``value`` as a finite float (any real number, numpy's too; not a bool), else a ``ValueError``."""
+    f = float(value) if isinstance(value, numbers.Real) and not _is_bool(value) else None
+    if f is None or not math.isfinite(f):
+        raise ValueError(f"{name} = {value if f is None else f!r}: must be a finite number")
+    return f
 
 
 def _scenario_args(scenario: Scenario) -> Dict[str, Optional[str]]:
-    """The extension's two ways to take a scenario: a path, or TOML text (a dict is written as TOML)."""
+    """The extension's two ways to take a scenario: ``{"path": ...}`` for a str or ``os.PathLike``
+    (always a path), ``{"toml_text": ...}`` for :class:`Toml` or a dict of sections (written as TOML)."""
     if scenario is None:
         return {}
+    if isinstance(scenario, Toml):
+        return {"toml_text": scenario.text}
     if isinstance(scenario, Mapping):
         return {"toml_text": _stickslip_toml(scenario)}
-    text = os.fspath(scenario)
-    if "\n" in text or "=" in text or "[" in text:
-        return {"toml_text": text}
-    return {"path": text}
+    if isinstance(scenario, str):
+        if "\n" in scenario:
+            shown = scenario if len(scenario) <= 60 else scenario[:57] + "..."
+            raise ValueError(f"scenario {shown!r}: a str is taken as a path, and this one holds a newline; TOML text must be given as stickslip.Toml(text)")
+        return {"path": scenario}
+    if isinstance(scenario, os.PathLike):
+        return {"path": os.fsdecode(scenario)}
+    raise ValueError(f"scenario: a path (str or os.PathLike), a dict of sections or stickslip.Toml(text), not {type(scenario).__name__}")
 
 
 def _sets(set: Optional[Mapping[str, Any]]) -> List[str]:
-    """Dotted keys and values as the CLI's ``--set KEY=VALUE`` arguments (TOML values)."""
-    return [f"{key}={_toml_literal(value)}" for key, value in (set or {}).items()]
+    """Dotted keys and values as the CLI's ``--set KEY=VALUE`` arguments (TOML values); every
+    error names the key."""
+    if set is None:
+        return []
+    if not isinstance(set, Mapping):
+        raise ValueError(f"set: a dict of dotted keys and values, e.g. {{'model.damping': 0.5}}, not {type(set).__name__}")
+    out = []
+    for key, value in set.items():
+        if not isinstance(key, str) or not key or "=" in key:
+            raise ValueError(f"set: key {key!r}: must be a dotted scenario key such as 'model.damping'")
+        out.append(f"{key}={_toml_literal(value, f'set: {key}')}")
+    return out
 
 
 def _cli_scenario_args(scenario: Scenario, set: Optional[Mapping[str, Any]], tmp: str) -> list:
@@ -79,7 +176,9 @@ def _cli_scenario_args(scenario: Scenario, set: Optional[Mapping[str, Any]], tmp
     args: list = []
     a = _scenario_args(scenario)
     if "path" in a:
-        args.append(a["path"])
+        path = a["path"] or ""
+        # (a relative path starting with '-' would be read as an option)
+        args.append(os.path.join(".", path) if path.startswith("-") else path)
     elif a:
         p = os.path.join(tmp, "scenario.toml")
         with open(p, "w", encoding="utf-8") as f:
@@ -90,19 +189,29 @@ def _cli_scenario_args(scenario: Scenario, set: Optional[Mapping[str, Any]], tmp
     return args
 
 
-def _toml_literal(v: Any) -> str:
-    """A Python value as a TOML literal (numbers, strings, booleans, lists, dicts)."""
-    if isinstance(v, bool):
+def _toml_literal(v: Any, where: str = "set") -> str:
+    """A Python value as a TOML literal: booleans (numpy's too), integers (any ``numbers.Integral``),
+    finite floats (any ``numbers.Real``), strings, lists and tuples (and numpy arrays, via
+    ``.tolist()``), dicts as inline tables. ``where`` (``"set: model.damping"``) names the key in
+    the ``ValueError`` for anything else, NaN and infinities included."""
+    if _is_bool(v):
         return "true" if v else "false"
-    if isinstance(v, (int, float)):
-        return repr(v) if not isinstance(v, float) or v == v else "nan"
     if isinstance(v, str):
         return json.dumps(v)
+    if isinstance(v, numbers.Integral):
+        return str(int(v))
+    if isinstance(v, numbers.Real):
+        f = float(v)
+        if not math.isfinite(f):
+            raise ValueError(f"{where} = {f!r}: must be a finite number")
+        return repr(f)
     if isinstance(v, Mapping):
-        return "{ " + ", ".join(f"{k} = {_toml_literal(x)}" for k, x in v.items()) + " }"
+        return "{ " + ", ".join(f"{k} = {_toml_literal(x, where)}" for k, x in v.items()) + " }"
     if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_literal(x) for x in v) + "]"
-    raise ValueError(f"set: {v!r} is not a scenario value")
+        return "[" + ", ".join(_toml_literal(x, where) for x in v) + "]"
+    if callable(getattr(v, "tolist", None)):
+        return _toml_literal(v.tolist(), where)
+    raise ValueError(f"{where} = {v!r}: not a scenario value (a number, string, boolean, list or dict)")
 
 
 def _stickslip_toml(d: Mapping[str, Any]) -> str:
@@ -111,7 +220,7 @@ def _stickslip_toml(d: Mapping[str, Any]) -> str:
         if not isinstance(keys, Mapping):
             raise ValueError(f"scenario: section {section!r} must be a dict of keys")
         lines.append(f"[{section}]")
-        lines += [f"{k} = {_toml_literal(v)}" for k, v in keys.items()]
+        lines += [f"{k} = {_toml_literal(v, f'scenario: {section}.{k}')}" for k, v in keys.items()]
     return "\n".join(lines) + "\n"
 
 
@@ -127,27 +236,51 @@ def simulate(
 ) -> Optional[Table]:
     """Simulate realizations of a scene.
 
-    ``scenario``: a path to a TOML file, TOML text, or a dict of sections (``{"belt": {"switch_rate": 1.0}}``);
-    keys it omits keep the paper's values (m = 1 kg, k = 4 N/m, n = 9.8 N, mu = 0.51, v0 = 1 m/s,
-    lambda = 5 /s, t_a = 10 s, 18,000 realizations). ``set``: dotted keys as the CLI's ``--set``
-    (``{"model.damping": 0.5}``; a list is a sweep, which only ``out=`` can write). ``realizations``,
-    ``seed`` override ``run.realizations`` and ``run.seed``. ``threads``: worker threads (default: all
-    cores; the rows do not depend on it).
+    Parameters
+    ----------
+    scenario : str, os.PathLike, dict, Toml or None
+        A ``str`` or ``os.PathLike`` is always the path of a TOML file (``=`` or ``[`` in it, as in
+        the sweep cells' ``hive/mass=1/scene.toml``, change nothing; a ``str`` holding a newline is
+        refused with a hint); a dict is sections of keys (``{"belt": {"switch_rate": 1.0}}``);
+        TOML text is given as ``stickslip.Toml(text)``. Keys it omits keep the paper's values
+        (m = 1 kg, k = 4 N/m, n = 9.8 N, mu = 0.51, v0 = 1 m/s, lambda = 5 /s, t_a = 10 s, 18,000
+        realizations). None: the paper scenario.
+    realizations : int, optional
+        Overrides ``run.realizations`` (at least 1).
+    seed : int, optional
+        Overrides ``run.seed`` (0 to 2**63 - 1).
+    set : dict, optional
+        Dotted keys as the CLI's ``--set`` (``{"model.damping": 0.5}``); values are numbers (numpy's
+        too; finite), strings, booleans, lists (numpy arrays too) or dicts. A list is a sweep, which
+        only ``out=`` can write.
+    threads : int, optional
+        Worker threads (default: all cores; the rows do not depend on it).
+    out : str or os.PathLike, optional
+        Write the dataset directory exactly as ``stickslip simulate --out`` does, and return None.
+    progress : bool
+        With ``out=``: the CLI's progress bar and summary line on a terminal (into memory nothing
+        is shown).
 
-    Returns the dataset (one row per realization; columns as the CLI's Parquet files, provenance
-    in the schema metadata) as an Arrow table, or, with ``out=``, writes the dataset directory
-    exactly as ``stickslip simulate --out`` does and returns None (``progress``: the CLI's progress
-    bar and summary line on a terminal; into memory nothing is shown).
+    Returns
+    -------
+    Table or None
+        The dataset (one row per realization; columns as the CLI's Parquet files, provenance in the
+        schema metadata) as an Arrow table; None with ``out=``.
+
+    Raises
+    ------
+    ValueError
+        Bad input, named: an argument, a scenario key or value, a file.
     """
+    realizations = _optional_integer("realizations", realizations)
+    seed = _optional_integer("seed", seed, 0)
+    threads = _optional_integer("threads", threads)
     if out is not None:
         with tempfile.TemporaryDirectory() as tmp:
-            argv = ["stickslip", *([] if progress else ["--quiet"]), "simulate", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out)]
-            if realizations is not None:
-                argv += ["--realizations", str(realizations)]
-            if seed is not None:
-                argv += ["--seed", str(seed)]
-            if threads is not None:
-                argv += ["--threads", str(threads)]
+            argv = ["stickslip", *([] if progress else ["--quiet"]), "simulate", *_cli_scenario_args(scenario, set, tmp), f"--out={os.fspath(out)}"]
+            argv += [] if realizations is None else [f"--realizations={realizations}"]
+            argv += [] if seed is None else [f"--seed={seed}"]
+            argv += [] if threads is None else [f"--threads={threads}"]
             _run_stage(argv, progress)
         return None
     return _stickslip.simulate_table(
@@ -193,33 +326,74 @@ def analyze(
             return analyze(os.path.join(tmp, "dataset"), out=out, args=args, progress=progress)
     quiet = [] if progress else ["--quiet"]
     if out is not None:
-        _run_stage(["stickslip", *quiet, "analyze", os.fspath(dataset), "--out", os.fspath(out), *args], progress)
+        _run_stage(["stickslip", *quiet, "analyze", _positional(os.fspath(dataset)), f"--out={os.fspath(out)}", *args], progress)
         return Analysis(Path(out))
     with tempfile.TemporaryDirectory() as tmp:
         adir = Path(tmp) / "analysis"
-        _run_stage(["stickslip", *quiet, "analyze", os.fspath(dataset), "--out", str(adir), *args], progress)
+        _run_stage(["stickslip", *quiet, "analyze", _positional(os.fspath(dataset)), f"--out={adir}", *args], progress)
         return Analysis(adir)
+
+
+def _positional(path: str) -> str:
+    """A path as a positional argument (a relative one starting with '-' would be read as an option)."""
+    return os.path.join(".", path) if path.startswith("-") else path
 
 
 def _stage_table(stage: str, table: str, scenario: Scenario, out: Union[str, "os.PathLike[str]"], realizations: int, set: Optional[Mapping[str, Any]], progress: bool) -> Table:
     """Run ``stickslip STAGE`` into ``out`` and read back its table."""
+    realizations = _integer("realizations", realizations)
     with tempfile.TemporaryDirectory() as tmp:
         quiet = [] if progress else ["--quiet"]
-        _run_stage(["stickslip", *quiet, stage, *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--realizations", str(realizations)], progress)
+        _run_stage(["stickslip", *quiet, stage, *_cli_scenario_args(scenario, set, tmp), f"--out={os.fspath(out)}", f"--realizations={realizations}"], progress)
     return _stickslip.read_parquet(os.path.join(os.fspath(out), table))
 
 
 def tradeoff(
     scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 100, set: Optional[Mapping[str, Any]] = None, progress: bool = False
 ) -> Table:
-    """The speed/accuracy trade (``stickslip tradeoff``) written into ``out``; returns ``tradeoff.parquet``."""
+    """The speed/accuracy trade (``stickslip tradeoff``) written into ``out``.
+
+    Parameters
+    ----------
+    scenario, set
+        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys).
+    out : str or os.PathLike
+        The output directory.
+    realizations : int
+        Realizations per setting (at least 1).
+    progress : bool
+        The CLI's progress on a terminal.
+
+    Returns
+    -------
+    Table
+        ``tradeoff.parquet``.
+    """
     return _stage_table("tradeoff", "tradeoff.parquet", scenario, out, realizations, set, progress)
 
 
 def sensitivity(
     scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 1000, set: Optional[Mapping[str, Any]] = None, progress: bool = False
 ) -> Table:
-    """Sobol indices (``stickslip sensitivity``) written into ``out``; returns ``sobol.parquet``."""
+    """Sobol indices (``stickslip sensitivity``) written into ``out``.
+
+    Parameters
+    ----------
+    scenario, set
+        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys); some key
+        must be random (a distribution).
+    out : str or os.PathLike
+        The output directory.
+    realizations : int
+        Pick-freeze samples N (at least 1; the run simulates N·(d+3) realizations for d random keys).
+    progress : bool
+        The CLI's progress on a terminal.
+
+    Returns
+    -------
+    Table
+        ``sobol.parquet``.
+    """
     return _stage_table("sensitivity", "sobol.parquet", scenario, out, realizations, set, progress)
 
 
@@ -234,24 +408,48 @@ def exact_law(
     set: Optional[Mapping[str, Any]] = None,
     progress: bool = False,
 ) -> Dict[str, Table]:
-    """The law without sampling (``stickslip exact-law``) written into ``out``; returns its tables
-    by name: ``stationary`` (the long run), ``moments`` (Table 1's means and variances of T_k,
-    L_k, D_k, H_k), ``survival`` (the law of D_k: P(D_k > t) and its density, on a grid with
-    ``tail_times`` added; default reproduce's), ``convergence``, ``density``, ``stick_survival``;
-    with ``counts`` = N (a resolution, 8 to 320; minutes), also ``counts`` (P(S_T = n) and
-    P(S_L = n)) and the S_T, S_L rows of ``moments``; with ``densities`` = N (a resolution, 8 to
-    320; minutes and gigabytes), also ``densities`` (the densities of T_k, L_k, H_k averaged over
-    100 cells of [0, t_a])."""
-    times = [] if tail_times is None else ["--tail-times", ",".join(repr(float(t)) for t in tail_times)]
-    if counts is not None:
-        times += ["--counts", str(int(counts))]
-    if densities is not None:
-        times += ["--densities", str(int(densities))]
+    """The law without sampling (``stickslip exact-law``) written into ``out``.
+
+    Parameters
+    ----------
+    scenario, set
+        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys).
+    out : str or os.PathLike
+        The output directory.
+    resolution : int
+        The finest resolution N (8 to 320; the solve runs at N/4, N/2 and N).
+    tail_times : sequence of float, optional
+        Times t [s] (finite, >= 0) at which P(D_k > t) is also evaluated; default reproduce's.
+    counts : int, optional
+        A resolution (8 to 320; minutes): also the laws of the counts S_T and S_L.
+    densities : int, optional
+        A resolution (8 to 320; minutes and gigabytes): also the densities of T_k, L_k, H_k.
+    progress : bool
+        The CLI's progress on a terminal.
+
+    Returns
+    -------
+    dict of str to Table
+        By name: ``stationary`` (the long run), ``moments`` (Table 1's means and variances of T_k,
+        L_k, D_k, H_k; with ``counts`` also S_T, S_L), ``survival`` (the law of D_k: P(D_k > t) and
+        its density, on a grid with ``tail_times`` added), ``convergence``, ``density``,
+        ``stick_survival``; with ``counts`` also ``counts`` (P(S_T = n), P(S_L = n)); with
+        ``densities`` also ``densities`` (averaged over 100 cells of [0, t_a]).
+    """
+    args = [f"--resolution={_integer('resolution', resolution, 1, _MAX_U32)}"]
+    if tail_times is not None:
+        times = [tail_times] if isinstance(tail_times, numbers.Real) else list(tail_times)
+        if not times:
+            raise ValueError("tail_times = []: give at least one time, or None for the default")
+        checked = [_real("tail_times", t) for t in times]
+        if any(t < 0 for t in checked):
+            raise ValueError(f"tail_times = {min(checked)!r}: must be a finite time >= 0 s")
+        args.append("--tail-times=" + ",".join(repr(t) for t in checked))
+    args += [] if counts is None else [f"--counts={_integer('counts', counts, 1, _MAX_U32)}"]
+    args += [] if densities is None else [f"--densities={_integer('densities', densities, 1, _MAX_U32)}"]
     with tempfile.TemporaryDirectory() as tmp:
         quiet = [] if progress else ["--quiet"]
-        _run_stage(
-            ["stickslip", *quiet, "exact-law", *_cli_scenario_args(scenario, set, tmp), "--out", os.fspath(out), "--resolution", str(resolution), *times], progress
-        )
+        _run_stage(["stickslip", *quiet, "exact-law", *_cli_scenario_args(scenario, set, tmp), f"--out={os.fspath(out)}", *args], progress)
     return {p.stem: _stickslip.read_parquet(str(p)) for p in sorted(Path(out).glob("*.parquet"))}
 
 
@@ -266,20 +464,49 @@ def predict(
     seed: Optional[int] = None,
     set: Optional[Mapping[str, Any]] = None,
 ) -> Table:
-    """The next stick from ``state`` = (x [m], mass velocity [m/s], belt velocity [m/s])
-    (``stickslip predict``): the mean and variance of the time to its start, its duration, the
-    slip after it and whether it ends by breakaway (with ``stuck``: first the current stick's
-    remaining time) — exact where the scene allows, and from ``futures`` conditional Monte Carlo
-    futures. Returns ``prediction.parquet`` (``variable``, ``method``, ``mean``, ``variance``,
-    ``error``, ``futures``)."""
-    x, v, belt = (float(s) for s in state)
+    """The next stick from a state (``stickslip predict``): the mean and variance of the time to
+    its start, its duration, the slip after it and whether it ends by breakaway — exact where the
+    scene allows, and from conditional Monte Carlo futures.
+
+    Parameters
+    ----------
+    state : tuple of three float
+        (x [m], mass velocity [m/s], belt velocity [m/s]), finite; the belt velocity one of the
+        belt's states.
+    scenario, set
+        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys).
+    stuck : bool
+        The mass is stuck now: first the current stick's remaining time.
+    futures : int, optional
+        Monte Carlo futures (at least 1).
+    horizon : float, optional
+        The futures' horizon [s] (finite, > 0).
+    resolution : int
+        The exact method's finest resolution (8 to 320).
+    seed : int, optional
+        Seed of the futures (0 to 2**63 - 1).
+
+    Returns
+    -------
+    Table
+        ``prediction.parquet`` (``variable``, ``method``, ``mean``, ``variance``, ``error``, ``futures``).
+    """
+    values = state.tolist() if callable(getattr(state, "tolist", None)) else state  # (a numpy array too)
+    values = list(values) if isinstance(values, (list, tuple)) else None
+    if values is None or len(values) != 3 or not all(isinstance(s, numbers.Real) and not _is_bool(s) and math.isfinite(s) for s in values):
+        raise ValueError(f"state = {state!r}: must be three finite numbers (x [m], mass velocity [m/s], belt velocity [m/s])")
+    x, v, belt = (float(s) for s in values)
+    args = [f"--state={x!r},{v!r},{belt!r}", f"--resolution={_integer('resolution', resolution, 1, _MAX_U32)}"]
+    args += ["--stuck"] if stuck else []
+    args += [] if futures is None else [f"--futures={_integer('futures', futures)}"]
+    if horizon is not None:
+        h = _real("horizon", horizon)
+        if h <= 0:
+            raise ValueError(f"horizon = {h!r}: must be a positive number of seconds")
+        args.append(f"--horizon={h!r}")
+    args += [] if seed is None else [f"--seed={_integer('seed', seed, 0)}"]
     with tempfile.TemporaryDirectory() as tmp:
-        args = ["stickslip", "--quiet", "predict", *_cli_scenario_args(scenario, set, tmp), f"--state={x!r},{v!r},{belt!r}", "--resolution", str(resolution), "--out", os.path.join(tmp, "p")]
-        args += ["--stuck"] if stuck else []
-        args += ["--futures", str(futures)] if futures is not None else []
-        args += ["--horizon", repr(float(horizon))] if horizon is not None else []
-        args += ["--seed", str(seed)] if seed is not None else []
-        _run_stage(args)
+        _run_stage(["stickslip", "--quiet", "predict", *_cli_scenario_args(scenario, set, tmp), *args, f"--out={os.path.join(tmp, 'p')}"])
         return _stickslip.read_parquet(os.path.join(tmp, "p", "prediction.parquet"))
 
 

@@ -40,7 +40,7 @@ def test_any_thread_count_gives_the_same_rows() -> None:
 
 def test_a_dict_toml_text_and_set_are_the_same_scenario() -> None:
     by_dict = stickslip.simulate({"model": {"damping": 0.5}, "run": {"realizations": 500}})
-    by_text = stickslip.simulate("[model]\ndamping = 0.5\n[run]\nrealizations = 500\n")
+    by_text = stickslip.simulate(stickslip.Toml("[model]\ndamping = 0.5\n[run]\nrealizations = 500\n"))
     by_set = stickslip.simulate(set={"model.damping": 0.5}, realizations=500)
     frames = [pl.DataFrame(t) for t in (by_dict, by_text, by_set)]
     assert frames[0].equals(frames[1]) and frames[0].equals(frames[2])
@@ -187,3 +187,129 @@ def test_exact_law_and_predict_return_the_cli_tables(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="--densities: the initial condition is a point"):
         stickslip.exact_law(out=tmp_path / "law3", resolution=16, densities=8, set=point)
     assert not (tmp_path / "law3").exists()
+
+
+def test_a_path_with_equals_and_brackets_is_read_as_a_path(tmp_path: Path) -> None:
+    # named like the tool's own sweep cells: `=` and `[` are no sign of TOML text
+    cell = tmp_path / "hive[0]" / "mass=1"
+    cell.mkdir(parents=True)
+    (cell / "scene.toml").write_text("[model]\ndamping = 0.5\n")
+    by_dict = pl.DataFrame(stickslip.simulate({"model": {"damping": 0.5}}, realizations=20))
+    assert by_dict.height == 20
+    assert pl.DataFrame(stickslip.simulate(str(cell / "scene.toml"), realizations=20)).equals(by_dict)
+    assert pl.DataFrame(stickslip.simulate(cell / "scene.toml", realizations=20)).equals(by_dict)
+    # through the command line too (out=)
+    stickslip.simulate(str(cell / "scene.toml"), realizations=20, out=tmp_path / "d")
+    assert pl.read_parquet(tmp_path / "d").sort("realization").equals(by_dict)
+    # a missing one is a missing file, not bad TOML
+    with pytest.raises(ValueError, match="nope=1"):
+        stickslip.simulate(str(tmp_path / "[x]" / "nope=1.toml"), realizations=20)
+
+
+def test_toml_text_is_given_as_toml_and_a_str_with_a_newline_is_refused(tmp_path: Path) -> None:
+    text = stickslip.Toml("[model]\ndamping = 0.5\n")
+    assert "Toml" in stickslip.__all__ and text.text == "[model]\ndamping = 0.5\n"
+    by_dict = pl.DataFrame(stickslip.simulate({"model": {"damping": 0.5}}, realizations=20))
+    assert pl.DataFrame(stickslip.simulate(text, realizations=20)).equals(by_dict)
+    stickslip.simulate(text, realizations=20, out=tmp_path / "d")
+    assert pl.read_parquet(tmp_path / "d").sort("realization").equals(by_dict)
+    # a str is a path, whatever it holds; one with a newline gets the hint
+    with pytest.raises(ValueError, match=r"taken as a path.*stickslip\.Toml\(text\)"):
+        stickslip.simulate("[model]\ndamping = 0.5\n", realizations=20)
+    with pytest.raises(ValueError, match=r"stickslip\.Toml\(text\)"):
+        stickslip.exact_law("[model]\ndamping = 0.5\n", out=tmp_path / "law", resolution=16)
+    assert not (tmp_path / "law").exists()
+
+
+def test_numpy_numbers_in_set_are_the_python_numbers() -> None:
+    np = pytest.importorskip("numpy")
+    by_numpy = pl.DataFrame(stickslip.simulate(set={"model.damping": np.float64(0.5), "run.realizations": np.int64(20)}))
+    by_python = pl.DataFrame(stickslip.simulate(set={"model.damping": 0.5, "run.realizations": 20}))
+    assert by_numpy.height == 20 and by_numpy.equals(by_python)
+    # numpy integers as arguments, numpy arrays as lists, numpy booleans as booleans
+    assert pl.DataFrame(stickslip.simulate(set={"model.damping": np.float32(0.5)}, realizations=np.int64(20), seed=np.uint64(1))).height == 20
+    assert stickslip._sets({"model.damping": np.array([0.0, 0.5]), "a.b": np.bool_(True), "a.c": np.int32(-3)}) == [
+        "model.damping=[0.0, 0.5]",
+        "a.b=true",
+        "a.c=-3",
+    ]
+
+
+def test_a_value_that_is_not_finite_is_refused_naming_its_key() -> None:
+    with pytest.raises(ValueError, match="set: model.damping = nan: must be a finite number"):
+        stickslip.simulate(set={"model.damping": float("nan")}, realizations=20)
+    np = pytest.importorskip("numpy")
+    with pytest.raises(ValueError, match="set: model.damping = inf: must be a finite number"):
+        stickslip.simulate(set={"model.damping": np.float64("inf")}, realizations=20)
+    with pytest.raises(ValueError, match="model.damping = -inf"):
+        stickslip.simulate(set={"model.damping": [0.0, -np.inf]}, realizations=20)
+    with pytest.raises(ValueError, match="scenario: model.damping = nan"):
+        stickslip.simulate({"model": {"damping": np.nan}}, realizations=20)
+    with pytest.raises(ValueError, match="set: model.damping = .*not a scenario value"):
+        stickslip.simulate(set={"model.damping": object()}, realizations=20)
+
+
+def test_bad_integer_arguments_raise_value_error_naming_them(tmp_path: Path) -> None:
+    # checked before the extension or the command line sees them (no OverflowError)
+    with pytest.raises(ValueError, match="seed = -1: must be an integer between 0 and 9223372036854775807"):
+        stickslip.simulate(seed=-1, realizations=20)
+    with pytest.raises(ValueError, match="seed = 9223372036854775808"):
+        stickslip.simulate(seed=2**63, realizations=20)
+    with pytest.raises(ValueError, match="realizations = -5: must be an integer"):
+        stickslip.simulate(realizations=-5)
+    with pytest.raises(ValueError, match="realizations = 2.5"):
+        stickslip.simulate(realizations=2.5)
+    with pytest.raises(ValueError, match="threads = 0"):
+        stickslip.simulate(realizations=20, threads=0)
+    with pytest.raises(ValueError, match="seed = True"):
+        stickslip.simulate(realizations=20, seed=True)
+    with pytest.raises(ValueError, match="seed = -1"):
+        stickslip.simulate(realizations=20, seed=-1, out=tmp_path / "d")
+    assert not (tmp_path / "d").exists()
+    with pytest.raises(ValueError, match="realizations = -5"):
+        stickslip.tradeoff(out=tmp_path / "t", realizations=-5)
+    with pytest.raises(ValueError, match="realizations = 0"):
+        stickslip.sensitivity(out=tmp_path / "s", realizations=0)
+    with pytest.raises(ValueError, match="resolution = 0"):
+        stickslip.exact_law(out=tmp_path / "law", resolution=0)
+    with pytest.raises(ValueError, match="counts = -1"):
+        stickslip.exact_law(out=tmp_path / "law", resolution=16, counts=-1)
+    with pytest.raises(ValueError, match="futures = 0"):
+        stickslip.predict((0.5, 0.0, 1.0), futures=0)
+    with pytest.raises(ValueError, match="seed = -1"):
+        stickslip.predict((0.5, 0.0, 1.0), seed=-1)
+    assert not (tmp_path / "t").exists() and not (tmp_path / "s").exists() and not (tmp_path / "law").exists()
+
+
+def test_exact_law_and_predict_refuse_bad_numbers_naming_the_argument(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="tail_times = -1.0") as e:
+        stickslip.exact_law(out=tmp_path / "law", resolution=16, tail_times=[-1])
+    assert "--help" not in str(e.value)
+    with pytest.raises(ValueError, match="tail_times = nan"):
+        stickslip.exact_law(out=tmp_path / "law", resolution=16, tail_times=[0.5, float("nan")])
+    assert not (tmp_path / "law").exists()
+    with pytest.raises(ValueError, match="horizon = -1.0: must be a positive number"):
+        stickslip.predict((0.5, 0.0, 1.0), horizon=-1)
+    with pytest.raises(ValueError, match="horizon = inf"):
+        stickslip.predict((0.5, 0.0, 1.0), horizon=float("inf"))
+    with pytest.raises(ValueError, match=r"state = \(nan, 0, 1\): must be three finite numbers"):
+        stickslip.predict((float("nan"), 0, 1))
+    with pytest.raises(ValueError, match="state = "):
+        stickslip.predict((0.5, 0.0))
+
+
+def test_the_error_of_a_stage_is_its_error_line_not_the_help_hint(tmp_path: Path) -> None:
+    clap = (
+        "error: unexpected argument '-1' found\n\n  tip: to pass '-1' as a value, use '-- -1'\n\n"
+        "Usage: stickslip predict [OPTIONS] --state <X,V,V_BELT> [SCENARIO]\n\nFor more information, try '--help'.\n"
+    )
+    assert stickslip._error_line(clap, 2) == "unexpected argument '-1' found"
+    ours = "warning: 3 futures had not finished\nstickslip: error: set: model.mass = -1: must be > 0\n"
+    assert stickslip._error_line(ours, 2) == "set: model.mass = -1: must be > 0"
+    assert stickslip._error_line("Usage: stickslip x\n\nFor more information, try '--help'.\n", 2) == "stickslip exited with code 2"
+    assert stickslip._error_line("Traceback (most recent call last):\nMemoryError: boom\n\n", 1) == "MemoryError: boom"
+    assert stickslip._error_line("", 1) == "stickslip exited with code 1"
+    # and a real clap error, through the child process
+    with pytest.raises(ValueError, match=r"'-3'|--bins") as e:
+        stickslip.analyze(tmp_path, args=("--bins", "-3"))
+    assert "For more information" not in str(e.value)

@@ -15,7 +15,7 @@ use parquet::file::reader::{FileReader, SerializedFileReader};
 
 use crate::metadata as meta;
 use crate::scenario::Scenario;
-use crate::simulation::dataset::{READABLE_VERSIONS, REQUIRED};
+use crate::simulation::dataset::{READABLE_VERSIONS, REQUIRED, V3_COLUMNS};
 
 /// A checked dataset.
 #[derive(Debug, Clone)]
@@ -41,6 +41,9 @@ pub struct Dataset {
     pub switch_times: bool,
     /// whether the parts have the tails' state of schema v3 (`columns::TAILS_STATE`)
     pub tails_state: bool,
+    /// the belt's velocity levels where the scenario fixes them (a symmetric, telegraph or
+    /// Markov belt whose speeds are not drawn): every stick starts at one of them
+    pub belt_levels: Option<Vec<f64>>,
     /// The directory of the trajectory tables beside the dataset ([`crate::simulation::trajectory::dir_for`]),
     /// when the simulation sampled trajectories.
     pub trajectories: Option<PathBuf>,
@@ -96,6 +99,16 @@ impl crate::blame::Blame for InputError {
     }
 }
 
+/// A footer value for a message: its first line, at most 60 characters.
+fn short_value(v: &str) -> String {
+    let line = v.lines().next().unwrap_or("");
+    if line.chars().count() > 60 || v.lines().count() > 1 {
+        format!("{}…", line.chars().take(60).collect::<String>())
+    } else {
+        line.to_string()
+    }
+}
+
 fn bad(path: &Path, reason: impl Into<String>) -> InputError {
     InputError::File { path: path.to_owned(), reason: reason.into() }
 }
@@ -145,6 +158,8 @@ fn type_name(t: &DataType) -> String {
         DataType::Int64 => "int64".into(),
         DataType::Boolean => "bool".into(),
         DataType::Float64 => "float64".into(),
+        DataType::Float32 => "float32".into(),
+        DataType::Utf8 | DataType::LargeUtf8 | DataType::Utf8View => "utf8".into(),
         DataType::List(f) | DataType::LargeList(f) => format!("list<{}>", type_name(f.data_type())),
         other => other.to_string(),
     }
@@ -165,7 +180,13 @@ struct Part {
     /// it, at its own target); None for every other part
     block: Option<std::ops::Range<u64>>,
     stamp: Stamp,
+    /// the footer's provenance that every part of one run shares (all keys but the part's own:
+    /// its shard, range and block), sorted
+    shared: Vec<(String, String)>,
 }
+
+/// The footer keys that differ between the parts of one run.
+const PER_PART: [&str; 5] = ["stickslip.shard", meta::REALIZATION_RANGE, meta::SHARD_BLOCK, "stickslip.target_se_reached", "stickslip.target_se_met"];
 
 /// Check one part file's footer.
 fn check(path: &Path) -> Result<Part, InputError> {
@@ -189,9 +210,18 @@ fn check(path: &Path) -> Result<Part, InputError> {
             return Err(bad(path, format!("column `{name}` is {got}, expected {want}")));
         }
     }
+    // schema v3's columns: all of them, in their types, in a v3 part (a part that lacks one is
+    // not analysed as v2); none of them is read from an older part
+    let tails_state = version == "3";
+    for (name, want) in V3_COLUMNS.iter().filter(|_| tails_state) {
+        let field = schema.field_with_name(name).map_err(|_| bad(path, format!("missing column `{name}` (schema version 3 has it)")))?;
+        let got = type_name(field.data_type());
+        if got != *want {
+            return Err(bad(path, format!("column `{name}` is {got}, expected {want}")));
+        }
+    }
     let scenario = get(meta::SCENARIO).ok_or_else(|| bad(path, format!("no {} in its metadata", meta::SCENARIO)))?;
     let switch_times = schema.field_with_name(crate::simulation::dataset::columns::SWITCH_TIMES).is_ok();
-    let tails_state = crate::simulation::dataset::columns::TAILS_STATE.iter().all(|c| schema.field_with_name(c).is_ok());
     let number = |key: &str| -> Result<u64, InputError> {
         get(key).and_then(|v| v.trim().parse().ok()).ok_or_else(|| bad(path, format!("no valid {key} in its metadata")))
     };
@@ -216,7 +246,33 @@ fn check(path: &Path) -> Result<Part, InputError> {
             return Err(bad(path, "its stickslip.shard_block does not hold its realization_range"));
         }
     }
-    Ok(Part { rows, scenario, switch_times, tails_state, total, range, block, stamp })
+    // the shard the file is named for, its footer's shard, and the range that shard holds
+    let named = path.file_name().and_then(|n| n.to_str()).and_then(|n| {
+        let (i, n) = n.strip_prefix("part-")?.strip_suffix(".parquet")?.split_once("-of-")?;
+        Some((i.parse::<u64>().ok()?, n.parse::<u64>().ok()?))
+    });
+    if let Some(declared) = get("stickslip.shard") {
+        let shard: Option<crate::simulation::simulate::Shard> = declared.parse().ok();
+        let Some(shard) = shard.filter(|s| named.is_none_or(|n| n == (s.index, s.count))) else {
+            return Err(bad(path, format!("its footer's stickslip.shard = {declared} is not the shard its name says (part I of N: part-IIIII-of-NNNNN)")));
+        };
+        let own = shard.range(total);
+        let held = block.clone().unwrap_or(range.clone());
+        if held != own {
+            return Err(bad(
+                path,
+                format!("holds realizations {}..{}, but shard {declared} of {total} realizations holds {}..{}", held.start, held.end, own.start, own.end),
+            ));
+        }
+    }
+    let mut shared: Vec<(String, String)> = kv
+        .into_iter()
+        .flatten()
+        .filter(|e| e.key.starts_with("stickslip.") && !PER_PART.contains(&e.key.as_str()) && e.key != meta::SCENARIO)
+        .map(|e| (e.key.clone(), e.value.clone().unwrap_or_default()))
+        .collect();
+    shared.sort();
+    Ok(Part { rows, scenario, switch_times, tails_state, total, range, block, stamp, shared })
 }
 
 /// Find and check the dataset below `dir` (a single scenario, complete).
@@ -269,10 +325,40 @@ pub fn open_cells(dir: &Path, allow_partial: bool) -> Result<Vec<(String, Datase
     Ok(cells)
 }
 
+/// The parts of one run share their whole provenance, not only the scenario: a part of another
+/// seed, solver, schema or tool version is another run's. The message names a part that differs
+/// from most of the others (the odd one), and one of those.
+fn disagreement(parts: &[(PathBuf, Part)]) -> Result<(), InputError> {
+    let value = |q: &Part, k: &str| q.shared.iter().find(|(key, _)| key == k).map(|(_, v)| v.clone());
+    let mut keys: Vec<&str> = parts.iter().flat_map(|(_, p)| p.shared.iter().map(|(k, _)| k.as_str())).collect();
+    keys.sort_unstable();
+    keys.dedup();
+    for k in keys {
+        let values: Vec<Option<String>> = parts.iter().map(|(_, p)| value(p, k)).collect();
+        let most =
+            values.iter().max_by_key(|v| (values.iter().filter(|w| w == v).count(), std::cmp::Reverse(values.iter().position(|w| w == *v)))).expect("parts");
+        if let Some(odd) = values.iter().position(|v| v != most) {
+            let usual = values.iter().position(|v| v == most).expect("the most common value is held");
+            let shown = |v: &Option<String>| v.as_deref().map_or("(absent)".to_string(), short_value);
+            return Err(bad(
+                &parts[odd].0,
+                format!(
+                    "its footer's {k} = {} differs from {}'s {} (the parts of one run share their provenance: is it from another run?)",
+                    shown(&values[odd]),
+                    parts[usual].0.display(),
+                    shown(most)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Check the part files of one directory as one dataset: one scenario, and realization ranges
 /// that neither overlap nor (unless `allow_partial`) leave gaps.
 fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Dataset, InputError> {
     let mut parts: Vec<(PathBuf, Part)> = files.into_iter().map(|f| check(&f).map(|p| (f, p))).collect::<Result<_, _>>()?;
+    disagreement(&parts)?;
     let (first, p0) = (&parts[0].0, &parts[0].1);
     for (f, p) in &parts[1..] {
         if p.scenario != p0.scenario {
@@ -351,11 +437,29 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         files: parts.into_iter().map(|(f, _)| f).collect(),
         expected_rows,
         missing,
-        scenario,
         switch_times,
         tails_state,
+        belt_levels: belt_levels(&scenario),
         trajectories,
+        scenario,
     })
+}
+
+/// The velocity levels of a recorded scenario's belt where they are fixed (module docs of
+/// [`Dataset::belt_levels`]); None for a record (its file may be gone) or a drawn speed.
+fn belt_levels(scenario: &Scenario) -> Option<Vec<f64>> {
+    use crate::scenario::{Param, ProcessName};
+    use crate::simulation::belt::Process;
+    let fixed = |p: &Option<Param>| !matches!(p, Some(Param::Random(_)) | Some(Param::Sweep(_)));
+    if scenario.process_name() == ProcessName::Recorded || !fixed(&Some(scenario.belt.speed.clone())) || !fixed(&scenario.belt.reverse_speed) {
+        return None;
+    }
+    match scenario.scene().ok()?.belt.process {
+        Process::Symmetric(s) => Some(vec![s.speed, -s.speed]),
+        Process::Telegraph(t) => Some(vec![t.forward_speed, -t.reverse_speed]),
+        Process::Markov(m) => Some(m.velocities().to_vec()),
+        Process::Recorded(_) => None,
+    }
 }
 
 /// The name of the row number column of [`scan`].

@@ -114,6 +114,12 @@ impl Options {
         if let Some(s) = self.tail.severity.iter().find(|s| !(s.is_finite() && **s >= 0.0)) {
             return Err(AnalysisError::Options(format!("--severity {s}: must be a finite number >= 0")));
         }
+        if let Some(p) = self.pairs.iter().find(|p| [p.0, p.1].iter().any(|o| o.index().is_some_and(|k| k > self.max_index))) {
+            return Err(AnalysisError::Options(format!(
+                "--pair {},{}: an index above --max-index {} (raise --max-index to analyse it)",
+                p.0, p.1, self.max_index
+            )));
+        }
         Ok(())
     }
 }

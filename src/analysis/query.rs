@@ -173,7 +173,7 @@ fn file_frame(
     n_rules: &mut usize,
 ) -> PolarsResult<LazyFrame> {
     let t_a = data.scenario.run.duration;
-    let rules = if batch.extras { rules(data.file_starts[file], t_a, data.switch_times, data.tails_state) } else { Vec::new() };
+    let rules = if batch.extras { rules(data.file_starts[file], data) } else { Vec::new() };
     *n_rules = rules.len();
     // the observables whose values this batch needs: its own, and those of the pairs and the
     // convergence table in the batch that does them

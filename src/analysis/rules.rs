@@ -6,6 +6,7 @@ use polars::prelude::*;
 use super::input::{scan, Dataset, ROW};
 use crate::observables::SEVERITY_BOUND;
 use crate::simulation::dataset::columns::{self as name, LISTS};
+use crate::simulation::events::StickEnd;
 
 /// The list columns of a part, with their count columns and whether they are ordered.
 fn lists(switch_times: bool) -> impl Iterator<Item = (&'static str, &'static str, bool)> {
@@ -27,7 +28,8 @@ pub(crate) struct Rule {
 /// its list, below 2^40); event times are finite and in [0, t_a]; start instants do not
 /// decrease; the stick durations add up to at most t_a; no nulls; with the tails' state
 /// (`tails`), one end and one entry state per stick.
-pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool, tails: bool) -> Vec<Rule> {
+pub(crate) fn rules(first: u64, data: &Dataset) -> Vec<Rule> {
+    let (horizon, switch_times, tails) = (data.scenario.run.duration, data.switch_times, data.tails_state);
     let mut out = vec![Rule { bad: col(name::REALIZATION).neq(lit(first as i64) + col(ROW).cast(DataType::Int64)).fill_null(lit(true)) }];
     if !switch_times {
         let q = col(name::N_SWITCHES).cast(DataType::Int64);
@@ -42,36 +44,77 @@ pub(crate) fn rules(first: u64, horizon: f64, switch_times: bool, tails: bool) -
     }
     out.push(Rule { bad: col(name::LAST_TRUNCATED).is_null() });
     for list in PER_STICK.iter().filter(|_| tails) {
-        out.push(Rule { bad: length_rule(list) });
+        let levels = if *list == name::STICK_ENTRY_VELOCITY { data.belt_levels.clone() } else { None };
+        out.push(Rule { bad: per_stick_rule(list, levels) });
     }
     if tails {
         out.push(Rule { bad: severity_outside().fill_null(lit(true)) });
+        out.push(Rule { bad: tail_scalars_outside(top).fill_null(lit(true)) });
     }
     out
 }
+
+/// True where a per-realization float of schema v3 breaks its rule ([`SCALAR_RULES`]; NaN sorts
+/// above every number in polars, so it fails every upper bound), or min_velocity > max_velocity.
+fn tail_scalars_outside(top: f64) -> Expr {
+    let within = |c: &str, (lo, hi): (f64, f64)| col(c).gt_eq(lit(lo)).and(col(c).lt_eq(lit(hi)));
+    let ok = SCALAR_RULES.iter().map(|&(c, range)| within(c, range(top))).reduce(|a, b| a.and(b)).expect("rules");
+    ok.and(col(name::MIN_VELOCITY).lt_eq(col(name::MAX_VELOCITY))).not()
+}
+
+/// The range of each per-realization float of schema v3 but the severity, given t_a (with its
+/// rounding slack): the longest stick in [0, t_a], the stick fraction in [0, 1], the velocities
+/// finite, the slip speed finite and ≥ 0.
+const SCALAR_RULES: [(&str, fn(f64) -> (f64, f64)); 5] = [
+    (name::LONGEST_STICK, |top| (0.0, top)),
+    (name::STICK_FRACTION, |_| (0.0, 1.0 + 1e-9)),
+    (name::MIN_VELOCITY, |_| (-f64::MAX, f64::MAX)),
+    (name::MAX_VELOCITY, |_| (-f64::MAX, f64::MAX)),
+    (name::MAX_SLIP_SPEED, |_| (0.0, f64::MAX)),
+];
 
 /// True where the severity is not a number in [0, `SEVERITY_BOUND`] (NaN sorts above every
 /// number in polars, so it fails the upper bound).
 fn severity_outside() -> Expr {
     let s = col(name::SEVERITY);
-    s.clone().gt_eq(lit(0.0)).and(s.lt_eq(lit(SEVERITY_BOUND))).not()
+    // (−0.0 passes ≥ 0 but is never written: (max − min)/(2 v0) is +0 at least)
+    let negative_zero = s.clone().eq(lit(0.0)).and((lit(1.0) / s.clone()).lt(lit(0.0)));
+    s.clone().gt_eq(lit(0.0)).and(s.lt_eq(lit(SEVERITY_BOUND))).not().or(negative_zero)
 }
 
 /// The per-stick lists of schema v3, one element per stick (`n_stick`).
 const PER_STICK: [&str; 3] = [name::STICK_END, name::STICK_ENTRY_POSITION, name::STICK_ENTRY_VELOCITY];
 
-/// True where the list `list` (of any element type) is null or its length differs from `n_stick`.
-fn length_rule(list: &'static str) -> Expr {
+/// True where the per-stick list `list` is null, its length differs from `n_stick`, or an
+/// element is null or breaks the element rule: a `stick_end` is `flip`, `breakaway` or `horizon`;
+/// an entry position or velocity is a finite number, and an entry velocity one of the belt's
+/// `levels` where they are known.
+fn per_stick_rule(list: &'static str, levels: Option<Vec<f64>>) -> Expr {
     use polars_arrow::array::Array;
     col(list).map_many(
         move |cols: &mut [Column]| {
             let lists = cols[0].list()?.rechunk();
             let counts = cols[1].cast(&DataType::Int64)?;
             let counts = counts.i64()?.rechunk();
+            let inner = lists.get_inner();
+            let element_bad: Vec<bool> = match inner.dtype() {
+                DataType::String => inner.str()?.iter().map(|v| !v.is_some_and(|v| StickEnd::ALL.iter().any(|e| e.name() == v))).collect(),
+                _ => inner
+                    .cast(&DataType::Float64)?
+                    .f64()?
+                    .iter()
+                    .map(|v| !v.is_some_and(|v| v.is_finite() && levels.as_ref().is_none_or(|l| l.contains(&v))))
+                    .collect(),
+            };
             let bad: BooleanChunked = match (lists.downcast_iter().next(), counts.downcast_iter().next()) {
                 (Some(arr), Some(n)) => {
                     let o = arr.offsets().as_slice();
-                    (0..arr.len()).map(|r| !arr.is_valid(r) || !n.is_valid(r) || n.value(r) != o[r + 1] - o[r]).collect()
+                    (0..arr.len())
+                        .map(|r| {
+                            let (a, b) = (o[r] as usize, o[r + 1] as usize);
+                            !arr.is_valid(r) || !n.is_valid(r) || n.value(r) != o[r + 1] - o[r] || element_bad.get(a..b).is_none_or(|e| e.contains(&true))
+                        })
+                        .collect()
                 }
                 _ => BooleanChunked::full_null("".into(), 0),
             };
@@ -134,7 +177,7 @@ fn list_rule(list: &'static str, count: &'static str, top: f64, ordered: bool, t
 pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
     for data in cells {
         for f in 0..data.files.len() {
-            let rules = rules(data.file_starts[f], data.scenario.run.duration, data.switch_times, data.tails_state);
+            let rules = rules(data.file_starts[f], data);
             let any = rules.iter().map(|r| r.bad.clone()).reduce(|a, b| a.or(b)).expect("rules");
             let found = scan(&data.files[f], None, true).and_then(|lf| lf.filter(any).limit(1).collect());
             let df = match found {
@@ -142,8 +185,7 @@ pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
                 Ok(df) => df,
                 Err(e) => return polars_err!(ComputeError: "{}: {e}", data.files[f].display()),
             };
-            let why = row_problem(&df, data.file_starts[f], data.scenario.run.duration, data.switch_times, data.tails_state)
-                .unwrap_or_else(|| "a value breaks the dataset's rules".into());
+            let why = row_problem(&df, data.file_starts[f], data).unwrap_or_else(|| "a value breaks the dataset's rules".into());
             return polars_err!(ComputeError: "{}: {why}", data.files[f].display());
         }
     }
@@ -152,7 +194,8 @@ pub(crate) fn locate(cells: &[&Dataset]) -> PolarsError {
 
 /// The message for the first broken rule of a one-row frame (row `__row` of a part whose first
 /// realization is `first`): row, realization, column, and what is wrong.
-fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool, tails: bool) -> Option<String> {
+fn row_problem(df: &DataFrame, first: u64, data: &Dataset) -> Option<String> {
+    let (horizon, switch_times, tails) = (data.scenario.run.duration, data.switch_times, data.tails_state);
     let int = |name: &str| df.column(name).ok()?.cast(&DataType::Int64).ok()?.i64().ok()?.get(0);
     let row = int(ROW)? as u64;
     let id = int(name::REALIZATION);
@@ -198,9 +241,28 @@ fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool, tai
         return Some(why);
     }
     if tails {
-        let severity = df.column(name::SEVERITY).ok()?.f64().ok()?.get(0);
-        if !severity.is_some_and(|x| (0.0..=SEVERITY_BOUND).contains(&x)) {
-            return at(name::SEVERITY, format!("{} (a severity lies in [0, {SEVERITY_BOUND}])", severity.map_or("null".into(), crate::scenario::short)));
+        let float = |c: &str| df.column(c).ok()?.f64().ok()?.get(0);
+        let shown = |x: Option<f64>| x.map_or("null".into(), crate::scenario::short);
+        let severity = float(name::SEVERITY);
+        if !severity.is_some_and(|x| (0.0..=SEVERITY_BOUND).contains(&x) && !(x == 0.0 && x.is_sign_negative())) {
+            return at(name::SEVERITY, format!("{} (a severity lies in [0, {SEVERITY_BOUND:e}])", shown(severity)));
+        }
+        let top = horizon * (1.0 + 1e-12);
+        for (c, range) in SCALAR_RULES {
+            let (lo, hi) = range(top);
+            let x = float(c);
+            if !x.is_some_and(|x| x >= lo && x <= hi) {
+                let rule = if hi == f64::MAX {
+                    format!("a finite number{}", if lo == 0.0 { " >= 0" } else { "" })
+                } else {
+                    format!("a number in [{}, {}]", shown(Some(lo)), shown(Some(hi)))
+                };
+                return at(c, format!("{} (it is {rule})", shown(x)));
+            }
+        }
+        let (lo, hi) = (float(name::MIN_VELOCITY), float(name::MAX_VELOCITY));
+        if !(lo <= hi) {
+            return at(name::MIN_VELOCITY, format!("{} is above max_velocity = {}", shown(lo), shown(hi)));
         }
     }
     let n = int(name::N_STICK)?;
@@ -208,8 +270,30 @@ fn row_problem(df: &DataFrame, first: u64, horizon: f64, switch_times: bool, tai
         match df.column(c).ok()?.list().ok()?.get_as_series(0) {
             None => return at(c, "a null list (lists are never null; an empty list is [])".into()),
             Some(l) if l.len() as i64 != n => return at(c, format!("{} values, but `{}` = {n} (one per stick)", l.len(), name::N_STICK)),
-            Some(_) => {}
+            Some(l) if l.dtype() == &DataType::String => {
+                let ends = l.str().ok()?;
+                if let Some(v) = ends.iter().find(|v| !v.is_some_and(|v| StickEnd::ALL.iter().any(|e| e.name() == v))) {
+                    return at(c, format!("{:?} (a stick ends by flip, breakaway or horizon)", v.unwrap_or("null")));
+                }
+            }
+            Some(l) => {
+                let values = l.cast(&DataType::Float64).ok()?;
+                let bad = values.f64().ok()?.iter().find(|v| !v.is_some_and(f64::is_finite));
+                if let Some(v) = bad {
+                    return at(c, format!("{} (an entry state is a finite number)", shown_opt(v)));
+                }
+                let levels = data.belt_levels.as_ref().filter(|_| *c == name::STICK_ENTRY_VELOCITY);
+                let off = levels.and_then(|l| values.f64().ok()?.iter().flatten().find(|v| !l.contains(v)));
+                if let (Some(v), Some(l)) = (off, levels) {
+                    let shown: Vec<String> = l.iter().map(|x| crate::scenario::short(*x)).collect();
+                    return at(c, format!("{} (a stick starts at a belt velocity, one of {})", crate::scenario::short(v), shown.join(", ")));
+                }
+            }
         }
     }
     None
+}
+
+fn shown_opt(x: Option<f64>) -> String {
+    x.map_or("null".into(), crate::scenario::short)
 }

@@ -290,7 +290,7 @@ pub struct AnalyzeArgs {
     #[arg(long, value_name = "S,...", value_delimiter = ',', default_values_t = analysis::DEFAULT_SEVERITY)]
     pub severity: Vec<f64>,
     /// Skip the tails (survival curves, conditional estimator, extremes).
-    #[arg(long)]
+    #[arg(long, conflicts_with_all = ["tail_times", "severity"])]
     pub no_tails: bool,
 }
 

@@ -67,8 +67,20 @@ fn scenes_command(args: &ScenesArgs) -> anyhow::Result<()> {
     let names: Vec<&str> = SHIPPED.iter().map(|s| s.name).collect();
     let scene = find(name).ok_or_else(|| usage(format!("no scene {name:?}; the scenes are {}", names.join(", "))))?;
     match &args.out {
-        None => print!("{}", scene.text),
-        Some(path) => crate::outdir::write_new_file(path, scene.text.as_bytes(), "--out")?,
+        None => {
+            print!("{}", scene.text);
+            for (file, _) in scene.companions {
+                eprintln!("note: this scene reads {file} beside it: `stickslip scenes {name} --out FILE` writes both");
+            }
+        }
+        Some(path) => {
+            // the files it reads first, beside it (each refused if something is there already)
+            let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            for (file, text) in scene.companions {
+                crate::outdir::write_new_file(&dir.join(file), text.as_bytes(), "--out")?;
+            }
+            crate::outdir::write_new_file(path, scene.text.as_bytes(), "--out")?;
+        }
     }
     Ok(())
 }
@@ -293,6 +305,30 @@ fn reproduce_command(args: ReproduceArgs, quiet: bool) -> anyhow::Result<()> {
     let dir = args.out.clone();
     let top = crate::outdir::prepare_reproduce(&dir, &scenario_inputs(&args.run.input))?;
     let layout = ReproduceLayout::new(&dir);
+    // what this run creates inside DIR (the entries absent now) is removed again should a later
+    // stage fail: a failing reproduce leaves nothing it created
+    let fresh: Vec<PathBuf> = ["dataset", "dataset.trajectories", "analysis", "figures", "report.html", "report.md", "reports"]
+        .iter()
+        .map(|n| dir.join(n))
+        .filter(|p| std::fs::symlink_metadata(p).is_err())
+        .collect();
+    let result = reproduce_stages(args, &dir, &layout, quiet);
+    if result.is_err() {
+        for p in &fresh {
+            match std::fs::symlink_metadata(p) {
+                Ok(m) if m.is_dir() => drop(std::fs::remove_dir_all(p)),
+                Ok(_) => drop(std::fs::remove_file(p)),
+                Err(_) => {}
+            }
+        }
+        return result;
+    }
+    top.keep();
+    Ok(())
+}
+
+/// `reproduce`'s stages in order: simulate, analyze, figures, and a report per cell.
+fn reproduce_stages(args: ReproduceArgs, dir: &Path, layout: &ReproduceLayout, quiet: bool) -> anyhow::Result<()> {
     let mut run = args.run;
     run.input.sets.splice(0..0, REPRODUCE_SETS.map(String::from));
     simulate_command(SimulateArgs { out: layout.dataset.clone(), shard: Shard::WHOLE, run }, quiet)?;
@@ -306,12 +342,11 @@ fn reproduce_command(args: ReproduceArgs, quiet: bool) -> anyhow::Result<()> {
             dataset: layout.dataset.join(&cell),
             analysis: layout.analysis.join(&cell),
             figures: layout.figures.join(&cell),
-            out: ReproduceLayout::report(&dir, &cell),
+            out: ReproduceLayout::report(dir, &cell),
             exact: None,
         };
         report_command(&args, quiet)?;
     }
-    top.keep();
     Ok(())
 }
 
@@ -377,6 +412,35 @@ fn slow_default_numerics(sc: &Scenario) -> bool {
     sc.run.solver == SolverKind::Auto && sc.solver() != SolverKind::Exact && sc.numerics == Scenario::paper().numerics
 }
 
+/// A run added to a dataset directory has the shape of what is there: a plain run beside plain
+/// parts, a sweep beside the cells of a sweep of the same keys (else `analyze` would refuse the
+/// directory afterwards, naming two runs).
+fn same_shape(out: &Path, cells: &[crate::scenario::Cell]) -> anyhow::Result<()> {
+    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
+    let keys = |path: &str| path.split('/').next().and_then(|c| c.split_once('=')).map(|(k, _)| k.to_string());
+    let ours = cells.first().and_then(|c| keys(&c.path));
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let theirs = if name.starts_with("part-") && name.ends_with(".parquet") {
+            None
+        } else if entry.path().is_dir() && name.contains('=') && !name.starts_with('.') {
+            keys(&name)
+        } else {
+            continue;
+        };
+        if theirs != ours {
+            let shown = |k: &Option<String>| k.as_ref().map_or("a plain run (part files at the top)".to_string(), |k| format!("a sweep of {k}"));
+            return Err(usage(format!(
+                "--out {} holds {}, and this run is {}: analyze could not read the two as one dataset; choose another --out",
+                out.display(),
+                shown(&theirs),
+                shown(&ours)
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     let run = &args.run;
     if let Some(s) = run.seed.filter(|&s| s > i64::MAX as u64) {
@@ -385,9 +449,13 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     if let Some(n) = run.realizations.filter(|&n| n == 0 || n > crate::scenario::MAX_REALIZATIONS) {
         return Err(usage(format!("--realizations {n} (run.realizations): must be between 1 and {}", crate::scenario::MAX_REALIZATIONS)));
     }
+    if let Some((_, t)) = run.target_se.iter().enumerate().find(|(i, t)| run.target_se[..*i].iter().any(|u| u.quantity == t.quantity)) {
+        return Err(usage(format!("--target-se {}: the quantity is given twice; give one target per quantity", t.quantity)));
+    }
     simulate::worker_threads(run.threads)?;
     let over = Overrides { realizations: run.realizations, seed: run.seed };
     let cells = Scenario::resolve_sweep(run.input.scenario.as_deref(), &run.input.sets, over)?;
+    same_shape(&args.out, &cells)?;
     let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&run.input))?;
     let progress = !quiet && std::io::stderr().is_terminal();
     if let Some(sc) = cells.first().map(|c| &c.scenario).filter(|sc| !quiet && slow_default_numerics(sc)) {

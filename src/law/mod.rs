@@ -99,7 +99,7 @@ pub mod sticks;
 pub(crate) mod window;
 
 pub(crate) use output::{densities_table, guarded, survival_table, Order};
-pub use output::{estimates, markdown, run, Found, LawError, Options, LEVELS};
+pub use output::{estimates, markdown, run, Found, LawError, Options, LEVELS, SCENARIO_FILE};
 
 use crate::physics::Law;
 use crate::simulation::belt::Process;
@@ -170,6 +170,15 @@ pub(crate) fn frames(scene: &Scene) -> Result<Vec<Frame>, String> {
         return Err(format!("{key} is 0: without flips the motion is deterministic and has no stationary law"));
     }
     let u = p.per_unit_mass();
+    // A flip rate far below ω: the walks last ~41/λ seconds of ~ω radians each, and the moments
+    // of the durations (E[D²] ~ 2/λ²) lose every digit to cancellation (λ/ω = 1e-20 gave NaN).
+    if let Some(&(_, rate, key)) = states.iter().find(|s| !(s.1 >= MIN_RATE_PER_OMEGA * u.omega)) {
+        return Err(format!(
+            "{key} = {} 1/s is below {MIN_RATE_PER_OMEGA:e} ω = {} 1/s (ω = √(k/m)): the method is implemented for flip rates λ ≥ {MIN_RATE_PER_OMEGA:e} ω (simulate instead)",
+            crate::scenario::short(rate),
+            crate::scenario::short(MIN_RATE_PER_OMEGA * u.omega)
+        ));
+    }
     if u.breakaway <= 0.0 {
         return Err("the static friction is 0: the mass never sticks".into());
     }
@@ -186,6 +195,9 @@ pub(crate) fn frames(scene: &Scene) -> Result<Vec<Frame>, String> {
         })
         .collect()
 }
+
+/// The least flip rate per natural frequency, λ/ω, the exact law takes ([`frames`]).
+const MIN_RATE_PER_OMEGA: f64 = 1e-7;
 
 /// The largest damping ratio ζ = c/(2√(k m)) the exact law takes ([`frames`]).
 const ZETA_MAX: f64 = 0.5;

@@ -136,6 +136,8 @@ pub fn run(
     let laws = sticks::survival_rows(&frames, &after, &super::density::survival_times(&frames, tail_times), order);
     let warning = after.last().and_then(|(_, s)| sticks::window_warning(s.next_start, scenario.run.duration));
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
+    // the scene the law is of (the report refuses a law of another scene beside a dataset)
+    std::fs::write(staged.path().join(SCENARIO_FILE), scenario.to_toml()).map_err(|e| werr(SCENARIO_FILE, &e))?;
     stationary_table(&levels).write_parquet(&staged.path().join("stationary.parquet")).map_err(|e| werr("stationary.parquet", &e))?;
     convergence_table(&levels, &ladder, &after).write_parquet(&staged.path().join("convergence.parquet")).map_err(|e| werr("convergence.parquet", &e))?;
     density_table(&density).write_parquet(&staged.path().join("density.parquet")).map_err(|e| werr("density.parquet", &e))?;
@@ -158,6 +160,9 @@ pub fn run(
     staged.commit()?;
     Ok((levels, rows, counts.0, densities, warning))
 }
+
+/// The file of an `exact-law` directory that records the resolved scenario the law is of.
+pub const SCENARIO_FILE: &str = "scenario.toml";
 
 /// `moments.parquet`: variable, index, mean, variance, error (of the mean), variance_error,
 /// reached_fraction (with `--counts` or `--densities`; null otherwise), windowed_mean,
@@ -415,9 +420,9 @@ pub fn markdown(levels: &[Level]) -> String {
     for (q, name) in QUANTITIES.iter().enumerate() {
         m += &format!("| {name} |");
         for l in levels {
-            m += &format!(" {:.6} |", l.values[q]);
+            m += &format!(" {} |", crate::figures::format::six_decimals(l.values[q]));
         }
-        m += &format!(" {:.6} | {:.1e} |\n", est[q].0, est[q].1);
+        m += &format!(" {} | {:.1e} |\n", crate::figures::format::six_decimals(est[q].0), est[q].1);
     }
     m
 }

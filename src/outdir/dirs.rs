@@ -169,6 +169,8 @@ impl StagedDir {
         check_replaceable(&self.target, self.kind, &self.flag)?;
         let old = parent_of(&self.target).join(hidden(&name_of(&self.target)?, &format!("old-{}", unique())));
         let had_old = self.target.exists();
+        // the replaced directory's permissions carry over (a user's `chmod 555` output stays so)
+        let permissions = std::fs::metadata(&self.target).ok().map(|m| m.permissions());
         if had_old {
             interrupt::register(&old);
             std::fs::rename(&self.target, &old).map_err(|e| fail(&self.target, e))?;
@@ -181,6 +183,9 @@ impl StagedDir {
             return Err(fail(&self.target, e));
         }
         self.committed = true;
+        if let Some(p) = permissions {
+            let _ = std::fs::set_permissions(&self.target, p);
+        }
         std::mem::take(&mut self.parents).keep();
         interrupt::unregister(&self.staging);
         sync_dir(parent_of(&self.target));

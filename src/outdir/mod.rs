@@ -194,14 +194,18 @@ pub fn is_marked(dir: &Path, kind: Kind) -> bool {
     read_marker(dir).is_some_and(|m| m.kind == kind.name())
 }
 
-/// Every file below `dir`, relative, with `/` separators; hidden entries of our own (locks,
-/// temporaries, the marker) are left out.
+/// Every file below `dir`, relative, with `/` separators, and every empty directory as `dir/`
+/// (a user's empty directory is the user's too); hidden entries of our own (locks, temporaries,
+/// the marker) are left out.
 fn files_below(dir: &Path) -> std::io::Result<Vec<String>> {
     fn walk(root: &Path, dir: &Path, out: &mut Vec<String>) -> std::io::Result<()> {
         for entry in std::fs::read_dir(dir)? {
             let entry = entry?;
             let path = entry.path();
             if entry.file_type()?.is_dir() {
+                if std::fs::read_dir(&path)?.next().is_none() {
+                    out.push(format!("{}/", path.strip_prefix(root).unwrap_or(&path).to_string_lossy().replace('\\', "/")));
+                }
                 walk(root, &path, out)?;
             } else {
                 let rel = path.strip_prefix(root).unwrap_or(&path).to_string_lossy().replace('\\', "/");

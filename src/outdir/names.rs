@@ -52,6 +52,14 @@ pub(super) const STAGING: &str = ".stickslip-staging";
 
 /// Remove what a killed writer of the output `name` left in `dir`: call only while holding
 /// `name`'s lock (a live writer would hold it). Only entries the tool can prove it wrote go: a
+/// Whether `dir` holds our marker and the marker lists every entry in it.
+fn all_listed(dir: &Path) -> bool {
+    match (super::read_marker(dir), super::files_below(dir)) {
+        (Some(marker), Ok(present)) => present.iter().all(|f| marker.files.contains(f)),
+        _ => false,
+    }
+}
+
 /// name of exactly the form `.BASE.stickslip-tmp-TOKEN` or `.BASE.stickslip-old-TOKEN`
 /// ([`hidden`], [`unique`]), and, for a directory, holding our staging tag ([`STAGING`]) or our
 /// marker. Anything else — a user's `.NAME.old` or `.NAME.tmp-notes` — is left alone.
@@ -66,7 +74,9 @@ pub(super) fn remove_stale(dir: &Path, name: &str) {
         }
         let p = entry.path();
         match entry.file_type() {
-            Ok(t) if t.is_dir() && (p.join(STAGING).is_file() || p.join(MARKER).is_file()) => {
+            // a staging directory, or a swapped-out output whose marker lists everything in it
+            // (a directory of that name holding a marker and files it does not list is not ours)
+            Ok(t) if t.is_dir() && (p.join(STAGING).is_file() || all_listed(&p)) => {
                 let _ = std::fs::remove_dir_all(&p);
             }
             Ok(t) if t.is_file() => {

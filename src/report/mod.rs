@@ -245,6 +245,24 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
     Ok(out)
 }
 
+/// A law computed for the dataset's scene (its model, belt, initial conditions and window; the
+/// seed, size, solver and output may differ), as its recorded `scenario.toml` says.
+fn same_scene_as_law(law: &Path, sc: &crate::scenario::Scenario) -> Result<(), ReportError> {
+    let path = law.join(crate::law::SCENARIO_FILE);
+    let text = std::fs::read_to_string(&path).map_err(|e| ReportError::Read {
+        path: path.clone(),
+        message: format!("{e}: an exact-law directory records the scene it was computed for (run exact-law again with this version)"),
+    })?;
+    let recorded = crate::scenario::Scenario::recorded(&text, &path).map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
+    if !recorded.same_scene(sc) {
+        return Err(ReportError::Mismatch {
+            path: law.to_owned(),
+            message: "the exact law was computed for another scene than the dataset's (its scenario.toml differs in [model], [belt], [initial_conditions] or run.duration); compute the law of this scene with exact-law".into(),
+        });
+    }
+    Ok(())
+}
+
 fn content(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>) -> Result<Content, ReportError> {
     let data = input::open_partial(dataset, true)?;
     let read_err = |path: &Path, e: &dyn std::fmt::Display| ReportError::Read { path: path.to_owned(), message: e.to_string() };
@@ -268,6 +286,9 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>) -> 
     )
     .map_err(|e| read_err(&moments_path, &e))?;
     let sc = &data.scenario;
+    if let Some(law) = exact {
+        same_scene_as_law(law, sc)?;
+    }
     // the analysis must be of this dataset: same scenario, same realizations
     let recorded = &summary.dataset;
     if recorded.scenario != sc.to_toml() || recorded.realizations != data.rows {

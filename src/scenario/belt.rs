@@ -17,7 +17,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::{invalid, short, Param, ProcessName, Scenario, ScenarioError, MAX_EXPECTED_SWITCHES};
-use crate::simulation::belt::{Markov, Process, Recorded, Symmetric, Telegraph, MAX_SPEED};
+use crate::simulation::belt::{Markov, Process, Recorded, Symmetric, Telegraph, MAX_SPEED, MIN_SPEED};
 use crate::simulation::keys::Key;
 
 impl Scenario {
@@ -104,11 +104,14 @@ impl Scenario {
                 let shown_v = format!("[{}]", velocities.iter().map(|v| short(*v)).collect::<Vec<_>>().join(", "));
                 check_velocities("belt.velocities", &shown_v, velocities)?;
                 let (_, max_rate) = Key::SwitchRate.range();
-                if let Some(r) = rates.iter().flatten().find(|r| r.is_finite() && **r > max_rate) {
+                // (the diagonal is ignored, whatever it holds)
+                let off_diagonal = rates.iter().enumerate().flat_map(|(i, row)| row.iter().enumerate().filter(move |(j, _)| *j != i).map(|(_, r)| r));
+                if let Some(r) = off_diagonal.into_iter().find(|r| r.is_finite() && **r > max_rate) {
                     return Err(invalid("belt.rates", &short(*r), &format!("a rate must be at most {max_rate:e} (1/s), the range the solvers are proven on")));
                 }
-                let m = Markov::new(velocities.clone(), rates.clone()).map_err(|e| invalid("belt.rates", "(the matrix)", &e))?;
-                Process::Markov(Arc::new(m))
+                let m = Process::Markov(Arc::new(Markov::new(velocities.clone(), rates.clone()).map_err(|e| invalid("belt.rates", "(the matrix)", &e))?));
+                self.check_scale(&m, "belt.velocities", &shown_v)?;
+                m
             }
             ProcessName::Recorded => {
                 let Some(file) = &b.file else {
@@ -122,9 +125,28 @@ impl Scenario {
                 let r = Recorded::new(times, velocities).map_err(|e| invalid("belt.file", &format!("{file:?}"), &e))?;
                 let within: Vec<f64> = r.rows().take_while(|(t, _)| *t < self.run.duration).map(|(_, v)| v).collect();
                 check_velocities("belt.file", &format!("{file:?}"), &within)?;
-                Process::Recorded(Arc::new(r))
+                let r = Process::Recorded(Arc::new(r));
+                self.check_scale(&r, "belt.file", &format!("{file:?}"))?;
+                r
             }
         })
+    }
+
+    /// The speed scale of a chain or a record ([`Process::scale`]) at least [`MIN_SPEED`]: the
+    /// severity's unit (a chain that sits at 0 but for a level it enters once in 1e12 s).
+    fn check_scale(&self, process: &Process, key: &str, shown: &str) -> Result<(), ScenarioError> {
+        let scale = process.scale(self.run.duration);
+        if !(scale >= MIN_SPEED) {
+            return Err(invalid(
+                key,
+                shown,
+                &format!(
+                    "the belt's speed scale (its mean |v| over [0, run.duration], the severity's unit) is {}; it must be at least {MIN_SPEED:e} m/s",
+                    short(scale)
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The expected velocity changes per realization of a chain or a record, against
@@ -159,11 +181,11 @@ impl ProcessName {
     }
 }
 
-/// The levels of a chain or a record: finite, at most [`MAX_SPEED`] in size, not all 0 (a belt
-/// that never moves has no speed scale for the severity).
+/// The levels of a chain or a record: finite, 0 or between [`MIN_SPEED`] and [`MAX_SPEED`] in
+/// size, not all 0 (a belt that never moves has no speed scale for the severity).
 fn check_velocities(key: &str, shown: &str, v: &[f64]) -> Result<(), ScenarioError> {
-    if let Some(x) = v.iter().find(|x| !(x.is_finite() && x.abs() <= MAX_SPEED)) {
-        return Err(invalid(key, shown, &format!("the velocity {x} must be finite and at most {MAX_SPEED:e} m/s in size")));
+    if let Some(x) = v.iter().find(|x| !(x.is_finite() && x.abs() <= MAX_SPEED && (**x == 0.0 || x.abs() >= MIN_SPEED))) {
+        return Err(invalid(key, shown, &format!("the velocity {} must be 0 or between {MIN_SPEED:e} and {MAX_SPEED:e} m/s in size (finite)", short(*x))));
     }
     if !v.iter().any(|x| *x != 0.0) {
         return Err(invalid(key, shown, "at least one velocity must be nonzero (a belt at rest throughout moves nothing)"));
@@ -174,9 +196,21 @@ fn check_velocities(key: &str, shown: &str, v: &[f64]) -> Result<(), ScenarioErr
 /// Most rows of a velocity log (the changes a realization may hold, plus the first row).
 const MAX_LOG_ROWS: usize = MAX_EXPECTED_SWITCHES as usize + 1;
 
+/// Largest velocity log read, in bytes (a CSV of [`MAX_LOG_ROWS`] rows of two 20-digit numbers
+/// fits; it is read whole).
+const MAX_LOG_BYTES: u64 = 1 << 30;
+
 /// A velocity log: Parquet (by its magic bytes) or CSV with a header naming `time` and
 /// `velocity` (other columns ignored; blank lines and lines starting with `#` skipped).
 fn read_log(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
+    // a regular file of bounded size only: a FIFO would block in open(), a device never end
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read it: {e}"))?;
+    if !meta.is_file() {
+        return Err("is not a regular file (a velocity log is a CSV or Parquet file)".into());
+    }
+    if meta.len() > MAX_LOG_BYTES {
+        return Err(format!("is {} bytes, larger than the {MAX_LOG_BYTES} bytes a velocity log may have", meta.len()));
+    }
     let mut head = [0u8; 4];
     let is_parquet = std::fs::File::open(path).and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head)).is_ok() && &head == b"PAR1";
     if is_parquet {
@@ -187,7 +221,13 @@ fn read_log(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
 }
 
 fn read_csv_log(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read it: {e}"))?;
+    use std::io::Read as _;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path).and_then(|f| f.take(MAX_LOG_BYTES + 1).read_to_end(&mut bytes)).map_err(|e| format!("cannot read it: {e}"))?;
+    if bytes.len() as u64 > MAX_LOG_BYTES {
+        return Err(format!("larger than the {MAX_LOG_BYTES} bytes a velocity log may have"));
+    }
+    let text = String::from_utf8(bytes).map_err(|_| "is not UTF-8 text (a CSV log) nor a Parquet file".to_string())?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
     let (_, header) = lines.next().ok_or("it is empty (expected a header line: time,velocity)")?;
     let names: Vec<&str> = header.split(',').map(|c| c.trim().trim_matches('"')).collect();

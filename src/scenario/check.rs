@@ -3,10 +3,11 @@
 
 use super::{
     invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS,
-    MAX_NATURAL_RADIANS_NUMERICAL, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES,
+    MAX_NATURAL_RADIANS_NUMERICAL, MAX_POSITION, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES,
 };
+use crate::observables::SEVERITY_BOUND;
 use crate::physics::{FrictionLaw, Law, Params, Stribeck};
-use crate::simulation::belt::{Belt, Process};
+use crate::simulation::belt::{Belt, Process, MAX_SPEED};
 use crate::simulation::keys::{Key, Scene};
 use crate::solver::SolverKind;
 
@@ -180,14 +181,6 @@ impl Scenario {
     fn check_derived(&self) -> Result<(), ScenarioError> {
         let scene = self.scene()?;
         self.check_belt_changes(&scene.belt.process)?;
-        let bounded = |p: &Param| {
-            let (lo, hi) = support(p);
-            let mean = match p {
-                Param::Random(d) => d.mean(),
-                _ => lo,
-            };
-            (if lo > 0.0 && lo.is_finite() { lo } else { mean }, if hi.is_finite() { hi } else { mean })
-        };
         let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), bounded);
         let hi = |k: Key| self.param(k).map_or(0.0, |p| bounded(p).1);
         // (the slip's damping per unit mass is (c + σ_v)/m)
@@ -200,6 +193,7 @@ impl Scenario {
                 reason: "these ratios must be finite".into(),
             });
         }
+        self.check_initial_state(&scene, ratios[0].sqrt())?;
         let o = &self.output;
         if o.trajectories > 1000 || o.trajectories as f64 * self.run.duration / o.trajectory_step > MAX_TRAJECTORY_SAMPLES {
             return Err(ScenarioError::Invalid {
@@ -248,6 +242,73 @@ impl Scenario {
         }
         Ok(())
     }
+}
+
+impl Scenario {
+    /// The initial state against what it implies: |ẋ0| ≤ [`MAX_SPEED`] and |x0| ≤
+    /// [`MAX_POSITION`] (the solvers square velocities and amplitudes: ẋ0 = 1e150 overflowed v² in
+    /// the arrival test, x0 = 1e308 the spring force);
+    /// and the severity it implies within what the analysis takes: the mass velocity stays within
+    /// about U = |ẋ0| + ω|x0| + (the belt's top speed) while friction only brakes a mass faster
+    /// than the belt, so the severity (max ẋ − min ẋ)/(2 v0) is about U/v0 at most, which must
+    /// not exceed [`SEVERITY_BOUND`] (v0 the belt's speed scale, its least value when drawn). A
+    /// realization past the bound all the same is refused by the writers' guard, naming it.
+    fn check_initial_state(&self, scene: &crate::simulation::keys::Scene, omega: f64) -> Result<(), ScenarioError> {
+        let ic = &self.initial_conditions;
+        let largest = |r: [f64; 2]| r[0].abs().max(r[1].abs());
+        let (x, v) = (largest(ic.position), largest(ic.velocity));
+        let shown = |r: [f64; 2]| format!("[{}, {}]", short(r[0]), short(r[1]));
+        if !(v <= MAX_SPEED) {
+            return Err(invalid(
+                "initial_conditions.velocity",
+                &shown(ic.velocity),
+                &format!("|Ẋ0| must be at most {MAX_SPEED:e} m/s, the range the solvers are proven on"),
+            ));
+        }
+        if !(x <= MAX_POSITION) {
+            return Err(invalid(
+                "initial_conditions.position",
+                &shown(ic.position),
+                &format!("|X0| must be at most {MAX_POSITION:e} m, the range the solvers are proven on"),
+            ));
+        }
+        // (a drawn speed at its least and greatest possible values, or its mean where the law is
+        // unbounded: a draw past the bound is refused per realization, naming it)
+        let process = &scene.belt.process;
+        let (mut scale, mut top) = (scene.belt.scale(), process.top_speed(self.run.duration));
+        if matches!(process, Process::Symmetric(_) | Process::Telegraph(_)) {
+            let (lo, hi) = self.param(Key::Speed).map_or((scale, top), bounded);
+            scale = scale.min(lo);
+            top = top.max(hi).max(self.param(Key::ReverseSpeed).map_or(0.0, |p| bounded(p).1));
+        }
+        let reach = v + omega * x + top;
+        if !(reach / scale <= SEVERITY_BOUND) {
+            return Err(invalid(
+                "initial_conditions",
+                &format!("position = {}, velocity = {}", shown(ic.position), shown(ic.velocity)),
+                &format!(
+                    "with the belt's speed scale v0 = {} m/s (top speed {} m/s) the mass may swing at |Ẋ0| + ω|X0| + top = {} m/s, a severity up to {:.3e}; the analysis takes severities up to {SEVERITY_BOUND:e}: narrow the initial conditions or speed up the belt",
+                    short(scale),
+                    short(top),
+                    short(reach),
+                    reach / scale
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The least and greatest value a key can take where they are finite and (the least) positive,
+/// else the law's mean: what the door's derived checks use (a draw of an unbounded law past
+/// them is refused per realization).
+fn bounded(p: &Param) -> (f64, f64) {
+    let (lo, hi) = support(p);
+    let mean = match p {
+        Param::Random(d) => d.mean(),
+        _ => lo,
+    };
+    (if lo > 0.0 && lo.is_finite() { lo } else { mean }, if hi.is_finite() { hi } else { mean })
 }
 
 /// The smallest and largest value a key can take: the number, or the distribution's support

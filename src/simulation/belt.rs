@@ -305,6 +305,11 @@ impl Recorded {
 /// The largest belt speed a process may have, m/s (the range of `belt.speed`).
 pub const MAX_SPEED: f64 = 1e6;
 
+/// The smallest nonzero belt speed, and the smallest speed scale ([`Process::scale`]), m/s (the
+/// lower end of `belt.speed`): a level of 1e-320 m/s would put the severity's unit in the
+/// subnormals and the severity at ∞.
+pub const MIN_SPEED: f64 = 1e-9;
+
 /// The belt of a scenario: its process, its initial sign (symmetric and telegraph belts) and the
 /// window t_a [s].
 #[derive(Debug, Clone, PartialEq)]
@@ -342,15 +347,58 @@ impl Process {
         }
     }
 
-    /// The belt's speed scale [m/s], the unit of the severity: the forward speed of the
-    /// symmetric and telegraph belts, the largest |v| of a chain's levels or of a record.
-    pub fn scale(&self) -> f64 {
-        let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    /// The belt's speed scale v0 [m/s] over the window [0, t_a] (`duration`), the unit of the
+    /// severity: what the belt does in the window, whatever levels it could have but never takes.
+    ///
+    /// - symmetric belt: its speed (|v| = v0 throughout);
+    /// - telegraph belt: its forward speed v_f (the nominal speed; the reverse is a perturbation);
+    /// - Markov belt: the expected time average of |v| over the window, Σ_i π_i |v_i| — exact,
+    ///   as the chain starts in its stationary law π and stays in it (a level π gives 0, one the
+    ///   chain never enters, does not count);
+    /// - recorded belt: the time average of |v| over [0, t_a], (1/t_a) Σ_i |v_i| (t_{i+1} ∧ t_a − t_i)
+    ///   over the rows before t_a (a row after t_a does not count).
+    ///
+    /// Where every level that counts has the same |v| that |v| is the scale exactly (an average
+    /// of a constant, with no rounding).
+    pub fn scale(&self, duration: f64) -> f64 {
+        // (weight, |v|) pairs → their weighted mean, exactly |v| when all |v| agree
+        let mean = |pairs: &mut dyn Iterator<Item = (f64, f64)>| {
+            let (mut total, mut weight, mut first, mut same) = (0.0, 0.0, None, true);
+            for (w, v) in pairs.filter(|(w, _)| *w > 0.0) {
+                same &= first.is_none_or(|f| f == v.abs());
+                first.get_or_insert(v.abs());
+                total += w * v.abs();
+                weight += w;
+            }
+            match first {
+                Some(f) if same => f,
+                _ if weight > 0.0 => total / weight,
+                _ => 0.0,
+            }
+        };
         match self {
             Process::Symmetric(p) => p.speed,
             Process::Telegraph(p) => p.forward_speed,
-            Process::Markov(m) => largest(&m.velocities),
-            Process::Recorded(r) => largest(&r.velocities),
+            Process::Markov(m) => mean(&mut m.stationary.iter().copied().zip(m.velocities.iter().copied())),
+            Process::Recorded(r) => {
+                let n = r.times.len();
+                mean(
+                    &mut (0..n)
+                        .filter(|&i| r.times[i] < duration)
+                        .map(|i| (r.times.get(i + 1).map_or(duration, |t| t.min(duration)) - r.times[i], r.velocities[i])),
+                )
+            }
+        }
+    }
+
+    /// The largest |v| the belt can take in the window [0, t_a] (`duration`), m/s.
+    pub fn top_speed(&self, duration: f64) -> f64 {
+        let largest = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
+        match self {
+            Process::Symmetric(p) => p.speed,
+            Process::Telegraph(p) => p.forward_speed.max(p.reverse_speed),
+            Process::Markov(m) => largest(&mut m.stationary.iter().zip(&m.velocities).filter(|(p, _)| **p > 0.0).map(|(_, v)| *v)),
+            Process::Recorded(r) => largest(&mut r.rows().take_while(|(t, _)| *t < duration).map(|(_, v)| v)),
         }
     }
 
@@ -423,9 +471,9 @@ impl Belt {
         }
     }
 
-    /// The belt's speed scale, m/s ([`Process::scale`]).
+    /// The belt's speed scale over the window, m/s ([`Process::scale`]).
     pub fn scale(&self) -> f64 {
-        self.process.scale()
+        self.process.scale(self.duration)
     }
 
     /// Expected velocity changes per realization at the fastest rate.

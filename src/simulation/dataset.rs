@@ -134,6 +134,21 @@ pub const REQUIRED: &[(&str, &str)] = &[
     (columns::SLIP_DURATION, "list<float64>"),
 ];
 
+/// The columns schema v3 added, with their types: every v3 part has them all (`analyze` refuses
+/// a v3 part that lacks one or holds it in another type).
+pub const V3_COLUMNS: &[(&str, &str)] = &[
+    (columns::INITIAL_VELOCITY, "float64"),
+    (columns::STICK_END, "list<utf8>"),
+    (columns::STICK_ENTRY_POSITION, "list<float64>"),
+    (columns::STICK_ENTRY_VELOCITY, "list<float64>"),
+    (columns::LONGEST_STICK, "float64"),
+    (columns::STICK_FRACTION, "float64"),
+    (columns::MIN_VELOCITY, "float64"),
+    (columns::MAX_VELOCITY, "float64"),
+    (columns::MAX_SLIP_SPEED, "float64"),
+    (columns::SEVERITY, "float64"),
+];
+
 /// List columns, in schema order.
 pub const LIST_COLUMNS: [&str; 4] = [columns::STICK_START, columns::STICK_DURATION, columns::SLIP_START, columns::SLIP_DURATION];
 

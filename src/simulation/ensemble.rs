@@ -176,6 +176,9 @@ impl Ensemble {
             .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);
         (out.t_a, out.speed_scale) = (belt.duration, belt.scale());
+        if let Some((column, x, rule)) = out.record.outside(out.t_a, out.record.severity(out.speed_scale)) {
+            return Err(RunError { realization: index, source: SolveError::Unwritable { column, value: crate::scenario::short(x), rule } });
+        }
         Ok(())
     }
 

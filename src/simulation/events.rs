@@ -143,6 +143,41 @@ impl Record {
     pub fn stick_fraction(&self, t_a: f64) -> f64 {
         self.stick_duration.iter().sum::<f64>() / t_a
     }
+
+    /// The first value of the realization's row that is not a finite number or breaks its
+    /// column's rule, as (column, value, rule) — the writers' last guard: no dataset, in a file or
+    /// in memory, holds NaN or ±∞, nor a severity the analysis cannot take
+    /// ([`crate::observables::SEVERITY_BOUND`]). `severity` is this record's at the run's scale.
+    pub fn outside(&self, t_a: f64, severity: f64) -> Option<(&'static str, f64, &'static str)> {
+        use crate::simulation::dataset::columns as name;
+        let finite = "a finite number";
+        let lists: [(&'static str, &[f64]); 6] = [
+            (name::STICK_START, &self.stick_start),
+            (name::STICK_DURATION, &self.stick_duration),
+            (name::SLIP_START, &self.slip_start),
+            (name::SLIP_DURATION, &self.slip_duration),
+            (name::STICK_ENTRY_POSITION, &self.stick_entry_position),
+            (name::STICK_ENTRY_VELOCITY, &self.stick_entry_velocity),
+        ];
+        for (column, values) in lists {
+            if let Some(&x) = values.iter().find(|x| !x.is_finite()) {
+                return Some((column, x, finite));
+            }
+        }
+        let scalars = [
+            (name::MIN_VELOCITY, self.min_velocity),
+            (name::MAX_VELOCITY, self.max_velocity),
+            (name::MAX_SLIP_SPEED, self.max_slip_speed),
+            (name::STICK_FRACTION, self.stick_fraction(t_a)),
+        ];
+        if let Some((column, x)) = scalars.into_iter().find(|(_, x)| !x.is_finite()) {
+            return Some((column, x, finite));
+        }
+        if !(severity.is_finite() && (0.0..=crate::observables::SEVERITY_BOUND).contains(&severity)) {
+            return Some((name::SEVERITY, severity, "a number in [0, 2^24], the severities the analysis takes"));
+        }
+        None
+    }
 }
 
 impl Observer for Record {

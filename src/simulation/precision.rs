@@ -92,7 +92,7 @@ impl Tracker {
         self.targets
             .iter()
             .zip(self.errors())
-            .map(|(t, se)| format!("{t} se {} (target {})", se.map_or("–".into(), |x| format!("{x:.3e}")), t.se))
+            .map(|(t, se)| format!("{t} se {} (target {})", se.map_or("–".into(), |x| format!("{x:.3e}")), crate::scenario::short(t.se)))
             .collect::<Vec<_>>()
             .join(", ")
     }

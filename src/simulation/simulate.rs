@@ -47,7 +47,7 @@ impl Shard {
 impl FromStr for Shard {
     type Err = String;
     fn from_str(s: &str) -> Result<Shard, String> {
-        let bad = || format!("--shard {s:?}: expected I/N with 0 <= I < N, e.g. 0/4");
+        let bad = || format!("--shard {s:?}: expected I/N with 0 <= I < N <= 99999, e.g. 0/4");
         let (i, n) = s.split_once('/').ok_or_else(bad)?;
         let (index, count) = (i.trim().parse::<u64>().map_err(|_| bad())?, n.trim().parse::<u64>().map_err(|_| bad())?);
         if count == 0 || index >= count || count > 99_999 {
@@ -160,7 +160,17 @@ pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
     ]
     .into_iter()
     .map(|(k, v)| (k.to_string(), v))
+    .chain(scenario.belt.file.as_deref().and_then(log_digest).map(|d| ("stickslip.belt_file_fnv1a64".to_string(), d)))
     .collect()
+}
+
+/// The content of a recorded belt's log, as FNV-1a 64 of its bytes in hex: the provenance says
+/// which log a dataset was simulated from (the scenario records only its path), and the parts
+/// of one run must agree on it. (Not a cryptographic digest: it tells edits apart, not forgeries.)
+fn log_digest(path: &str) -> Option<String> {
+    let bytes = std::fs::read(path).ok()?;
+    let h = bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3));
+    Some(format!("{h:016x}"))
 }
 
 /// A simulated part, complete under temporary names: [`Pending::commit`] moves it into place
@@ -288,7 +298,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
     computed?;
     let mut written = written?;
     if !targets.is_empty() {
-        let rule = targets.iter().map(|t| format!("{t}={}", t.se)).collect::<Vec<_>>().join(", ");
+        let rule = targets.iter().map(|t| format!("{t}={}", crate::scenario::short(t.se))).collect::<Vec<_>>().join(", ");
         let reached_se = targets
             .iter()
             .zip(tracker.errors())

@@ -139,6 +139,17 @@ pub enum SolveError {
         /// the time reached [s]
         t: f64,
     },
+    /// A value of the realization's row is not finite or breaks its column's rule (the writers'
+    /// last guard, [`crate::simulation::events::Record::outside`]).
+    #[error("column `{column}` would hold {value}, which is not {rule}: the scene lies outside the range the solvers are proven on")]
+    Unwritable {
+        /// the dataset column
+        column: &'static str,
+        /// the value, as shown
+        value: String,
+        /// what the column holds
+        rule: &'static str,
+    },
     /// A random key's draw cannot run; `drawn` says which and why.
     #[error("drawn parameters: {drawn}")]
     Drawn {

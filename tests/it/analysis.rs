@@ -97,7 +97,7 @@ fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
         x.push(t1);
         let mut o = Outcome::default();
         o.belt.initial_velocity = 1.0;
-        o.speed_scale = 1.0;
+        (o.speed_scale, o.t_a) = (1.0, 100.0);
         let r = &mut o.record;
         (r.min_velocity, r.max_velocity) = (-1.0, 1.0);
         r.stick_start.extend([t1, t1 + 1.0]);

@@ -173,7 +173,7 @@ fn scenes_outside_the_method_are_refused_with_the_reason() {
         (&["model.friction_coefficient=0", "model.static_friction_coefficient=0.6"][..], "kinetic friction is below"),
         // a flip every microsecond: the mass moves 1e-6 m between flips, far below the grid
         (&["belt.switch_rate=1e6"][..], "between belt flips"),
-        (&["belt.speed=1e-9"][..], "velocity scale"),
+        (&["belt.speed=1e-9", "initial_conditions.position=[-1e-9, 1e-9]", "initial_conditions.velocity=[-1e-9, 1e-9]"][..], "velocity scale"),
         (&["model.stiffness=1e9"][..], "velocity scale"),
         // ζ = 0.51, and ζ = 2.5e8, whose grid would not fit in memory
         (&["model.damping=2.04"][..], "zeta <= 0.5"),

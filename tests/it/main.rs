@@ -27,4 +27,5 @@ mod sensitivity;
 mod solvers;
 mod stribeck;
 mod tails;
+mod trust;
 mod viscous;

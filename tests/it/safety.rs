@@ -18,16 +18,16 @@ use stickslip::scenario::Scenario;
 
 use crate::common::stickslip;
 
-fn err(o: &std::process::Output) -> String {
+pub(crate) fn err(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-fn ok(o: &std::process::Output) {
+pub(crate) fn ok(o: &std::process::Output) {
     assert!(o.status.success(), "{}", err(o));
 }
 
 /// Refused as bad input: exit code 2, one message naming `culprit`, no panic.
-fn refused(o: &std::process::Output, culprit: &str) {
+pub(crate) fn refused(o: &std::process::Output, culprit: &str) {
     let e = err(o);
     assert_eq!(o.status.code(), Some(2), "expected exit 2 (bad input): {e}");
     assert!(e.contains(culprit), "the message does not name {culprit:?}: {e}");
@@ -241,12 +241,18 @@ fn a_failed_sweep_rerun_leaves_the_previous_sweep_untouched() {
 fn two_different_runs_in_one_directory_are_not_analysed_as_one_sweep() {
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
+    // simulate refuses to add a run of another shape (issue 44, item 19)
     ok(&stickslip(&["simulate", "--out", "m", "--realizations", "20", "-q", "--set", "model.damping=[0, 1]"], t));
-    ok(&stickslip(&["simulate", "--out", "m", "--realizations", "20", "-q", "--set", "belt.switch_rate=[1, 2]"], t));
+    refused(&stickslip(&["simulate", "--out", "m", "--realizations", "20", "-q", "--set", "belt.switch_rate=[1, 2]"], t), "a sweep of switch_rate");
+    ok(&stickslip(&["simulate", "--out", "p", "--realizations", "20", "-q"], t));
+    refused(&stickslip(&["simulate", "--out", "p", "--realizations", "20", "-q", "--set", "model.damping=[0, 1]"], t), "a plain run");
+    refused(&stickslip(&["simulate", "--out", "m", "--realizations", "20", "-q"], t), "a plain run");
+    // and analyze refuses such a directory put together by hand
+    ok(&stickslip(&["simulate", "--out", "s", "--realizations", "20", "-q", "--set", "belt.switch_rate=[1, 2]"], t));
+    std::fs::rename(t.join("s/switch_rate=1"), t.join("m/switch_rate=1")).unwrap();
     refused(&stickslip(&["analyze", "m", "--out", "a"], t), "sweep different keys");
     assert!(!t.join("a").exists());
-    ok(&stickslip(&["simulate", "--out", "p", "--realizations", "20", "-q"], t));
-    ok(&stickslip(&["simulate", "--out", "p", "--realizations", "20", "-q", "--set", "model.damping=[0, 1]"], t));
+    std::fs::rename(t.join("m/damping=0"), t.join("p/damping=0")).unwrap();
     refused(&stickslip(&["analyze", "p", "--out", "a"], t), "a plain dataset at the top");
     // one sweep of two keys is one sweep
     ok(&stickslip(&["simulate", "--out", "two", "--realizations", "20", "-q", "--set", "model.damping=[0, 1]", "--set", "belt.switch_rate=[1, 2]"], t));
@@ -347,13 +353,13 @@ fn incomplete_overlapping_and_duplicated_parts_are_refused() {
 }
 
 /// Rewrite the part file in `dir` with `column` replaced by `f(column)` (metadata kept).
-fn mutate(dir: &Path, column: &str, f: impl Fn(&ArrayRef) -> ArrayRef) {
+pub(crate) fn mutate(dir: &Path, column: &str, f: impl Fn(&ArrayRef) -> ArrayRef) {
     rewrite(dir, &[column], f, |kv| kv)
 }
 
 /// Rewrite the part file in `dir` with each of `columns` replaced by `f(column)` and its
 /// key-value metadata by `meta(metadata)`.
-fn rewrite(
+pub(crate) fn rewrite(
     dir: &Path,
     columns: &[&str],
     f: impl Fn(&ArrayRef) -> ArrayRef,
@@ -387,7 +393,7 @@ fn rewrite(
 }
 
 /// A list<f64> column with element `at` of the flattened values replaced by `value` (None: null).
-fn list_with(col: &ArrayRef, at: usize, value: Option<f64>) -> ArrayRef {
+pub(crate) fn list_with(col: &ArrayRef, at: usize, value: Option<f64>) -> ArrayRef {
     let l = col.as_any().downcast_ref::<ListArray>().unwrap();
     let vals = l.values().as_any().downcast_ref::<Float64Array>().unwrap();
     let mut v: Vec<Option<f64>> = vals.iter().collect();
@@ -568,6 +574,25 @@ fn schema_v1_datasets_still_analyse() {
                 .collect()
         })
     });
+    // v2: the same columns labelled version 2 (the tails' columns of v3 are then not read: a part's
+    // version, not the columns it happens to hold, says what it has)
+    rewrite(
+        &t.join("v2"),
+        &[],
+        |c| c.clone(),
+        |kv| {
+            kv.map(|kv| {
+                kv.into_iter()
+                    .map(|mut e| {
+                        if e.key == "stickslip.schema_version" {
+                            e.value = Some("2".into());
+                        }
+                        e
+                    })
+                    .collect()
+            })
+        },
+    );
     let file = t.join("v1/part-00000-of-00001.parquet");
     let schema = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap()).unwrap().schema().clone();
     assert_eq!(schema.field_with_name("n_stick").unwrap().data_type(), &DataType::Int32);
@@ -625,12 +650,19 @@ fn only_entries_the_tool_provably_wrote_are_ever_deleted() {
     // a directory with the tool's exact temporary name but none of its tags: not provably ours
     std::fs::create_dir(t.join(".uan.stickslip-tmp-1-2-ab")).unwrap();
     std::fs::write(t.join(".uan.stickslip-tmp-1-2-ab/mine.txt"), "mine").unwrap();
-    // what a SIGKILLed analyze leaves: a staging directory with its tag, and an old copy with its marker
-    for (dir, tag) in [(".uan.stickslip-tmp-7-0-1f", ".stickslip-staging"), (".uan.stickslip-old-7-1-2e", ".stickslip-output")] {
+    // what a SIGKILLed analyze leaves: a staging directory with its tag, and an old copy with its
+    // marker, which lists every file in it
+    let marker = r#"{"kind": "analysis", "stickslip": "0.1.0", "files": ["moments.parquet"]}"#;
+    for (dir, tag, text) in [(".uan.stickslip-tmp-7-0-1f", ".stickslip-staging", ""), (".uan.stickslip-old-7-1-2e", ".stickslip-output", marker)] {
         std::fs::create_dir(t.join(dir)).unwrap();
-        std::fs::write(t.join(dir).join(tag), "").unwrap();
+        std::fs::write(t.join(dir).join(tag), text).unwrap();
         std::fs::write(t.join(dir).join("moments.parquet"), "").unwrap();
     }
+    // a directory of that exact form with a marker, holding a file the marker does not list: the
+    // user's (issue 44, item 18)
+    std::fs::create_dir(t.join(".uan.stickslip-old-1-2-ab")).unwrap();
+    std::fs::write(t.join(".uan.stickslip-old-1-2-ab/.stickslip-output"), marker).unwrap();
+    std::fs::write(t.join(".uan.stickslip-old-1-2-ab/mine.txt"), "mine").unwrap();
     std::fs::write(t.join("d/.part-00000-of-00001.parquet.stickslip-tmp-7-2-3d"), "stale").unwrap();
     ok(&stickslip(&["analyze", "d", "--out", "uan", "-q"], t));
     ok(&stickslip(&["report", "d", "uan", "fig", "--out", "rep.html", "-q"], t));
@@ -640,6 +672,7 @@ fn only_entries_the_tool_provably_wrote_are_ever_deleted() {
         assert_eq!(std::fs::read_to_string(t.join(u)).unwrap(), "mine", "{u} was touched");
     }
     assert!(t.join(".uan.stickslip-tmp-1-2-ab/mine.txt").is_file());
+    assert!(t.join(".uan.stickslip-old-1-2-ab/mine.txt").is_file());
     for gone in [".uan.stickslip-tmp-7-0-1f", ".uan.stickslip-old-7-1-2e", "d/.part-00000-of-00001.parquet.stickslip-tmp-7-2-3d"] {
         assert!(!t.join(gone).exists(), "the stale {gone} stays");
     }

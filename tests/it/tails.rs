@@ -234,7 +234,7 @@ fn a_curve_at_a_user_time_counts_the_durations_just_below_it() {
     for i in 0..n {
         let mut o = Outcome::default();
         o.belt.initial_velocity = 1.0;
-        o.speed_scale = 1.0;
+        (o.speed_scale, o.t_a) = (1.0, 10.0);
         let r = &mut o.record;
         (r.min_velocity, r.max_velocity) = (-1.0, 1.0);
         r.stick_start.extend([1.0, 3.0]);
