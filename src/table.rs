@@ -59,7 +59,7 @@ impl Table {
             t.columns.push((name, col));
         }
         if let Some(problem) = t.first_impossible() {
-            polars_bail!(ComputeError: "{}: {problem}; it is not a table this tool wrote (or it was edited since)", path.display());
+            polars_bail!(ComputeError: "{problem}; it is not a table this tool wrote (or it was edited since)");
         }
         Ok(t)
     }

@@ -254,6 +254,8 @@ fn row_problem(df: &DataFrame, first: u64, data: &Dataset) -> Option<String> {
             if !x.is_some_and(|x| x >= lo && x <= hi) {
                 let rule = if hi == f64::MAX {
                     format!("a finite number{}", if lo == 0.0 { " >= 0" } else { "" })
+                } else if hi == top {
+                    format!("a time in [0, t_a = {}] s", shown(Some(horizon)))
                 } else {
                     format!("a number in [{}, {}]", shown(Some(lo)), shown(Some(hi)))
                 };

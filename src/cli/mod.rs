@@ -187,6 +187,9 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool) -> anyhow::Result<()> {
     let scenario = Scenario::resolve(args.input.scenario.as_deref(), &args.input.sets)?;
     scenario.check()?;
     scenario.refuse_sweep("exact-law")?;
+    if let Some(note) = scenario.scene().ok().as_ref().and_then(crate::law::cost_note).filter(|_| !quiet) {
+        eprintln!("{note}");
+    }
     // on a terminal, each iteration overwrites one line; the finished resolution replaces it
     let live = !quiet && std::io::stderr().is_terminal();
     let mut progress = |l: &crate::law::Level, seconds: f64| {

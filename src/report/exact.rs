@@ -15,6 +15,24 @@ pub(super) const EXACT_DENSITIES_HEAD: [&str; 4] = ["density", "our bins", "exac
 pub(super) const EXACT_DENSITIES_LEGEND: &str = "The densities of T_k, L_k and H_k without sampling (exact-law --densities: the characteristic function's cosine series, integrated over each of our histogram's bins, with its error estimate) beside our histograms: in how many bins the exact probability (± its error; conditioned, as our shares are, on the histogram's span, which the window cuts) meets the Wilson 95 % interval of our share. ✓: at least 90 % of them (a correct law meets about 95 %).";
 pub(super) const EXACT_LEGEND: &str = "The means and variances computed from the equations without sampling (stickslip exact-law, with its error estimate) beside ours. ✓: the exact value (± its error) meets our 95 % interval. The exact values are those of the process without the window t_a (the window cuts T_k only for realizations with fewer than k sticks in it), but for T_k and L_k when exact-law ran with --densities: then conditioned on the window, as ours.";
 
+/// A law computed for the dataset's scene (its model, belt, initial conditions and window; the
+/// seed, size, solver and output may differ), as its recorded `scenario.toml` says.
+pub(super) fn same_scene_as_law(law: &Path, sc: &crate::scenario::Scenario) -> Result<(), ReportError> {
+    let path = law.join(crate::law::SCENARIO_FILE);
+    let text = std::fs::read_to_string(&path).map_err(|e| ReportError::Read {
+        path: path.clone(),
+        message: format!("{e}: an exact-law directory records the scene it was computed for (run exact-law again with this version)"),
+    })?;
+    let recorded = crate::scenario::Scenario::recorded(&text, &path).map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
+    if !recorded.same_scene(sc) {
+        return Err(ReportError::Mismatch {
+            path: law.to_owned(),
+            message: "the exact law was computed for another scene than the dataset's (its scenario.toml differs in [model], [belt], [initial_conditions] or run.duration); compute the law of this scene with exact-law".into(),
+        });
+    }
+    Ok(())
+}
+
 /// The exact rows beside Table 1 (`Content::exact`): every T_k, L_k, D_k, H_k (and S_T, S_L)
 /// that both have.
 /// A cell is inside when the exact value's error bar meets our 95 % interval.

@@ -18,7 +18,8 @@ use crate::table::Table;
 
 mod exact;
 use exact::{
-    density_rows, exact_rows, exact_tail_rows, EXACT_DENSITIES_HEAD, EXACT_DENSITIES_LEGEND, EXACT_HEAD, EXACT_LEGEND, EXACT_TAILS_HEAD, EXACT_TAILS_LEGEND,
+    density_rows, exact_rows, exact_tail_rows, same_scene_as_law, EXACT_DENSITIES_HEAD, EXACT_DENSITIES_LEGEND, EXACT_HEAD, EXACT_LEGEND, EXACT_TAILS_HEAD,
+    EXACT_TAILS_LEGEND,
 };
 
 /// Why `report` failed.
@@ -243,24 +244,6 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
         out.push([label, shown(value[r], lo[r], hi[r]), format!("{} {of}", n[r].unwrap_or(0))]);
     }
     Ok(out)
-}
-
-/// A law computed for the dataset's scene (its model, belt, initial conditions and window; the
-/// seed, size, solver and output may differ), as its recorded `scenario.toml` says.
-fn same_scene_as_law(law: &Path, sc: &crate::scenario::Scenario) -> Result<(), ReportError> {
-    let path = law.join(crate::law::SCENARIO_FILE);
-    let text = std::fs::read_to_string(&path).map_err(|e| ReportError::Read {
-        path: path.clone(),
-        message: format!("{e}: an exact-law directory records the scene it was computed for (run exact-law again with this version)"),
-    })?;
-    let recorded = crate::scenario::Scenario::recorded(&text, &path).map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
-    if !recorded.same_scene(sc) {
-        return Err(ReportError::Mismatch {
-            path: law.to_owned(),
-            message: "the exact law was computed for another scene than the dataset's (its scenario.toml differs in [model], [belt], [initial_conditions] or run.duration); compute the law of this scene with exact-law".into(),
-        });
-    }
-    Ok(())
 }
 
 fn content(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>) -> Result<Content, ReportError> {

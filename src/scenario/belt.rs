@@ -169,6 +169,24 @@ impl Scenario {
     }
 }
 
+/// The directory of a scenario file, absolute (a relative `belt.file` in it starts there).
+pub(super) fn base_dir(file: &Path) -> std::path::PathBuf {
+    let dir = file.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::path::absolute(dir).unwrap_or_else(|_| dir.to_owned())
+}
+
+/// A relative `belt.file` of a scenario file's table joined to the file's directory `base` (a
+/// scenario and its log are shipped side by side; the joined path is what provenance records).
+pub(super) fn anchor_log(user: &mut toml::Table, base: Option<std::path::PathBuf>) {
+    if let (Some(base), Some(toml::Value::Table(belt))) = (base, user.get_mut("belt")) {
+        if let Some(toml::Value::String(file)) = belt.get_mut("file") {
+            if Path::new(file.as_str()).is_relative() {
+                *file = base.join(file.as_str()).to_string_lossy().into_owned();
+            }
+        }
+    }
+}
+
 impl ProcessName {
     /// Its name in a scenario.
     pub fn as_str(self) -> &'static str {

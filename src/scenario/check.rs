@@ -18,6 +18,43 @@ impl Scenario {
         self.model.friction_law.unwrap_or(FrictionLaw::Coulomb).has_closed_forms(self.model.static_friction_coefficient.is_none())
     }
 
+    /// Whether this is the paper's physical scene — its oscillator, friction, belt, initial
+    /// conditions and window, whatever the seed, the number of realizations, the solver or the
+    /// output: the scene the paper's Table 1 describes, and so the only one compared with it.
+    /// Keys spelled out at their paper values (`damping = 0`, `viscous_friction = 0`, `friction_law = "coulomb"`, μ_s equal
+    /// to μ_k) still are the paper's scene.
+    pub fn is_paper_scene(&self) -> bool {
+        self.same_scene(&Scenario::paper())
+    }
+
+    /// Whether `other` describes the same physical scene — oscillator, friction, belt, initial
+    /// conditions and window — whatever the seed, size, solver or output; keys spelled out at
+    /// their defaults (a zero dashpot, μ_s = μ_k, the Coulomb law) are the same as absent.
+    pub fn same_scene(&self, other: &Scenario) -> bool {
+        fn canonical(m: &super::ModelSpec) -> super::ModelSpec {
+            let mut m = m.clone();
+            for zero_is_absent in [&mut m.damping, &mut m.viscous_friction] {
+                if *zero_is_absent == Some(Param::Value(0.0)) {
+                    *zero_is_absent = None;
+                }
+            }
+            if m.static_friction_coefficient.as_ref() == Some(&m.friction_coefficient) {
+                m.static_friction_coefficient = None;
+            }
+            if m.friction_law == Some(crate::physics::FrictionLaw::Coulomb) {
+                m.friction_law = None;
+            }
+            if m.friction_law.is_none() {
+                (m.stribeck_velocity, m.stribeck_exponent) = (None, None);
+            }
+            m
+        }
+        canonical(&self.model) == canonical(&other.model)
+            && self.belt == other.belt
+            && self.initial_conditions == other.initial_conditions
+            && self.run.duration == other.run.duration
+    }
+
     /// The solver that actually runs: `auto` is `exact` where the scene has closed forms, else
     /// `rk45` at the `[numerics]` tolerances.
     pub fn solver(&self) -> SolverKind {

@@ -189,49 +189,12 @@ impl Scenario {
         Scenario::resolve(None, &[]).expect("the embedded paper scenario is valid")
     }
 
-    /// Whether this is the paper's physical scene — its oscillator, friction, belt, initial
-    /// conditions and window, whatever the seed, the number of realizations, the solver or the
-    /// output: the scene the paper's Table 1 describes, and so the only one compared with it.
-    /// Keys spelled out at their paper values (`damping = 0`, `viscous_friction = 0`, `friction_law = "coulomb"`, μ_s equal
-    /// to μ_k) still are the paper's scene.
-    pub fn is_paper_scene(&self) -> bool {
-        self.same_scene(&Scenario::paper())
-    }
-
-    /// Whether `other` describes the same physical scene — oscillator, friction, belt, initial
-    /// conditions and window — whatever the seed, size, solver or output; keys spelled out at
-    /// their defaults (a zero dashpot, μ_s = μ_k, the Coulomb law) are the same as absent.
-    pub fn same_scene(&self, other: &Scenario) -> bool {
-        fn canonical(m: &ModelSpec) -> ModelSpec {
-            let mut m = m.clone();
-            for zero_is_absent in [&mut m.damping, &mut m.viscous_friction] {
-                if *zero_is_absent == Some(Param::Value(0.0)) {
-                    *zero_is_absent = None;
-                }
-            }
-            if m.static_friction_coefficient.as_ref() == Some(&m.friction_coefficient) {
-                m.static_friction_coefficient = None;
-            }
-            if m.friction_law == Some(crate::physics::FrictionLaw::Coulomb) {
-                m.friction_law = None;
-            }
-            if m.friction_law.is_none() {
-                (m.stribeck_velocity, m.stribeck_exponent) = (None, None);
-            }
-            m
-        }
-        canonical(&self.model) == canonical(&other.model)
-            && self.belt == other.belt
-            && self.initial_conditions == other.initial_conditions
-            && self.run.duration == other.run.duration
-    }
-
     /// Resolve a scenario from an optional file and `KEY=VALUE` overrides.
     /// A relative `belt.file` in the file is a path from the file's directory (as a scenario
     /// and its log are shipped side by side), recorded as an absolute path; one given by `--set`
     /// is a path from the working directory.
     pub fn resolve(file: Option<&Path>, sets: &[String]) -> Result<Scenario, ScenarioError> {
-        let sc = typed(merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), file.map(base_dir), sets)?)?;
+        let sc = typed(merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), file.map(belt::base_dir), sets)?)?;
         sc.check()?;
         Ok(sc)
     }
@@ -271,7 +234,7 @@ impl Scenario {
     /// base seed and the cell's path (SplitMix64 of seed ⊕ FNV-1a(path)), so cells draw
     /// independent streams, and re-running one cell's recorded scenario reproduces it.
     pub fn resolve_sweep(file: Option<&Path>, sets: &[String], over: Overrides) -> Result<Vec<Cell>, ScenarioError> {
-        let mut base = typed(merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), file.map(base_dir), sets)?)?;
+        let mut base = typed(merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), file.map(belt::base_dir), sets)?)?;
         over.apply(&mut base);
         let mut axes: Vec<(Key, Vec<f64>)> = Vec::new();
         for key in Key::ALL {
@@ -437,12 +400,6 @@ fn positive_zeros(table: &mut Table) {
     table.iter_mut().for_each(|(_, v)| fix(v));
 }
 
-/// The directory of a scenario file, absolute (a relative `belt.file` in it starts there).
-fn base_dir(file: &Path) -> PathBuf {
-    let dir = file.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::path::absolute(dir).unwrap_or_else(|_| dir.to_owned())
-}
-
 /// The paper scenario ← the user's text ← `--set` overrides, as a table (not yet typed); a
 /// relative `belt.file` of the text is joined to `base` when given.
 fn merged(text: Option<&str>, origin: &Path, base: Option<PathBuf>, sets: &[String]) -> Result<Table, ScenarioError> {
@@ -450,13 +407,7 @@ fn merged(text: Option<&str>, origin: &Path, base: Option<PathBuf>, sets: &[Stri
     if let Some(text) = text {
         let mut user: Table =
             text.parse().map_err(|e: toml::de::Error| ScenarioError::Syntax { path: origin.to_owned(), message: syntax_message(text, &e) })?;
-        if let (Some(base), Some(Value::Table(belt))) = (base, user.get_mut("belt")) {
-            if let Some(Value::String(file)) = belt.get_mut("file") {
-                if Path::new(file.as_str()).is_relative() {
-                    *file = base.join(file.as_str()).to_string_lossy().into_owned();
-                }
-            }
-        }
+        belt::anchor_log(&mut user, base);
         fold_friction_table(&mut user)?;
         merge(&mut table, user, "")?;
     }
@@ -556,8 +507,10 @@ fn set(table: &mut Table, key: &str, value: Value) -> Result<(), ScenarioError> 
         }
         // a key below a leaf (`model.mass.sub`): the keys of its section are the ones to show
         Some(Value::Table(t)) => {
-            let mut keys: Vec<String> = t.keys().map(|k| format!("{section}.{k}")).collect();
+            let known = Key::ALL.into_iter().map(|k| k.dotted().to_string()).filter(|k| k.starts_with(&format!("{section}.")));
+            let mut keys: Vec<String> = t.keys().map(|k| format!("{section}.{k}")).chain(known).collect();
             keys.sort();
+            keys.dedup();
             Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(keys) })
         }
         _ => Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(table.keys().cloned().collect()) }),
