@@ -392,6 +392,25 @@ pub(crate) fn rewrite(
     w.close().unwrap();
 }
 
+/// The footer edit of [`rewrite`] that sets `key` to `value`.
+pub(crate) fn footer_set(
+    key: &'static str,
+    value: &'static str,
+) -> impl Fn(Option<Vec<parquet::file::metadata::KeyValue>>) -> Option<Vec<parquet::file::metadata::KeyValue>> {
+    move |kv| {
+        kv.map(|kv| {
+            kv.into_iter()
+                .map(|mut e| {
+                    if e.key == key {
+                        e.value = Some(value.into());
+                    }
+                    e
+                })
+                .collect()
+        })
+    }
+}
+
 /// A list<f64> column with element `at` of the flattened values replaced by `value` (None: null).
 pub(crate) fn list_with(col: &ArrayRef, at: usize, value: Option<f64>) -> ArrayRef {
     let l = col.as_any().downcast_ref::<ListArray>().unwrap();
@@ -562,37 +581,10 @@ fn schema_v1_datasets_still_analyse() {
         let a = c.as_any().downcast_ref::<Int64Array>().unwrap();
         Arc::new(arrow_array::Int32Array::from(a.values().iter().map(|&x| x as i32).collect::<Vec<_>>()))
     };
-    rewrite(&t.join("v1"), &["n_switches", "n_stick", "n_slip"], to_i32, |kv| {
-        kv.map(|kv| {
-            kv.into_iter()
-                .map(|mut e| {
-                    if e.key == "stickslip.schema_version" {
-                        e.value = Some("1".into());
-                    }
-                    e
-                })
-                .collect()
-        })
-    });
+    rewrite(&t.join("v1"), &["n_switches", "n_stick", "n_slip"], to_i32, footer_set("stickslip.schema_version", "1"));
     // v2: the same columns labelled version 2 (the tails' columns of v3 are then not read: a part's
     // version, not the columns it happens to hold, says what it has)
-    rewrite(
-        &t.join("v2"),
-        &[],
-        |c| c.clone(),
-        |kv| {
-            kv.map(|kv| {
-                kv.into_iter()
-                    .map(|mut e| {
-                        if e.key == "stickslip.schema_version" {
-                            e.value = Some("2".into());
-                        }
-                        e
-                    })
-                    .collect()
-            })
-        },
-    );
+    rewrite(&t.join("v2"), &[], |c| c.clone(), footer_set("stickslip.schema_version", "2"));
     let file = t.join("v1/part-00000-of-00001.parquet");
     let schema = ParquetRecordBatchReaderBuilder::try_new(std::fs::File::open(&file).unwrap()).unwrap().schema().clone();
     assert_eq!(schema.field_with_name("n_stick").unwrap().data_type(), &DataType::Int32);

@@ -13,7 +13,7 @@ use stickslip::simulation::ensemble::{Ensemble, Outcome};
 use stickslip::simulation::keys::Key;
 
 use crate::common::stickslip;
-use crate::safety::{err, list_with, mutate, ok, refused, rewrite};
+use crate::safety::{err, footer_set, list_with, mutate, ok, refused, rewrite};
 
 fn resolve(sets: &[&str]) -> Result<Scenario, String> {
     Scenario::resolve(None, &sets.iter().map(|s| s.to_string()).collect::<Vec<_>>()).map_err(|e| e.to_string())
@@ -131,6 +131,13 @@ fn no_writer_emits_a_non_finite_value() {
     (r.max_velocity, r.max_slip_speed) = (2.0, 3.0);
     assert_eq!(r.outside(10.0, 1.0), None);
     assert_eq!(r.outside(10.0, 1e9).map(|o| o.0), Some("severity"));
+}
+
+/// `d` (300 paper realizations), its analysis `a` and figures `f` in `t`.
+fn dataset_analysis_figures(t: &Path) {
+    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "300", "-q"], t));
+    ok(&stickslip(&["analyze", "d", "--out", "a", "-q"], t));
+    ok(&stickslip(&["figures", "a", "--out", "f", "-q"], t));
 }
 
 /// The parts of `dir` through analyze, figures and report (exit 0 each).
@@ -257,27 +264,12 @@ fn analyze_checks_every_column_it_uses_and_the_parts_provenance() {
     let part = |i: u32| t.join(format!("two/part-0000{i}-of-00002.parquet"));
     let keep = std::fs::read(part(1)).unwrap();
     std::fs::copy(part(1), t.join("p1.parquet")).unwrap();
-    let tag = |key: &'static str, value: &'static str| {
-        move |kv: Option<Vec<parquet::file::metadata::KeyValue>>| {
-            Some(
-                kv.unwrap()
-                    .into_iter()
-                    .map(|mut e| {
-                        if e.key == key {
-                            e.value = Some(value.into());
-                        }
-                        e
-                    })
-                    .collect(),
-            )
-        }
-    };
     let edit_part = |key: &'static str, value: &'static str| {
         // (rewrite works on part-00000-of-00001: stage the part there)
         let stage = t.join("stage");
         std::fs::create_dir_all(&stage).unwrap();
         std::fs::write(stage.join("part-00000-of-00001.parquet"), &keep).unwrap();
-        rewrite(&stage, &[], |c| c.clone(), tag(key, value));
+        rewrite(&stage, &[], |c| c.clone(), footer_set(key, value));
         std::fs::copy(stage.join("part-00000-of-00001.parquet"), part(1)).unwrap();
     };
     for (key, value) in [("stickslip.seed", "99"), ("stickslip.solver", "rk45"), ("stickslip.schema_version", "2")] {
@@ -299,9 +291,7 @@ fn figures_report_and_their_tables_refuse_impossible_values() {
     use polars::prelude::*;
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
-    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "300", "-q"], t));
-    ok(&stickslip(&["analyze", "d", "--out", "a", "-q"], t));
-    ok(&stickslip(&["figures", "a", "--out", "f", "-q"], t));
+    dataset_analysis_figures(t);
     let p = t.join("a/moments.parquet");
     let original = std::fs::read(&p).unwrap();
     for (column, value, culprit) in [
@@ -330,9 +320,7 @@ fn figures_report_and_their_tables_refuse_impossible_values() {
 fn a_report_refuses_an_exact_law_of_another_scene() {
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
-    ok(&stickslip(&["simulate", "--out", "d", "--realizations", "300", "-q"], t));
-    ok(&stickslip(&["analyze", "d", "--out", "a", "-q"], t));
-    ok(&stickslip(&["figures", "a", "--out", "f", "-q"], t));
+    dataset_analysis_figures(t);
     ok(&stickslip(&["exact-law", "--out", "other", "--resolution", "8", "--set", "belt.switch_rate=2", "-q"], t));
     refused(&stickslip(&["report", "d", "a", "f", "--exact", "other", "--out", "r.html"], t), "another scene");
     assert!(!t.join("r.html").exists());
