@@ -15,7 +15,8 @@ use parquet::file::reader::{FileReader, SerializedFileReader};
 
 use crate::metadata as meta;
 use crate::scenario::Scenario;
-use crate::simulation::dataset::{READABLE_VERSIONS, REQUIRED, V3_COLUMNS};
+use crate::simulation::dataset::READABLE_VERSIONS;
+use crate::simulation::schema::{required, Kind};
 
 /// A checked dataset.
 #[derive(Debug, Clone)]
@@ -202,24 +203,20 @@ fn check(path: &Path) -> Result<Part, InputError> {
         None => return Err(bad(path, "not a stickslip dataset (no stickslip.schema_version in its metadata)")),
     };
     let schema = parquet_to_arrow_schema(meta.schema_descr(), kv).map_err(|e| bad(path, e.to_string()))?;
-    for (name, want) in REQUIRED {
-        let field = schema.field_with_name(name).map_err(|_| bad(path, format!("missing column `{name}`")))?;
+    // every column of the part's version and earlier, in its type (v1 had int32 counts; schema
+    // v3's tails' columns are read from a v3 part only, and a v3 part lacking one is refused,
+    // never analysed as v2)
+    let number: u8 = version.parse().unwrap_or(0);
+    for column in required(number) {
+        let field =
+            schema.field_with_name(column.name).map_err(|_| bad(path, format!("missing column `{}` (schema version {version} has it)", column.name)))?;
         let got = type_name(field.data_type());
-        let v1_count = version == "1" && got == "int32" && *want == "int64";
-        if got != *want && !v1_count {
-            return Err(bad(path, format!("column `{name}` is {got}, expected {want}")));
+        let v1_count = version == "1" && got == "int32" && column.kind == Kind::Int64;
+        if got != column.kind.name() && !v1_count {
+            return Err(bad(path, format!("column `{}` is {got}, expected {}", column.name, column.kind.name())));
         }
     }
-    // schema v3's columns: all of them, in their types, in a v3 part (a part that lacks one is
-    // not analysed as v2); none of them is read from an older part
-    let tails_state = version == "3";
-    for (name, want) in V3_COLUMNS.iter().filter(|_| tails_state) {
-        let field = schema.field_with_name(name).map_err(|_| bad(path, format!("missing column `{name}` (schema version 3 has it)")))?;
-        let got = type_name(field.data_type());
-        if got != *want {
-            return Err(bad(path, format!("column `{name}` is {got}, expected {want}")));
-        }
-    }
+    let tails_state = number >= 3;
     let scenario = get(meta::SCENARIO).ok_or_else(|| bad(path, format!("no {} in its metadata", meta::SCENARIO)))?;
     let switch_times = schema.field_with_name(crate::simulation::dataset::columns::SWITCH_TIMES).is_ok();
     let number = |key: &str| -> Result<u64, InputError> {
@@ -492,9 +489,9 @@ mod tests {
     #[test]
     fn the_writers_schema_has_every_column_the_reader_requires() {
         let schema = crate::simulation::dataset::schema(&crate::simulation::dataset::Layout::default());
-        for (name, ty) in REQUIRED {
-            let field = schema.field_with_name(name).unwrap_or_else(|_| panic!("the writer has no {name}"));
-            assert_eq!(type_name(field.data_type()), *ty, "{name}");
+        for column in required(3) {
+            let field = schema.field_with_name(column.name).unwrap_or_else(|_| panic!("the writer has no {}", column.name));
+            assert_eq!(type_name(field.data_type()), column.kind.name(), "{}", column.name);
         }
     }
 }

@@ -54,25 +54,29 @@ pub(crate) fn rules(first: u64, data: &Dataset) -> Vec<Rule> {
     out
 }
 
-/// True where a per-realization float of schema v3 breaks its rule ([`SCALAR_RULES`]; NaN sorts
+/// True where a per-realization float of schema v3 breaks its rule ([`scalar_rules`]; NaN sorts
 /// above every number in polars, so it fails every upper bound), or min_velocity > max_velocity.
 fn tail_scalars_outside(top: f64) -> Expr {
     let within = |c: &str, (lo, hi): (f64, f64)| col(c).gt_eq(lit(lo)).and(col(c).lt_eq(lit(hi)));
-    let ok = SCALAR_RULES.iter().map(|&(c, range)| within(c, range(top))).reduce(|a, b| a.and(b)).expect("rules");
+    let ok = scalar_rules(top).map(|(c, range)| within(c, range)).reduce(|a, b| a.and(b)).expect("rules");
     ok.and(col(name::MIN_VELOCITY).lt_eq(col(name::MAX_VELOCITY))).not()
 }
 
-/// The range of each per-realization float of schema v3 but the severity, given t_a (with its
-/// rounding slack): the longest stick in [0, t_a], the stick fraction in [0, 1], the velocities
-/// finite, the slip speed finite and ≥ 0.
-const SCALAR_RULES: [(&str, fn(f64) -> (f64, f64)); 5] = [
-    (name::LONGEST_STICK, |top| (0.0, top)),
-    (name::STICK_FRACTION, |_| (0.0, 1.0 + 1e-9)),
-    (name::MIN_VELOCITY, |_| (-f64::MAX, f64::MAX)),
-    (name::MAX_VELOCITY, |_| (-f64::MAX, f64::MAX)),
-    (name::MAX_SLIP_SPEED, |_| (0.0, f64::MAX)),
-];
-
+/// The per-realization floats with a range ([`crate::simulation::schema::Bound`]; the severity's
+/// rule is [`severity_outside`]) and their ranges given `top` = t_a with its rounding slack.
+fn scalar_rules(top: f64) -> impl Iterator<Item = (&'static str, (f64, f64))> {
+    use crate::simulation::schema::{Bound, COLUMNS};
+    COLUMNS.iter().filter_map(move |c| {
+        let range = match c.bound {
+            Bound::Window => (0.0, top),
+            Bound::Fraction => (0.0, 1.0 + 1e-9),
+            Bound::Finite => (-f64::MAX, f64::MAX),
+            Bound::NonNegative => (0.0, f64::MAX),
+            Bound::Unchecked | Bound::Severity => return None,
+        };
+        Some((c.name, range))
+    })
+}
 /// True where the severity is not a number in [0, `SEVERITY_BOUND`] (NaN sorts above every
 /// number in polars, so it fails the upper bound).
 fn severity_outside() -> Expr {
@@ -248,8 +252,7 @@ fn row_problem(df: &DataFrame, first: u64, data: &Dataset) -> Option<String> {
             return at(name::SEVERITY, format!("{} (a severity lies in [0, {SEVERITY_BOUND:e}])", shown(severity)));
         }
         let top = horizon * (1.0 + 1e-12);
-        for (c, range) in SCALAR_RULES {
-            let (lo, hi) = range(top);
+        for (c, (lo, hi)) in scalar_rules(top) {
             let x = float(c);
             if !x.is_some_and(|x| x >= lo && x <= hi) {
                 let rule = if hi == f64::MAX {

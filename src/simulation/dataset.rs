@@ -120,35 +120,6 @@ pub mod columns {
     ];
 }
 
-/// The columns every part has and their types in schema v2, as the reader checks them (v1 had
-/// int32 counts, read as well); the writer's [`schema`] is tested to agree.
-pub const REQUIRED: &[(&str, &str)] = &[
-    (columns::REALIZATION, "int64"),
-    (columns::N_SWITCHES, "int64"),
-    (columns::N_STICK, "int64"),
-    (columns::N_SLIP, "int64"),
-    (columns::LAST_TRUNCATED, "bool"),
-    (columns::STICK_START, "list<float64>"),
-    (columns::STICK_DURATION, "list<float64>"),
-    (columns::SLIP_START, "list<float64>"),
-    (columns::SLIP_DURATION, "list<float64>"),
-];
-
-/// The columns schema v3 added, with their types: every v3 part has them all (`analyze` refuses
-/// a v3 part that lacks one or holds it in another type).
-pub const V3_COLUMNS: &[(&str, &str)] = &[
-    (columns::INITIAL_VELOCITY, "float64"),
-    (columns::STICK_END, "list<utf8>"),
-    (columns::STICK_ENTRY_POSITION, "list<float64>"),
-    (columns::STICK_ENTRY_VELOCITY, "list<float64>"),
-    (columns::LONGEST_STICK, "float64"),
-    (columns::STICK_FRACTION, "float64"),
-    (columns::MIN_VELOCITY, "float64"),
-    (columns::MAX_VELOCITY, "float64"),
-    (columns::MAX_SLIP_SPEED, "float64"),
-    (columns::SEVERITY, "float64"),
-];
-
 /// List columns, in schema order.
 pub const LIST_COLUMNS: [&str; 4] = [columns::STICK_START, columns::STICK_DURATION, columns::SLIP_START, columns::SLIP_DURATION];
 
@@ -161,33 +132,14 @@ pub struct Layout {
     pub drawn: Vec<&'static str>,
 }
 
-/// The Arrow schema of a dataset file.
+/// The Arrow schema of a dataset file: the declared columns ([`super::schema::COLUMNS`]) present
+/// in this layout, then one float64 per drawn scene key.
 pub fn schema(layout: &Layout) -> SchemaRef {
-    let mut fields = vec![
-        Field::new("realization", DataType::Int64, false),
-        Field::new("x0", DataType::Float64, false),
-        Field::new("xdot0", DataType::Float64, false),
-        Field::new("initial_sign", DataType::Int32, false),
-        Field::new(columns::INITIAL_VELOCITY, DataType::Float64, false),
-        Field::new("n_switches", DataType::Int64, false),
-        Field::new("n_stick", DataType::Int64, false),
-        Field::new("n_slip", DataType::Int64, false),
-    ];
-    fields.extend(LIST_COLUMNS.iter().map(|name| list_field(name)));
-    fields.push(Field::new("last_truncated", DataType::Boolean, false));
-    fields.push(Field::new(columns::STICK_END, DataType::List(Arc::new(Field::new("element", DataType::Utf8, false))), false));
-    fields.extend(columns::STICK_LISTS.iter().map(|name| list_field(name)));
-    fields.extend(columns::TAIL_SCALARS.iter().map(|name| Field::new(*name, DataType::Float64, false)));
-    if layout.switch_times {
-        fields.push(list_field("switch_times"));
-        fields.push(list_field(columns::SWITCH_VELOCITIES));
-    }
+    use super::schema::{Presence, COLUMNS};
+    let present = |c: &&super::schema::Column| c.presence == Presence::Always || layout.switch_times;
+    let mut fields: Vec<Field> = COLUMNS.iter().filter(present).map(|c| Field::new(c.name, c.kind.arrow(), false)).collect();
     fields.extend(layout.drawn.iter().map(|name| Field::new(*name, DataType::Float64, false)));
     Arc::new(Schema::new(fields))
-}
-
-fn list_field(name: &str) -> Field {
-    Field::new(name, DataType::List(Arc::new(Field::new("element", DataType::Float64, false))), false)
 }
 
 /// A ragged float column being filled realization by realization.

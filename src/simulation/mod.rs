@@ -12,6 +12,7 @@ pub mod events;
 pub mod keys;
 pub mod precision;
 pub(crate) mod rng;
+pub mod schema;
 pub mod simulate;
 pub(crate) mod trajectory;
 pub(crate) mod writeback;

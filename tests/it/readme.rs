@@ -34,3 +34,20 @@ fn the_readme_block_is_what_reproduce_prints() {
 fn the_readme_block_is_what_exact_law_prints() {
     block_is_what_it_prints("exact-law", &["exact-law", "--out", "law"]);
 }
+
+/// The README's dataset table lists every column of the one declaration
+/// (`stickslip::simulation::schema::COLUMNS`) with its type: the documentation cannot drift from
+/// the writer and the reader.
+#[test]
+fn the_readme_dataset_table_is_the_declared_schema() {
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
+    let section = &readme[readme.find("## The dataset").expect("the section")..];
+    let section = &section[..section[3..].find("\n## ").map_or(section.len(), |i| i + 3)];
+    let rows: Vec<Vec<&str>> = section.lines().filter(|l| l.starts_with("| ")).map(|l| l.split(" | ").map(|c| c.trim_matches(['|', ' '])).collect()).collect();
+    for c in stickslip::simulation::schema::COLUMNS {
+        let row =
+            rows.iter().find(|r| r[0].split(", ").any(|n| n == c.name)).unwrap_or_else(|| panic!("the README's dataset table has no row for `{}`", c.name));
+        assert_eq!(row[1].replace("string", "utf8"), c.kind.name(), "`{}`", c.name);
+    }
+    assert!(rows.len() <= stickslip::simulation::schema::COLUMNS.len() + 2, "a README row for a column the schema does not declare");
+}
