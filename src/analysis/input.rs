@@ -423,6 +423,9 @@ fn checked(dir: &Path, files: Vec<PathBuf>, allow_partial: bool) -> Result<Datas
         use crate::simulation::trajectory::{recorded_scenario, EVENTS, SAMPLES};
         [SAMPLES, EVENTS].iter().all(|f| recorded_scenario(&d.join(f)).as_deref() == Some(toml.as_str()))
     });
+    if let Some(d) = &trajectories {
+        check_trajectories(d, t_a)?;
+    }
     let rows: u64 = parts.iter().map(|(_, p)| p.rows).sum();
     // shards that stopped at their own targets: the run is what they simulated
     let expected_rows = if parts.iter().any(|(_, p)| p.block.is_some()) { rows + missing.iter().map(|r| r.end - r.start).sum::<u64>() } else { total };
@@ -457,6 +460,38 @@ fn belt_levels(scenario: &Scenario) -> Option<Vec<f64>> {
         Process::Markov(m) => Some(m.velocities().to_vec()),
         Process::Recorded(_) => None,
     }
+}
+
+/// The sampled trajectories beside a dataset, checked before `analyze` copies them into its
+/// output: every value finite ([`crate::table::Table::read_parquet`]), the instants in [0, t_a],
+/// each realization's in order, and every event one the simulation writes.
+fn check_trajectories(dir: &Path, t_a: f64) -> Result<(), InputError> {
+    use crate::simulation::trajectory::{EVENTS, EVENT_NAMES, SAMPLES};
+    for file in [SAMPLES, EVENTS] {
+        let path = dir.join(file);
+        let t = crate::table::Table::read_parquet(&path).map_err(|e| bad(&path, e.to_string()))?;
+        let (Some(ids), Some(times)) = (t.ints("realization"), t.floats("t")) else {
+            return Err(bad(&path, "lacks the int64 column `realization` or the float64 column `t`"));
+        };
+        for r in 0..t.height() {
+            let (id, at) = (ids[r], times[r]);
+            if !at.is_some_and(|x| (0.0..=t_a * (1.0 + 1e-12)).contains(&x)) {
+                return Err(bad(
+                    &path,
+                    format!("row {r}, column `t`: {} (an instant in [0, t_a = {t_a}] s)", at.map_or("null".into(), crate::scenario::short)),
+                ));
+            }
+            if r > 0 && id == ids[r - 1] && at < times[r - 1] {
+                return Err(bad(&path, format!("row {r}, column `t`: the instants of realization {} decrease", id.unwrap_or(-1))));
+            }
+        }
+        if let Some(events) = t.strings("event") {
+            if let Some((r, e)) = events.iter().enumerate().find(|(_, e)| !EVENT_NAMES.contains(&e.as_str())) {
+                return Err(bad(&path, format!("row {r}, column `event`: {e:?} (one of {})", EVENT_NAMES.join(", "))));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The name of the row number column of [`scan`].

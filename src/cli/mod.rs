@@ -308,6 +308,11 @@ fn reproduce_command(args: ReproduceArgs, quiet: bool) -> anyhow::Result<()> {
     let dir = args.out.clone();
     let top = crate::outdir::prepare_reproduce(&dir, &scenario_inputs(&args.run.input))?;
     let layout = ReproduceLayout::new(&dir);
+    // every later stage's output checked before the first runs (a file of the user's in an
+    // earlier run's figures stopped it only after a new dataset and analysis had replaced theirs)
+    crate::outdir::check_output(&layout.analysis, crate::outdir::Kind::Analysis, "--out")?;
+    crate::outdir::check_output(&layout.figures, crate::outdir::Kind::Figures, "--out")?;
+    crate::report::check_replaceable(&ReproduceLayout::report(&dir, ""))?;
     // what this run creates inside DIR (the entries absent now) is removed again should a later
     // stage fail: a failing reproduce leaves nothing it created
     let fresh: Vec<PathBuf> = ["dataset", "dataset.trajectories", "analysis", "figures", "report.html", "report.md", "reports"]

@@ -233,6 +233,12 @@ fn is_empty_dir(dir: &Path) -> std::io::Result<bool> {
     Ok(true)
 }
 
+/// Whether `target` may be replaced by a new output of `kind` ([`check_replaceable`]): what
+/// `reproduce` checks of each stage's output before its first stage runs.
+pub fn check_output(target: &Path, kind: Kind, flag: &str) -> Result<(), OutDirError> {
+    check_replaceable(target, kind, flag)
+}
+
 /// Check that `target` may be replaced by a new output of `kind`: it does not exist, is an empty
 /// directory, or is the tool's own output of that kind holding only the files it wrote.
 fn check_replaceable(target: &Path, kind: Kind, flag: &str) -> Result<(), OutDirError> {

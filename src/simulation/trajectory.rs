@@ -81,6 +81,8 @@ impl<A: Observer, B: Observer> Observer for Tee<'_, A, B> {
 /// The two table files, in [`dir_for`].
 pub const SAMPLES: &str = "samples.parquet";
 pub const EVENTS: &str = "events.parquet";
+/// The `event` values of [`EVENTS`].
+pub const EVENT_NAMES: [&str; 3] = ["belt_switch", "stick_start", "stick_end"];
 
 /// The footer key that marks a trajectory table as the tool's (a file without it is never
 /// replaced).
@@ -115,9 +117,10 @@ impl Tables {
         let r = realization as i64;
         self.sample_realization.extend(std::iter::repeat_n(r, samples.len()));
         self.samples.extend_from_slice(samples);
-        let mut events: Vec<(f64, &'static str)> = switches.iter().map(|&t| (t, "belt_switch")).collect();
+        let [switch, start, end] = EVENT_NAMES;
+        let mut events: Vec<(f64, &'static str)> = switches.iter().map(|&t| (t, switch)).collect();
         for (t, d) in record.stick_start.iter().zip(&record.stick_duration) {
-            events.extend([(*t, "stick_start"), (t + d, "stick_end")]);
+            events.extend([(*t, start), (t + d, end)]);
         }
         // (stable: a belt switch stays before the stick end it causes)
         events.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -58,6 +58,22 @@ fn derived_ranges_are_refused_at_the_door_and_every_step_stays_finite_inside() {
         ([&markov[..], &["belt.velocities=[0, 1]", "belt.rates=[[0, 1e-9], [1, 0]]"]].concat(), "belt.velocities"),
         // a severity the analysis cannot take: swings of 3 m/s on a belt of 1e-9 m/s
         (vec!["belt.speed=1e-9"], "initial_conditions"),
+        // the swing a breakaway releases: a stick held to μ_s n and let go slips about μ_k n
+        // (the probe's scene: a severity of 2.05e7 written by realization 0 before the door knew)
+        (
+            vec![
+                "model.stiffness=100",
+                "run.duration=1e6",
+                "belt.switch_rate=0",
+                "belt.speed=0.0625",
+                "model.friction_coefficient=0",
+                "model.static_friction_coefficient=1",
+                "model.normal_force=1.5625e7",
+                "initial_conditions.position=[0, 0]",
+                "initial_conditions.velocity=[1e6, 1e6]",
+            ],
+            "initial_conditions",
+        ),
     ];
     for (sets, key) in refusals {
         let e = resolve(&sets).expect_err(&format!("{sets:?} is refused"));
@@ -71,6 +87,9 @@ fn derived_ranges_are_refused_at_the_door_and_every_step_stays_finite_inside() {
         vec!["belt.speed=1e-4"],
         vec!["belt.speed=1e-9", "initial_conditions.position=[-1e-9, 1e-9]", "initial_conditions.velocity=[-1e-9, 1e-9]"],
         [&markov[..], &["belt.velocities=[1e-9, -1e-9]", "initial_conditions.position=[-1e-9, 1e-9]", "initial_conditions.velocity=[-1e-9, 1e-9]"]].concat(),
+        // a drawn belt speed down to 1e-9 m/s with the mass at rest: the belt's part of the
+        // severity is 1 for every draw (its top speed is its scale)
+        vec!["belt.speed={dist = \"uniform\", low = 1e-9, high = 1}", "initial_conditions.position=[0, 0]", "initial_conditions.velocity=[0, 0]"],
     ] {
         let sc = resolve(&sets).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
         all_finite(&sc, 50);
@@ -324,8 +343,9 @@ fn a_report_refuses_an_exact_law_of_another_scene() {
     ok(&stickslip(&["exact-law", "--out", "other", "--resolution", "8", "--set", "belt.switch_rate=2", "-q"], t));
     refused(&stickslip(&["report", "d", "a", "f", "--exact", "other", "--out", "r.html"], t), "another scene");
     assert!(!t.join("r.html").exists());
-    // the same scene with another seed and size is the same law
-    ok(&stickslip(&["exact-law", "--out", "same", "--resolution", "8", "--set", "run.seed=7", "-q"], t));
+    // the same scene with another seed and size is the same law, and so is the default belt
+    // spelled out
+    ok(&stickslip(&["exact-law", "--out", "same", "--resolution", "8", "--set", "run.seed=7", "--set", "belt.process=\"symmetric\"", "-q"], t));
     ok(&stickslip(&["report", "d", "a", "f", "--exact", "same", "--out", "r.html", "-q"], t));
 }
 
@@ -394,4 +414,58 @@ fn a_scenario_reads_its_log_beside_it_from_any_directory() {
         ok(&o);
         std::fs::remove_dir_all(&out).unwrap();
     }
+}
+
+#[test]
+fn analyze_checks_the_trajectories_it_copies() {
+    use polars::prelude::*;
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    for (file, column) in [("samples.parquet", "x"), ("events.parquet", "t"), ("events.parquet", "event")] {
+        let _ = std::fs::remove_dir_all(t.join("d"));
+        let _ = std::fs::remove_dir_all(t.join("d.trajectories"));
+        ok(&stickslip(&["simulate", "--out", "d", "--realizations", "20", "--set", "output.trajectories=2", "-q"], t));
+        let p = t.join("d.trajectories").join(file);
+        let mut df = ParquetReader::new(std::fs::File::open(&p).unwrap()).finish().unwrap();
+        let edited = if column == "event" {
+            let mut v: Vec<String> = df.column(column).unwrap().str().unwrap().iter().map(|s| s.unwrap().to_string()).collect();
+            v[1] = "frobnicated".into();
+            Column::new(column.into(), v)
+        } else {
+            let mut v: Vec<Option<f64>> = df.column(column).unwrap().f64().unwrap().iter().collect();
+            v[1] = Some(f64::NAN);
+            Column::new(column.into(), v)
+        };
+        df.with_column(edited).unwrap();
+        // (the file's key-value metadata says which run sampled it: kept)
+        let meta = stickslip_metadata(&p);
+        let mut w = ParquetWriter::new(std::fs::File::create(&p).unwrap());
+        w = w.with_key_value_metadata(Some(KeyValueMetadata::from_static(meta)));
+        w.finish(&mut df).unwrap();
+        let o = stickslip(&["analyze", "d", "--out", "a"], t);
+        refused(&o, file);
+        assert!(err(&o).contains(column), "{}", err(&o));
+        assert!(!t.join("a").exists());
+    }
+}
+
+/// The key-value metadata of a Parquet file.
+fn stickslip_metadata(p: &Path) -> Vec<(String, String)> {
+    let r = parquet::file::reader::SerializedFileReader::new(std::fs::File::open(p).unwrap()).unwrap();
+    use parquet::file::reader::FileReader;
+    let kv = r.metadata().file_metadata().key_value_metadata().cloned().unwrap_or_default();
+    kv.into_iter().filter(|e| e.key != "ARROW:schema").map(|e| (e.key, e.value.unwrap_or_default())).collect()
+}
+
+#[test]
+fn reproduce_checks_every_output_before_its_first_stage() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = tmp.path();
+    ok(&stickslip(&["reproduce", "--out", "R", "--realizations", "50", "-q"], t));
+    std::fs::write(t.join("R/figures/mine.txt"), "mine").unwrap();
+    let part = t.join("R/dataset/part-00000-of-00001.parquet");
+    let before = std::fs::read(&part).unwrap();
+    refused(&stickslip(&["reproduce", "--out", "R", "--realizations", "50", "--seed", "2"], t), "mine.txt");
+    assert_eq!(std::fs::read(&part).unwrap(), before, "the earlier dataset stays");
+    assert_eq!(std::fs::read_to_string(t.join("R/figures/mine.txt")).unwrap(), "mine");
 }
