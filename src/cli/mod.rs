@@ -464,6 +464,9 @@ fn simulate_command(args: SimulateArgs, quiet: bool) -> anyhow::Result<()> {
     let over = Overrides { realizations: run.realizations, seed: run.seed };
     let cells = Scenario::resolve_sweep(run.input.scenario.as_deref(), &run.input.sets, over)?;
     same_shape(&args.out, &cells)?;
+    for cell in &cells {
+        simulate::joins(&args.out.join(&cell.path), &cell.scenario, args.shard).map_err(usage)?;
+    }
     let dir = DatasetDir::prepare(&args.out, &scenario_inputs(&run.input))?;
     let progress = !quiet && std::io::stderr().is_terminal();
     if let Some(sc) = cells.first().map(|c| &c.scenario).filter(|sc| !quiet && slow_default_numerics(sc)) {

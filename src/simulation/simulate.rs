@@ -143,6 +143,39 @@ pub fn worker_threads(asked: Option<usize>) -> Result<usize, SimulateError> {
     }
 }
 
+/// The provenance a part added to `dir` must share with the parts already there (but the one it
+/// replaces): another seed, scenario (its size included), solver, generator or schema would make
+/// a directory `analyze` refuses afterwards. `Err` names the other part and the first key.
+pub fn joins(dir: &std::path::Path, scenario: &Scenario, shard: Shard) -> Result<(), String> {
+    const SHARED: [&str; 5] = ["stickslip.seed", "stickslip.solver", "stickslip.generator", meta::SCHEMA_VERSION, meta::SCENARIO];
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(()) };
+    let all = provenance(scenario, shard);
+    let ours: Vec<(String, String)> = SHARED.iter().filter_map(|key| all.iter().find(|(k, _)| k == key).cloned()).collect();
+    let own = crate::simulation::dataset::part_name(shard.index, shard.count);
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if !(name.starts_with("part-") && name.ends_with(".parquet")) || name == own {
+            continue;
+        }
+        let Some(theirs) = crate::metadata::footer(&entry.path()) else { continue };
+        for (key, value) in &ours {
+            let other = theirs.iter().find(|(k, _)| k == key).and_then(|(_, v)| v.clone());
+            if other.as_deref() != Some(value.as_str()) {
+                let what = if key == meta::SCENARIO {
+                    "its scenario differs (another scene or size)".to_string()
+                } else {
+                    format!("its {key} is {}, this run's {value}", other.as_deref().unwrap_or("(absent)"))
+                };
+                return Err(format!(
+                    "--out {} holds {name}, a part of another run ({what}): analyze could not read the two as one dataset; choose another --out",
+                    dir.display()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Key-value metadata recorded in every part file.
 pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
     let range = shard.range(scenario.run.realizations);

@@ -298,6 +298,9 @@ fn analyze_checks_every_column_it_uses_and_the_parts_provenance() {
         assert_eq!(o.status.code(), Some(2), "{key}: {e}");
         assert!(e.contains(key) && e.contains("part-00001-of-00002"), "{key}: the message names the key and the odd part: {e}");
     }
+    // simulate refuses to add a shard of another run (another seed or size)
+    refused(&stickslip(&["simulate", "--out", "two", "--realizations", "400", "--shard", "1/2", "--seed", "5", "-q"], t), "stickslip.seed is 1");
+    refused(&stickslip(&["simulate", "--out", "two", "--realizations", "500", "--shard", "1/2", "-q"], t), "its scenario differs");
     // a footer's shard that is not the file's
     edit_part("stickslip.shard", "0/3");
     refused(&stickslip(&["analyze", "two", "--out", "a"], t), "stickslip.shard = 0/3");
