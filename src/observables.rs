@@ -22,12 +22,7 @@ use crate::simulation::dataset::columns as name;
 use crate::simulation::ensemble::Outcome;
 use crate::simulation::events::{Record, StickEnd};
 
-/// The largest severity a dataset may hold, 2^24 ≈ 1.7e7 (a rule of the dataset: `simulate`
-/// refuses at the door a scene whose initial state implies more, and its writers refuse a
-/// realization past it; `analyze` checks it). The analysis' dyadic histograms start at width
-/// 2^(24 − 40) = 2^−16 and pack bin indices below 2^42, which holds every value up to 2^26; the
-/// paper scene's severities (1 to 1.26) are binned at 2^−13, as under the earlier bound 1024.
-pub const SEVERITY_BOUND: f64 = 16_777_216.0;
+pub use crate::simulation::schema::SEVERITY_BOUND;
 
 /// A per-realization quantity (see the module docs for the censoring rule).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]

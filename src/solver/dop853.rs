@@ -28,7 +28,9 @@
 // checked against it digit by digit; the compiler rounds each to the nearest double.
 #![allow(clippy::excessive_precision)]
 
-use super::rk::State;
+/// A state (x, ẋ): the same type as [`super::rk::State`], named here so that the tableau does not
+/// import its driver (`rk.rs` calls this file's `trial` and `dense`).
+type State = [f64; 2];
 
 /// The nonzero coefficients `(k, aᵢₖ)` of stage i (i = 1..15; stage 0 is y₀'s derivative), in
 /// the order they are added. Rows 1–11 are the method's stages, 12 is the solution (the
