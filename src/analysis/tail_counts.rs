@@ -15,9 +15,45 @@
 use polars::prelude::*;
 
 use super::jackknife::GROUPS;
-use super::tails::{Counts, TailPlan, CELLS_PER_WINDOW, COARSE};
 use crate::physics::PerUnitMass;
 use crate::simulation::dataset::columns as name;
+
+/// Time cells per t_a ([`super::tails`]' module docs).
+pub(crate) const CELLS_PER_WINDOW: f64 = 65_536.0;
+/// Time cells per cell of the leave-one-group-out curves ([`super::tails`]' module docs).
+pub(crate) const COARSE: i64 = 32;
+
+/// What the user asks of the tails.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TailOptions {
+    /// t [s] at which every curve is also evaluated, and the thresholds T of P(longest stick > T)
+    pub times: Vec<f64>,
+    /// thresholds of P(severity > s)
+    pub severity: Vec<f64>,
+}
+
+/// Counts per (group, index, cell, flag) as the queries return them.
+pub(crate) type Counts = Vec<(usize, u32, i64, bool, u64)>;
+
+/// The flip rates (λ forward, λ reverse) and speeds (v_f, v_r) of a two-state belt.
+pub(crate) type BeltRates = ((f64, f64), (f64, f64));
+
+/// What the main pass counts for the tails of one cell, fixed before it (the tails' module docs;
+/// the keys and columns are this file's; built by `TailPlan::new` in [`super::tails`]).
+pub(crate) struct TailPlan {
+    pub max_index: u32,
+    /// the width ρ of the time cells [s]
+    pub rho: f64,
+    /// the user's times: positive, sorted, distinct
+    pub times: Vec<f64>,
+    /// the scene of the conditional estimator, or why it is refused
+    pub scene: Result<(crate::simulation::keys::Scene, BeltRates), String>,
+    /// the D curve's evaluation points, on which the entries are binned (with the scene)
+    pub entry_grid: Option<Vec<(f64, i64)>>,
+    /// whether the dataset has the tails' state (schema v3): then the extremes are counted
+    pub tails_state: bool,
+    pub opts: TailOptions,
+}
 
 /// Count sinks per cell, in this order: D on fine cells (groups pooled), D on coarse cells (per
 /// group), D's entries (none where the conditional estimator is refused), H fine, H coarse.

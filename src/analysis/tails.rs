@@ -59,29 +59,18 @@ use polars::prelude::*;
 
 use super::input::{scan_all, Dataset};
 use super::jackknife::{self, Interval, GROUPS};
+pub use super::tail_counts::TailOptions;
+pub(crate) use super::tail_counts::{BeltRates, Counts, TailPlan, CELLS_PER_WINDOW, COARSE};
 use crate::scenario::ProcessName;
 use crate::simulation::belt::Process;
 use crate::simulation::dataset::columns as name;
 
-/// Time cells per t_a (module docs).
-pub(crate) const CELLS_PER_WINDOW: f64 = 65_536.0;
-/// Time cells per cell of the leave-one-group-out curves (module docs).
-pub(crate) const COARSE: i64 = 32;
 /// The times `reproduce` asks of the paper scene's tails [s]: up to its longest sticks (≈ 2.4 s,
 /// the holding time from the far end of the stick region).
 pub const PAPER_TAIL_TIMES: [f64; 5] = [0.5, 1.0, 1.5, 2.0, 2.4];
 
 /// Points of each curve between 0 and its largest duration.
 pub const CURVE_POINTS: usize = 200;
-
-/// What the user asks of the tails.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct TailOptions {
-    /// t [s] at which every curve is also evaluated, and the thresholds T of P(longest stick > T)
-    pub times: Vec<f64>,
-    /// thresholds of P(severity > s)
-    pub severity: Vec<f64>,
-}
 
 /// One survival curve.
 #[derive(Debug, Clone, PartialEq)]
@@ -152,9 +141,6 @@ impl Tails {
     }
 }
 
-/// Counts per (group, index, cell, flag) as the queries return them.
-pub(crate) type Counts = Vec<(usize, u32, i64, bool, u64)>;
-
 /// The evaluation points of a curve on the cells of `cell` (`width` = `COARSE`^`coarse` ρ): the
 /// grid's (t, ⌊t/ρ⌋) mapped to (t, φ(t)).
 fn on_cells(grid: &[(f64, i64)], times: &[f64], coarse: bool) -> Vec<(f64, i64)> {
@@ -188,26 +174,6 @@ fn conditional_scene(data: &Dataset) -> Result<(crate::simulation::keys::Scene, 
         other => return Err(format!("the belt is \"{}\", not a two-state flip process", other.name())),
     };
     Ok((scene, rates))
-}
-
-/// The flip rates (λ forward, λ reverse) and speeds (v_f, v_r) of a two-state belt.
-type BeltRates = ((f64, f64), (f64, f64));
-
-/// What the main pass counts for the tails of one cell, fixed before it (module docs; the
-/// keys and columns are `super::tail_counts`').
-pub(crate) struct TailPlan {
-    pub max_index: u32,
-    /// the width ρ of the time cells [s]
-    pub rho: f64,
-    /// the user's times: positive, sorted, distinct
-    pub times: Vec<f64>,
-    /// the scene of the conditional estimator, or why it is refused
-    pub scene: Result<(crate::simulation::keys::Scene, BeltRates), String>,
-    /// the D curve's evaluation points, on which the entries are binned (with the scene)
-    pub entry_grid: Option<Vec<(f64, i64)>>,
-    /// whether the dataset has the tails' state (schema v3): then the extremes are counted
-    pub tails_state: bool,
-    pub opts: TailOptions,
 }
 
 /// What the main pass counted for one cell's tails.
