@@ -118,7 +118,7 @@ fn main() {
         let (data, top) = (dir.path().join("paper/dataset"), dir.path().join("paper"));
         let mut sc = Scenario::paper();
         (sc.output.trajectories, sc.output.switch_times) = (3, true);
-        simulate::run(&sc, &Options { out: data.clone(), shard: Shard::WHOLE, threads: None, progress: false }).unwrap();
+        simulate::run(&sc, &Options { out: data.clone(), shard: Shard::WHOLE, threads: None }).unwrap();
         let a = analysis::analyze(&data, &analysis::Options::default()).unwrap();
         analysis::output::write(&a, &top.join("analysis")).unwrap();
         let start = Instant::now();

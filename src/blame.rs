@@ -1,10 +1,125 @@
-//! Whose fault an error is. Every error type of the crate says, next to its definition, whether
-//! the input — a flag, a key, a value, a file or an output directory — is to blame (the command
-//! exits with code 2) or the run failed (code 1); the command line only asks
-//! (`cli::exit`).
+//! Whose fault an error is, and how a failure is told. Every error type of the crate says, next
+//! to its definition, which input — a flag or argument, the scenario, a dataset or other input
+//! file, the output directory — is to blame, or that the run failed ([`Blame`]). From that one
+//! answer come the command line's exit code (2 when an input is to blame, 1 otherwise) and the
+//! Python package's exception class (`stickslip.UsageError`, `ScenarioError`, `DatasetError`,
+//! `OutputError`, all `ValueError`s; `RunError`, a `RuntimeError`).
 
-/// An error that knows whether the input is to blame.
+/// The input at fault.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Culprit {
+    /// a flag or argument (its value, or values that cannot go together)
+    Usage,
+    /// the scenario: a key, a value, the scenario file, or a scene a stage cannot take
+    Scenario,
+    /// a dataset or another stage's output read as input
+    Dataset,
+    /// the output directory or file
+    Output,
+}
+
+/// An error that knows whether an input is to blame.
 pub trait Blame {
-    /// True when the user's input caused it (exit code 2).
-    fn blames_input(&self) -> bool;
+    /// The input at fault, or None for a failure while running (exit code 1).
+    fn blame(&self) -> Option<Culprit>;
+}
+
+/// A usage error found after parsing: an argument's value out of range (exit code 2).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Usage(pub String);
+
+pub(crate) fn usage(message: impl Into<String>) -> anyhow::Error {
+    Usage(message.into()).into()
+}
+
+impl Blame for Usage {
+    fn blame(&self) -> Option<Culprit> {
+        Some(Culprit::Usage)
+    }
+}
+
+/// The input an error blames: the first link of its chain that names one. Each error type
+/// answers for itself ([`Blame`]); transparent wrappers are looked through, since their inner
+/// error is not a link of its own.
+pub fn culprit(e: &anyhow::Error) -> Option<Culprit> {
+    e.chain().find_map(link_culprit)
+}
+
+fn link_culprit(e: &(dyn std::error::Error + 'static)) -> Option<Culprit> {
+    macro_rules! ask {
+        ($($t:ty),* $(,)?) => {
+            $(if let Some(x) = e.downcast_ref::<$t>() {
+                return x.blame();
+            })*
+        };
+    }
+    ask!(
+        Usage,
+        crate::scenario::ScenarioError,
+        crate::analysis::input::InputError,
+        crate::outdir::OutDirError,
+        crate::analysis::AnalysisError,
+        crate::simulation::dataset::DatasetError,
+        crate::simulation::simulate::SimulateError,
+        crate::report::ReportError,
+        crate::figures::FigureError,
+        crate::tradeoff::TradeoffError,
+        crate::sensitivity::SensitivityError,
+        crate::law::LawError,
+    );
+    None
+}
+
+/// Whether the run was cancelled (Ctrl-C in a Python session).
+pub fn cancelled(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.is::<crate::progress::Cancelled>())
+}
+
+/// Exit code of a failed run: 2 when an input (a flag, key, value, file or output directory)
+/// is at fault, 1 for a failure while running.
+pub fn exit_code(e: &anyhow::Error) -> u8 {
+    if culprit(e).is_some() {
+        2
+    } else {
+        1
+    }
+}
+
+/// The error and its causes on one printable line, each cause once (a cause whose text is
+/// already shown, as when a message quotes its `source`, is not repeated). Whatever a cause
+/// quotes — a user's 100,000-character `--set` value, a file's control bytes — is made
+/// printable and shortened ([`printable`]).
+pub fn message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = printable(&cause.to_string());
+        if out.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out += ": ";
+        }
+        out += &text;
+    }
+    out
+}
+
+/// `text` on one line: control characters (newlines included) become spaces, runs of spaces
+/// one, and a run of more than 200 characters without a space keeps its first 80 and says how
+/// long it was.
+fn printable(text: &str) -> String {
+    let clean: String = text.chars().map(|c| if c.is_control() { ' ' } else { c }).collect();
+    let words: Vec<String> = clean
+        .split_whitespace()
+        .map(|w| {
+            let n = w.chars().count();
+            if n > 200 {
+                format!("{}… ({n} characters)", w.chars().take(80).collect::<String>())
+            } else {
+                w.to_string()
+            }
+        })
+        .collect();
+    words.join(" ")
 }

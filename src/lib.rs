@@ -12,7 +12,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
-pub(crate) mod blame;
+pub mod blame;
 pub mod cli;
 pub mod figures;
 pub mod interrupt;
@@ -22,6 +22,7 @@ pub mod observables;
 pub(crate) mod outdir;
 pub mod physics;
 pub mod predict;
+pub mod progress;
 pub mod report;
 pub mod scenario;
 pub mod scenes;
@@ -29,6 +30,7 @@ pub mod sensitivity;
 pub mod simulation;
 pub mod solver;
 pub(crate) mod special;
+pub mod stage;
 pub(crate) mod stats;
 pub mod table;
 pub mod tradeoff;

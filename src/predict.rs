@@ -140,8 +140,10 @@ pub fn default_horizon(scenario: &Scenario) -> Result<f64, ScenarioError> {
 }
 
 /// Predict from `state`; `out` (if given) gets `prediction.parquet` (and the exact
-/// `stick_survival.parquet`). `progress` hears what is being done.
-pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>, progress: &mut dyn FnMut(&str)) -> Result<Prediction, LawError> {
+/// `stick_survival.parquet`). `ctl` hears what is being done (notes) and is asked between the
+/// parts.
+pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>, ctl: crate::progress::Control) -> Result<Prediction, LawError> {
+    let progress = |line: &str| ctl.progress.note(line);
     let scene = scenario.scene()?;
     if !(state.x.is_finite() && state.velocity.is_finite() && state.belt.is_finite()) {
         let shown = crate::scenario::short;
@@ -195,9 +197,11 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     }
     let mut densities = None;
     if let Ok((frames, ladder, at, start)) = exact {
+        ctl.check()?;
         progress("exact: three resolutions");
         let (r, s) = exact_rows(&frames, &ladder, at, start).map_err(LawError::Failed)?;
         if let Some(n) = opts.densities {
+            ctl.check()?;
             progress("exact densities of the time to the next stick and of the slip after it: three resolutions");
             densities = Some(density_rows(&frames, n, at, start, &r).map_err(LawError::Failed)?);
         }
@@ -207,6 +211,7 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     let futures = opts.futures.or(if exact_refused.is_some() { Some(DEFAULT_FUTURES) } else { None });
     let mut censored = 0;
     if let Some(n) = futures {
+        ctl.check()?;
         progress(&format!("conditional Monte Carlo: {n} futures over {} s", crate::scenario::short(horizon)));
         let (r, c) = monte_carlo(&futures_scenario, state.stuck, n)?;
         rows.extend(r);

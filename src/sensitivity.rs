@@ -51,6 +51,9 @@ pub enum SensitivityError {
     /// The scenario is invalid.
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
+    /// The caller cancelled the run (Ctrl-C in a Python session).
+    #[error("interrupted")]
+    Cancelled(#[from] crate::progress::Cancelled),
     /// The scenario has no random key to apportion the variance to.
     #[error("the scenario has no random key: make at least one [model] or [belt] key a distribution, e.g. --set 'model.friction_coefficient={{dist = \"uniform\", low = 0.3, high = 0.7}}'")]
     NoRandomKey,
@@ -83,11 +86,12 @@ pub enum SensitivityError {
 }
 
 impl crate::blame::Blame for SensitivityError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            SensitivityError::Scenario(_) | SensitivityError::NoRandomKey | SensitivityError::TooLarge { .. } => true,
-            SensitivityError::Out(o) => o.blames_input(),
-            SensitivityError::Run(_) | SensitivityError::Write { .. } => false,
+            SensitivityError::Scenario(_) | SensitivityError::NoRandomKey => Some(crate::blame::Culprit::Scenario),
+            SensitivityError::TooLarge { .. } => Some(crate::blame::Culprit::Usage),
+            SensitivityError::Out(o) => o.blame(),
+            SensitivityError::Run(_) | SensitivityError::Write { .. } | SensitivityError::Cancelled(_) => None,
         }
     }
 }
@@ -264,8 +268,10 @@ pub fn figure(rows: &[Index]) -> Figure {
 
 /// Run the stage into `out` (replaced when complete): `sobol.parquet`, `sobol.{png,svg}`,
 /// `sobol.md`.
-pub fn run(scenario: &Scenario, n: u64, out: &Path) -> Result<Vec<Index>, SensitivityError> {
+/// `ctl` is asked before the samples run.
+pub fn run(scenario: &Scenario, n: u64, out: &Path, ctl: crate::progress::Control) -> Result<Vec<Index>, SensitivityError> {
     let staged = StagedDir::new(out, Kind::Sensitivity, "--out", &[])?;
+    ctl.check()?;
     let rows = compute(scenario, n)?;
     let werr = |name: &str, e: &dyn std::fmt::Display| SensitivityError::Write { path: out.join(name), message: e.to_string() };
     table(&rows).write_parquet(&staged.path().join("sobol.parquet")).map_err(|e| werr("sobol.parquet", &e))?;

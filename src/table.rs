@@ -160,6 +160,24 @@ impl Table {
         self
     }
 
+    /// The table as an Arrow record batch (strings as Utf8, integers Int64, floats Float64; how
+    /// the Python package hands a table over without writing it).
+    pub fn to_arrow(&self) -> arrow_array::RecordBatch {
+        use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, RecordBatchOptions, StringArray};
+        use arrow_schema::{DataType as Arrow, Field, Schema};
+        let (fields, arrays): (Vec<Field>, Vec<ArrayRef>) = self
+            .columns
+            .iter()
+            .map(|(name, c)| match c {
+                Col::Str(v) => (Field::new(name, Arrow::Utf8, true), std::sync::Arc::new(StringArray::from_iter_values(v)) as ArrayRef),
+                Col::Int(v) => (Field::new(name, Arrow::Int64, true), std::sync::Arc::new(Int64Array::from(v.clone())) as ArrayRef),
+                Col::Float(v) => (Field::new(name, Arrow::Float64, true), std::sync::Arc::new(Float64Array::from(v.clone())) as ArrayRef),
+            })
+            .unzip();
+        let options = RecordBatchOptions::new().with_row_count(Some(self.height()));
+        RecordBatch::try_new_with_options(std::sync::Arc::new(Schema::new(fields)), arrays, &options).expect("columns of the table's height")
+    }
+
     /// Write as Parquet (zstd) to `path`; a table holding NaN, ±∞ or a negative count, variance,
     /// standard error or density is refused before anything is written (the last guard of
     /// every stage's tables).

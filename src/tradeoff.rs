@@ -134,6 +134,9 @@ pub enum TradeoffError {
     /// The scenario, or a setting applied to it, is invalid.
     #[error(transparent)]
     Scenario(#[from] ScenarioError),
+    /// The caller cancelled the run (Ctrl-C in a Python session).
+    #[error("interrupted")]
+    Cancelled(#[from] crate::progress::Cancelled),
     /// A realization could not be solved under a setting.
     #[error("{solver} ({setting}): {source}")]
     Run {
@@ -166,11 +169,11 @@ pub enum TradeoffError {
 }
 
 impl crate::blame::Blame for TradeoffError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            TradeoffError::Scenario(_) => true,
-            TradeoffError::Out(o) => o.blames_input(),
-            TradeoffError::Run { .. } | TradeoffError::Write { .. } | TradeoffError::Reference { .. } => false,
+            TradeoffError::Scenario(_) => Some(crate::blame::Culprit::Scenario),
+            TradeoffError::Out(o) => o.blame(),
+            TradeoffError::Run { .. } | TradeoffError::Write { .. } | TradeoffError::Reference { .. } | TradeoffError::Cancelled(_) => None,
         }
     }
 }
@@ -320,13 +323,14 @@ fn reference(base: &Scenario, n: u64) -> Result<(Setting, Measured), TradeoffErr
 
 /// Measure every setting of the ladder on realizations 0..n of `base`, against the reference;
 /// mark the cheapest setting whose [`bias_over_se`] is below `bias_fraction`.
-pub fn measure(base: &Scenario, n: u64, bias_fraction: f64) -> Result<Vec<Row>, TradeoffError> {
+pub fn measure(base: &Scenario, n: u64, bias_fraction: f64, ctl: crate::progress::Control) -> Result<Vec<Row>, TradeoffError> {
     let (reference_setting, measured) = reference(base, n)?;
     let reference = measured.records.clone();
     let mut rows = Vec::new();
     let mut settings: Vec<(Setting, Option<Measured>)> = vec![(reference_setting, Some(measured))];
     settings.extend(ladder(base.run.duration).into_iter().filter(|s| s.solver != SolverKind::Exact).map(|s| (s, None)));
     for (Setting { solver, label: setting, parameter, apply }, done) in settings {
+        ctl.check()?;
         let Measured { records, seconds: secs, evaluations } = match done {
             Some(d) => d,
             None => {
@@ -468,9 +472,10 @@ pub fn figure(rows: &[Row]) -> Figure {
 }
 
 /// Run the stage into `out` (replaced when complete).
-pub fn run(base: &Scenario, n: u64, bias_fraction: f64, out: &Path) -> Result<Vec<Row>, TradeoffError> {
+/// `ctl` is asked between settings.
+pub fn run(base: &Scenario, n: u64, bias_fraction: f64, out: &Path, ctl: crate::progress::Control) -> Result<Vec<Row>, TradeoffError> {
     let staged = StagedDir::new(out, Kind::Tradeoff, "--out", &[])?;
-    let rows = measure(base, n, bias_fraction)?;
+    let rows = measure(base, n, bias_fraction, ctl)?;
     let werr = |path: &Path, e: &dyn std::fmt::Display| TradeoffError::Write { path: path.to_owned(), message: e.to_string() };
     table(&rows, n).write_parquet(&staged.path().join("tradeoff.parquet")).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
     render::save(&figure(&rows), staged.path()).map_err(|e| werr(&out.join("work_precision.png"), &e))?;

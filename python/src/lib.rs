@@ -1,18 +1,18 @@
-//! `stickslip._stickslip`: the Python extension, a thin layer over the library — no second
-//! implementation of anything. Scenarios are resolved by `stickslip::scenario`, realizations
-//! simulated by `stickslip::simulation::simulate::batches` (the rows the CLI writes); the stages
-//! that write files run the command line's own code (`stickslip::cli::main_from`, in a child
-//! process started by the package, so that Ctrl-C ends them as it ends the CLI).
+//! `stickslip._stickslip`: the Python extension, a thin layer over the library's stages
+//! (`stickslip::stage`) — no second implementation of anything, and no child process: each
+//! function builds a stage's request, runs it in this process with the GIL released, and returns
+//! its result.
 //!
 //! Tables cross into Python through the Arrow C stream interface (`__arrow_c_stream__`, a
 //! PyCapsule named `arrow_array_stream` holding an `ArrowArrayStream`): polars, pyarrow and
-//! pandas take them without copying a value. Errors: `ValueError` when the input is to blame
-//! (the same one-line message as the CLI), `RuntimeError` otherwise. Long work runs with the
-//! GIL released; Ctrl-C is noticed between windows of chunks and ends the run with
-//! `KeyboardInterrupt`.
+//! pandas take them without copying a value. Errors are raised as the exception class of what
+//! is to blame (`stickslip::blame::Culprit`: `UsageError`, `ScenarioError`, `DatasetError`,
+//! `OutputError`, subclasses of `ValueError`; `RunError`, of `RuntimeError`), with the command
+//! line's one-line message. Ctrl-C is noticed between chunks of work (the stages' cancel token)
+//! and raises `KeyboardInterrupt`; whatever the stage had staged is removed.
 
 use std::ffi::CString;
-use std::path::Path;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use arrow_array::ffi_stream::FFI_ArrowArrayStream;
@@ -22,8 +22,17 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyCapsule;
 
-use stickslip::scenario::{Overrides, Scenario};
-use stickslip::simulation::simulate::{self, SimulateError};
+use stickslip::blame::Culprit;
+use stickslip::progress::{Control, Progress};
+use stickslip::scenario::{Input, Overrides, Scenario, Source};
+use stickslip::simulation::simulate;
+use stickslip::stage;
+
+pyo3::create_exception!(_stickslip, UsageError, PyValueError, "An argument's value is out of range, or values that cannot go together.");
+pyo3::create_exception!(_stickslip, ScenarioError, PyValueError, "The scenario: a key, a value, the scenario file, or a scene the stage cannot take.");
+pyo3::create_exception!(_stickslip, DatasetError, PyValueError, "A dataset, or another stage's output read as input, that cannot be used.");
+pyo3::create_exception!(_stickslip, OutputError, PyValueError, "The output directory or file was refused.");
+pyo3::create_exception!(_stickslip, RunError, PyRuntimeError, "A failure while running (the input is not to blame).");
 
 /// An Arrow table held in Rust memory: record batches sharing one schema, exported without a
 /// copy through `__arrow_c_stream__`.
@@ -31,6 +40,12 @@ use stickslip::simulation::simulate::{self, SimulateError};
 struct Table {
     schema: SchemaRef,
     batches: Vec<RecordBatch>,
+}
+
+impl Table {
+    fn from_batch(batch: RecordBatch) -> Table {
+        Table { schema: batch.schema(), batches: vec![batch] }
+    }
 }
 
 #[pymethods]
@@ -51,12 +66,6 @@ impl Table {
         self.batches.iter().map(RecordBatch::num_rows).sum()
     }
 
-    /// The column names.
-    #[getter]
-    fn column_names(&self) -> Vec<String> {
-        self.schema.fields().iter().map(|f| f.name().clone()).collect()
-    }
-
     /// The schema's key-value metadata (a dataset's provenance).
     #[getter]
     fn metadata(&self) -> std::collections::HashMap<String, String> {
@@ -66,101 +75,298 @@ impl Table {
     fn __len__(&self) -> usize {
         self.num_rows()
     }
-
-    fn __repr__(&self) -> String {
-        format!("stickslip.Table({} rows; columns {})", self.num_rows(), self.column_names().join(", "))
-    }
 }
 
-/// An error as Python sees it: `ValueError` when the input is to blame, else `RuntimeError`;
-/// the message is the CLI's one line.
+/// An error as Python sees it: the class of what is to blame, the CLI's one-line message.
 fn to_py(e: anyhow::Error) -> PyErr {
-    if e.chain().any(|c| c.is::<Interrupted>()) {
+    if stickslip::blame::cancelled(&e) {
         return PyKeyboardInterrupt::new_err("interrupted");
     }
-    let message = stickslip::cli::message(&e);
-    if stickslip::cli::exit_code(&e) == 2 {
-        PyValueError::new_err(message)
-    } else {
-        PyRuntimeError::new_err(message)
+    let message = stickslip::blame::message(&e);
+    match stickslip::blame::culprit(&e) {
+        Some(Culprit::Usage) => UsageError::new_err(message),
+        Some(Culprit::Scenario) => ScenarioError::new_err(message),
+        Some(Culprit::Dataset) => DatasetError::new_err(message),
+        Some(Culprit::Output) => OutputError::new_err(message),
+        None => RunError::new_err(message),
     }
 }
 
-/// Ctrl-C reached a run.
-#[derive(Debug)]
-struct Interrupted;
+/// The progress sink of a Python call: each event handed to a Python callable
+/// (`("start", what, total)`, `("advance", n)`, `("message", text)`, `("finish",)`,
+/// `("status", line)`, `("note", line)`); an exception it raises is printed and ignored.
+struct Sink(Option<Py<PyAny>>);
 
-impl std::error::Error for Interrupted {}
-
-impl std::fmt::Display for Interrupted {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("interrupted")
+impl Sink {
+    fn send(&self, call: impl FnOnce(Python<'_>, &Py<PyAny>) -> PyResult<Py<PyAny>>) {
+        if let Some(f) = &self.0 {
+            Python::attach(|py| {
+                if let Err(e) = call(py, f) {
+                    e.print(py);
+                }
+            });
+        }
     }
 }
 
-/// Resolve a scenario as the CLI does: the embedded paper scenario ← the file or TOML text (the
-/// package writes a dict as TOML) ← `sets` (`--set KEY=VALUE`) ← `realizations`, `seed`.
-fn resolve(path: Option<&str>, toml_text: Option<&str>, sets: &[String], over: Overrides) -> anyhow::Result<Scenario> {
-    let mut sc = match path {
-        Some(p) => Scenario::resolve(Some(Path::new(p)), sets)?,
-        None => Scenario::from_text(toml_text, Path::new("<scenario>"), sets)?,
+impl Progress for Sink {
+    fn start(&self, what: &str, total: u64) {
+        self.send(|py, f| f.call1(py, ("start", what, total)));
+    }
+    fn advance(&self, n: u64) {
+        self.send(|py, f| f.call1(py, ("advance", n)));
+    }
+    fn message(&self, text: &str) {
+        self.send(|py, f| f.call1(py, ("message", text)));
+    }
+    fn finish(&self) {
+        self.send(|py, f| f.call1(py, ("finish",)));
+    }
+    fn status(&self, line: &str) {
+        self.send(|py, f| f.call1(py, ("status", line)));
+    }
+    fn note(&self, line: &str) {
+        self.send(|py, f| f.call1(py, ("note", line)));
+    }
+}
+
+/// Ctrl-C: Python's handler only sets a flag; the stage asks here between chunks of work.
+fn interrupted() -> bool {
+    Python::attach(|py| py.check_signals().is_err())
+}
+
+/// Run `f` (a stage) with the GIL released, `progress` as its sink and Ctrl-C as its cancel.
+fn staged<T: Send>(py: Python<'_>, progress: Option<Py<PyAny>>, f: impl FnOnce(Control) -> anyhow::Result<T> + Send) -> PyResult<T> {
+    let sink = Sink(progress);
+    py.detach(|| f(Control { progress: &sink, cancel: &interrupted })).map_err(to_py)
+}
+
+/// A scenario as the package passes it: `("paper", None)`, `("file", path)` or `("text", toml)`,
+/// and the `--set` overrides.
+fn input(kind: &str, value: Option<String>, sets: Vec<String>) -> PyResult<Input> {
+    let source = match (kind, value) {
+        ("paper", _) => Source::Paper,
+        ("file", Some(p)) => Source::File(PathBuf::from(p)),
+        ("text", Some(t)) => Source::Text(t),
+        _ => return Err(UsageError::new_err(format!("scenario: unknown kind {kind:?}"))),
     };
-    over.apply(&mut sc);
-    sc.check()?;
-    sc.refuse_sweep("simulate (from Python, into memory)")?;
-    Ok(sc)
+    Ok(Input { source, sets })
 }
 
 /// Most realizations `simulate` holds in memory (about 7.5 GB of rows on the paper scene).
 const MAX_IN_MEMORY: u64 = 10_000_000;
 
-/// Simulate one scene into memory (module docs). Arguments as `stickslip.simulate`.
+/// Simulate one scene into memory: the dataset's rows as one table (provenance in its metadata).
 #[pyfunction]
-#[pyo3(signature = (path=None, toml_text=None, sets=Vec::new(), realizations=None, seed=None, threads=None))]
+#[pyo3(signature = (kind, value, sets, realizations=None, seed=None, threads=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
 fn simulate_table(
     py: Python<'_>,
-    path: Option<&str>,
-    toml_text: Option<&str>,
+    kind: &str,
+    value: Option<String>,
     sets: Vec<String>,
     realizations: Option<u64>,
     seed: Option<u64>,
     threads: Option<usize>,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<Table> {
-    let sc = resolve(path, toml_text, &sets, Overrides { realizations, seed }).map_err(to_py)?;
-    if sc.run.realizations > MAX_IN_MEMORY {
-        return Err(PyValueError::new_err(format!(
-            "realizations = {}: at most {MAX_IN_MEMORY} are held in memory (about 750 bytes each on the paper scene); write them with out=DIR and scan the Parquet files",
-            sc.run.realizations
-        )));
-    }
-    // Ctrl-C: Python's handler only sets a flag; the run asks for it between windows of chunks
-    let stop = || Python::attach(|py| py.check_signals().is_err());
-    let batches = py
-        .detach(|| simulate::batches(&sc, threads, &stop))
-        .map_err(|e| match e {
-            SimulateError::Interrupted => anyhow::Error::new(Interrupted),
-            e => anyhow::Error::new(e),
-        })
-        .map_err(to_py)?;
-    let schema = match batches.first() {
-        Some(b) => b.schema(),
-        None => Arc::new(Schema::empty()),
-    };
+    let input = input(kind, value, sets)?;
+    let batches = staged(py, progress, |ctl| {
+        let mut sc = input.resolve()?;
+        Overrides { realizations, seed }.apply(&mut sc);
+        sc.check()?;
+        sc.refuse_sweep("simulate (from Python, into memory)")?;
+        if sc.run.realizations > MAX_IN_MEMORY {
+            return Err(stickslip::blame::Usage(format!(
+                "realizations = {}: at most {MAX_IN_MEMORY} are held in memory (about 750 bytes each on the paper scene); write them with out=DIR and scan the Parquet files",
+                sc.run.realizations
+            ))
+            .into());
+        }
+        Ok(simulate::batches(&sc, threads, ctl)?)
+    })?;
+    let schema = batches.first().map_or_else(|| Arc::new(Schema::empty()), RecordBatch::schema);
     Ok(Table { schema, batches })
+}
+
+/// A cell `simulate_to` wrote: (part file, realizations, seconds, Σ S_T, targets met or None).
+type Written = (String, u64, f64, u64, Option<bool>);
+
+/// The `simulate` stage into a directory; returns each cell's (part file, realizations, seconds,
+/// Σ S_T, targets met or None).
+#[pyfunction]
+#[pyo3(signature = (kind, value, sets, out, realizations=None, seed=None, threads=None, target_se=Vec::new(), progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_to(
+    py: Python<'_>,
+    kind: &str,
+    value: Option<String>,
+    sets: Vec<String>,
+    out: PathBuf,
+    realizations: Option<u64>,
+    seed: Option<u64>,
+    threads: Option<usize>,
+    target_se: Vec<String>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Vec<Written>> {
+    let target_se = target_se.iter().map(|t| t.parse().map_err(|e: String| UsageError::new_err(format!("target_se: {e}")))).collect::<PyResult<Vec<_>>>()?;
+    let request = stage::simulate::Request { input: input(kind, value, sets)?, out, shard: simulate::Shard::WHOLE, realizations, seed, target_se, threads };
+    let done = staged(py, progress, |ctl| stage::simulate::run(&request, ctl))?;
+    Ok(done.summaries.into_iter().map(|s| (s.path.display().to_string(), s.realizations, s.seconds, s.total_sticks, s.targets.map(|t| t.0))).collect())
+}
+
+/// One cell of an analysis: (cell path, the tables by name, `summary.json` as text).
+type Cell = (String, Vec<(String, Table)>, String);
+
+/// The `analyze` stage: every cell's tables and summary, and a sweep's table of cells; `out`
+/// (if given) gets the files too.
+#[pyfunction]
+#[pyo3(signature = (dataset, out=None, max_index=None, bins=None, pairs=None, permutations=None, allow_partial=false, tails=true, tail_times=None, severity=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn analyze(
+    py: Python<'_>,
+    dataset: PathBuf,
+    out: Option<PathBuf>,
+    max_index: Option<u32>,
+    bins: Option<usize>,
+    pairs: Option<Vec<String>>,
+    permutations: Option<u32>,
+    allow_partial: bool,
+    tails: bool,
+    tail_times: Option<Vec<f64>>,
+    severity: Option<Vec<f64>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(Vec<Cell>, Option<Table>)> {
+    let mut options = stickslip::analysis::Options { bins, allow_partial, tails, ..Default::default() };
+    options.max_index = max_index.unwrap_or(options.max_index);
+    options.permutations = permutations.unwrap_or(options.permutations);
+    if let Some(p) = pairs {
+        options.pairs = p.iter().map(|p| p.parse().map_err(|e: String| UsageError::new_err(format!("pairs: {e}")))).collect::<PyResult<_>>()?;
+    }
+    options.tail.times = tail_times.unwrap_or(options.tail.times);
+    options.tail.severity = severity.unwrap_or(options.tail.severity);
+    let request = stage::analyze::Request { dataset, out, options };
+    staged(py, progress, |ctl| {
+        let done = stage::analyze::run(&request, ctl)?;
+        let cells = done
+            .cells
+            .iter()
+            .map(|(path, a)| {
+                let tables = stickslip::analysis::output::tables(a).into_iter().map(|(n, t)| (n.to_string(), Table::from_batch(t.to_arrow()))).collect();
+                (path.clone(), tables, stickslip::analysis::output::summary(a).to_json())
+            })
+            .collect();
+        let sweep = done.sweep_table().map(|t| Table::from_batch(t.to_arrow()));
+        Ok((cells, sweep))
+    })
+}
+
+/// The `tradeoff` stage into `out`.
+#[pyfunction]
+#[pyo3(signature = (kind, value, sets, out, realizations=None, bias_fraction=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn tradeoff(
+    py: Python<'_>,
+    kind: &str,
+    value: Option<String>,
+    sets: Vec<String>,
+    out: PathBuf,
+    realizations: Option<u64>,
+    bias_fraction: Option<f64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<()> {
+    let request = stage::tradeoff::Request {
+        input: input(kind, value, sets)?,
+        out,
+        realizations: realizations.unwrap_or(stage::tradeoff::DEFAULT_REALIZATIONS),
+        bias_fraction: bias_fraction.unwrap_or(stickslip::tradeoff::BIAS_FRACTION),
+    };
+    staged(py, progress, |ctl| stage::tradeoff::run(&request, ctl).map(drop))
+}
+
+/// The `sensitivity` stage into `out`.
+#[pyfunction]
+#[pyo3(signature = (kind, value, sets, out, realizations=None, seed=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn sensitivity(
+    py: Python<'_>,
+    kind: &str,
+    value: Option<String>,
+    sets: Vec<String>,
+    out: PathBuf,
+    realizations: Option<u64>,
+    seed: Option<u64>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<()> {
+    let request = stage::sensitivity::Request {
+        input: input(kind, value, sets)?,
+        out,
+        realizations: realizations.unwrap_or(stage::sensitivity::DEFAULT_REALIZATIONS),
+        seed,
+    };
+    staged(py, progress, |ctl| stage::sensitivity::run(&request, ctl).map(drop))
+}
+
+/// The `exact-law` stage into `out`.
+#[pyfunction]
+#[pyo3(signature = (kind, value, sets, out, resolution=None, tail_times=None, counts=None, densities=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn exact_law(
+    py: Python<'_>,
+    kind: &str,
+    value: Option<String>,
+    sets: Vec<String>,
+    out: PathBuf,
+    resolution: Option<u32>,
+    tail_times: Option<Vec<f64>>,
+    counts: Option<u32>,
+    densities: Option<u32>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<()> {
+    let mut request = stage::exact_law::Request::new(input(kind, value, sets)?, out);
+    request.resolution = resolution.unwrap_or(request.resolution);
+    request.tail_times = tail_times.unwrap_or(request.tail_times);
+    (request.counts, request.densities) = (counts, densities);
+    staged(py, progress, |ctl| stage::exact_law::run(&request, ctl).map(drop))
+}
+
+/// The `predict` stage, writing its tables into `out`.
+#[pyfunction]
+#[pyo3(signature = (kind, value, sets, state, out, stuck=false, futures=None, horizon=None, resolution=None, seed=None, densities=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn predict(
+    py: Python<'_>,
+    kind: &str,
+    value: Option<String>,
+    sets: Vec<String>,
+    state: (f64, f64, f64),
+    out: PathBuf,
+    stuck: bool,
+    futures: Option<u64>,
+    horizon: Option<f64>,
+    resolution: Option<u32>,
+    seed: Option<u64>,
+    densities: Option<u32>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<()> {
+    let mut request = stage::predict::Request::new(input(kind, value, sets)?, state);
+    request.resolution = resolution.unwrap_or(request.resolution);
+    (request.stuck, request.futures, request.horizon, request.seed, request.out, request.densities) = (stuck, futures, horizon, seed, Some(out), densities);
+    staged(py, progress, |ctl| stage::predict::run(&request, ctl).map(drop))
 }
 
 /// Run the command line with `argv` (the program name first), as the `stickslip` binary does;
 /// returns the exit code (0, 1 or 2), the error printed on stderr as the binary prints it.
 /// Like the binary, it takes over SIGINT and SIGTERM (temporaries removed, exit 130/143): it is
-/// meant for a process of its own (the console script, or the package's stage runner).
+/// meant for a process of its own (the console script).
 #[pyfunction]
 fn run_cli(py: Python<'_>, argv: Vec<String>) -> i32 {
     stickslip::interrupt::install();
     py.detach(|| match stickslip::cli::main_from(argv) {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("stickslip: error: {}", stickslip::cli::message(&e));
-            i32::from(stickslip::cli::exit_code(&e))
+            eprintln!("stickslip: error: {}", stickslip::blame::message(&e));
+            i32::from(stickslip::blame::exit_code(&e))
         }
     })
 }
@@ -168,29 +374,16 @@ fn run_cli(py: Python<'_>, argv: Vec<String>) -> i32 {
 /// Write a table made by `simulate_table` as a dataset directory, as `simulate --out` writes it
 /// (the scene from the table's own provenance); returns the part file's path.
 #[pyfunction]
-fn write_table(py: Python<'_>, table: &Table, out: &str) -> PyResult<String> {
+fn write_table(py: Python<'_>, table: &Table, out: PathBuf) -> PyResult<String> {
     let text =
         table.schema.metadata().get("stickslip.scenario").cloned().ok_or_else(|| {
-            PyValueError::new_err("the table has no stickslip.scenario metadata: only tables from stickslip.simulate can be written or analysed")
+            DatasetError::new_err("the table has no stickslip.scenario metadata: only tables from stickslip.simulate can be written or analysed")
         })?;
     py.detach(|| -> anyhow::Result<String> {
-        let sc = Scenario::recorded(&text, Path::new("<table>"))?;
-        Ok(simulate::write_batches(&table.batches, &sc, Path::new(out))?.display().to_string())
+        let sc = Scenario::recorded(&text, std::path::Path::new("<table>"))?;
+        Ok(simulate::write_batches(&table.batches, &sc, &out)?.display().to_string())
     })
     .map_err(to_py)
-}
-
-/// Read a Parquet file into a table (an analysis table or a dataset part).
-#[pyfunction]
-fn read_parquet(py: Python<'_>, path: &str) -> PyResult<Table> {
-    py.detach(|| -> anyhow::Result<Table> {
-        let file = std::fs::File::open(path).map_err(|e| anyhow::anyhow!("reading {path}: {e}"))?;
-        let builder = parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder::try_new(file)?;
-        let schema = builder.schema().clone();
-        let batches = builder.build()?.collect::<Result<Vec<_>, _>>()?;
-        Ok(Table { schema, batches })
-    })
-    .map_err(|e| PyRuntimeError::new_err(stickslip::cli::message(&e)))
 }
 
 /// The shipped scenarios: (name, text) pairs, the paper's first.
@@ -202,10 +395,25 @@ fn scenes() -> Vec<(String, String)> {
 /// The extension module.
 #[pymodule]
 fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
     m.add_class::<Table>()?;
+    for (name, class) in [
+        ("UsageError", py.get_type::<UsageError>()),
+        ("ScenarioError", py.get_type::<ScenarioError>()),
+        ("DatasetError", py.get_type::<DatasetError>()),
+        ("OutputError", py.get_type::<OutputError>()),
+        ("RunError", py.get_type::<RunError>()),
+    ] {
+        m.add(name, class)?;
+    }
     m.add_function(wrap_pyfunction!(simulate_table, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_to, m)?)?;
+    m.add_function(wrap_pyfunction!(analyze, m)?)?;
+    m.add_function(wrap_pyfunction!(tradeoff, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity, m)?)?;
+    m.add_function(wrap_pyfunction!(exact_law, m)?)?;
+    m.add_function(wrap_pyfunction!(predict, m)?)?;
     m.add_function(wrap_pyfunction!(run_cli, m)?)?;
-    m.add_function(wrap_pyfunction!(read_parquet, m)?)?;
     m.add_function(wrap_pyfunction!(write_table, m)?)?;
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -1,227 +1,102 @@
 """stickslip — stick-slip statistics of a dry-friction oscillator on a randomly reversing belt.
 
-A thin layer over the Rust library (the same code as the ``stickslip`` command line):
+The stages of the Rust library (the same code as the ``stickslip`` command line), run in this
+process with the GIL released, their tables returned as ``polars.DataFrame``:
 
-- :func:`simulate` runs realizations and returns the dataset as an Arrow table (``polars.from_arrow``,
-  ``pyarrow.table`` and pandas take it without a copy), or writes a dataset directory (``out=``);
-- :func:`analyze` analyses a dataset directory and returns its tidy tables and summary;
-- :func:`tradeoff`, :func:`sensitivity` run those stages into a directory and return their tables;
-- :func:`exact_law` computes the long-run law and Table 1 without sampling, :func:`predict` the next
-  stick from a given state (exact, and by conditional Monte Carlo futures);
+- :func:`simulate` runs realizations and returns the dataset (one row per realization;
+  :func:`provenance` gives its recorded scenario), or writes a dataset directory (``out=``);
+- :func:`analyze` analyses a dataset and returns its tables and typed summary (:class:`Analysis`);
+- :func:`tradeoff`, :func:`sensitivity` measure the solvers and the Sobol indices;
+- :func:`exact_law` computes the long-run law and Table 1 without sampling, :func:`predict` the
+  next stick from a given state;
 - :func:`scenes` lists the shipped scenarios.
 
 A scenario is a path (a ``str`` or ``os.PathLike``: always a file, ``=`` or ``[`` in its name
 included), a dict of sections (``{"belt": {"switch_rate": 1.0}}``) or TOML text wrapped as
-:class:`Toml` (``stickslip.Toml("[belt]\\nswitch_rate = 1.0\\n")``).
+:class:`Toml`. Units are SI throughout: seconds, metres, kilograms, newtons.
 
-Units are SI throughout: seconds, metres, kilograms, newtons. Bad input raises ``ValueError`` with
-a one-line message naming the argument, key, value or file (the package's own checks of its
-arguments, or the command line's message); a failure while running raises ``RuntimeError``;
-Ctrl-C during :func:`simulate` raises ``KeyboardInterrupt``.
+Errors: bad input raises a subclass of ``ValueError`` naming the culprit, with the command line's
+one-line message — :class:`UsageError` (an argument), :class:`ScenarioError` (a key, value or
+scenario file), :class:`DatasetError` (a dataset or other input file), :class:`OutputError` (the
+output directory); a failure while running raises :class:`RunError` (a ``RuntimeError``); Ctrl-C
+ends a stage between chunks of work with ``KeyboardInterrupt``, leaving nothing it staged.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import json
-import math
-import numbers
-import operator
 import os
-import re
-import signal
-import subprocess
-import sys
 import tempfile
-from dataclasses import dataclass
+import typing
+import weakref
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
 
-from . import _stickslip
-from ._stickslip import Table
+import polars as pl
 
-__all__ = ["Table", "Toml", "Analysis", "simulate", "analyze", "tradeoff", "sensitivity", "exact_law", "predict", "scenes", "__version__"]
+from . import _args, _stickslip, _summary
+from ._args import Scenario, Toml
+from ._progress import Bar
+from ._stickslip import DatasetError, OutputError, RunError, ScenarioError, UsageError
+from ._summary import Summary
+
+__all__ = [
+    "Toml",
+    "Analysis",
+    "Tables",
+    "Summary",
+    "Written",
+    "UsageError",
+    "ScenarioError",
+    "DatasetError",
+    "OutputError",
+    "RunError",
+    "simulate",
+    "provenance",
+    "analyze",
+    "tradeoff",
+    "sensitivity",
+    "exact_law",
+    "predict",
+    "scenes",
+    "__version__",
+]
 __version__: str = _stickslip.__version__
 
-_MAX_I64 = 2**63 - 1  # TOML's integers (run.seed, run.realizations) are 64-bit signed
-_MAX_U32 = 2**32 - 1  # the CLI's resolutions
-_ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
+PathArg = Union[str, "os.PathLike[str]"]
+
+# the Rust table behind each frame `simulate` returned, by the frame's id (dropped with the frame)
+_TABLES: Dict[int, Any] = {}
 
 
-@dataclass(frozen=True)
-class Toml:
-    """Scenario TOML text, told apart from a path by its type.
-
-    A ``str`` or ``os.PathLike`` scenario is always a path (sweep cells are named like
-    ``hive/mass=1/scene.toml``); TOML text is passed wrapped: ``stickslip.Toml("[belt]\\nswitch_rate = 1.0\\n")``.
-
-    Parameters
-    ----------
-    text : str
-        The scenario as TOML (keys it omits keep the paper's values).
-    """
-
-    text: str
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.text, str):
-            raise ValueError(f"Toml(text): text must be a str of TOML, not {type(self.text).__name__}")
+def _frame(table: Any) -> pl.DataFrame:
+    """A polars frame over a table of the extension (Arrow C stream), remembered for
+    :func:`provenance` and :func:`analyze`."""
+    df = pl.DataFrame(table)
+    _TABLES[id(df)] = table
+    weakref.finalize(df, _TABLES.pop, id(df), None)
+    return df
 
 
-Scenario = Union[str, "os.PathLike[str]", Mapping[str, Any], Toml, None]
+def _progress(show: bool) -> Optional[Bar]:
+    return Bar() if show else None
 
 
-def _error_line(err: Optional[str], returncode: int) -> str:
-    """The one-line error in a child's stderr: the last line starting with ``stickslip: error:`` or
-    clap's ``error:`` (prefix removed); else the last non-empty line that is not clap's ``Usage:``
-    / ``For more information`` boilerplate; else a line naming the exit code."""
-    # (splitlines also splits at a progress bar's '\r'; colours are dropped)
-    lines = [_ANSI.sub("", line).strip() for line in (err or "").splitlines()]
-    for line in reversed(lines):
-        for prefix in ("stickslip: error:", "error:"):
-            if line.startswith(prefix) and line[len(prefix):].strip():
-                return line[len(prefix):].strip()
-    for line in reversed(lines):
-        if line and not line.startswith(("For more information", "Usage:")):
-            return line
-    return f"stickslip exited with code {returncode}" + (" (its message is above)" if err is None else "")
+@dataclasses.dataclass(frozen=True)
+class Written:
+    """A part file :func:`simulate` wrote (one per sweep cell)."""
 
-
-def _run_stage(argv: list, progress: bool = False) -> None:
-    """Run a stage that writes files (``argv[0]`` is the program name) in a child process running
-    the command line's own code, so that Ctrl-C ends it cleanly wherever it is: the child removes
-    its temporaries (as the CLI does on SIGINT) and ``KeyboardInterrupt`` is raised here. Its
-    one-line error becomes ``ValueError`` (exit code 2: the input is to blame) or ``RuntimeError``.
-    With ``progress`` the child writes to this terminal (its progress bar, and its error)."""
-    child = subprocess.Popen([sys.executable, "-m", "stickslip._cli", *argv[1:]], stderr=None if progress else subprocess.PIPE, text=True)
-    try:
-        _, err = child.communicate()
-    except KeyboardInterrupt:
-        child.send_signal(signal.SIGINT)
-        child.wait()
-        raise
-    if child.returncode == 0:
-        if err:
-            sys.stderr.write(err)
-        return
-    raise (ValueError if child.returncode == 2 else RuntimeError)(_error_line(err, child.returncode))
-
-
-def _is_bool(v: Any) -> bool:
-    """A Python or numpy boolean (``numpy.bool_``; named ``bool`` from numpy 2)."""
-    return isinstance(v, bool) or (type(v).__module__ == "numpy" and type(v).__name__ in ("bool_", "bool"))
-
-
-def _integer(name: str, value: Any, low: int = 1, high: int = _MAX_I64) -> int:
-    """``value`` as an int in [low, high] (a numpy integer too; not a bool or a float), else a
-    ``ValueError`` naming ``name`` and the value."""
-    n: Any = value
-    if not _is_bool(value):
-        try:
-            n = operator.index(value)
-        except TypeError:
-            pass
-    if not isinstance(n, int) or isinstance(n, bool) or not low <= n <= high:
-        raise ValueError(f"{name} = {n!r}: must be an integer between {low} and {high}")
-    return n
-
-
-def _optional_integer(name: str, value: Any, low: int = 1, high: int = _MAX_I64) -> Optional[int]:
-    return None if value is None else _integer(name, value, low, high)
-
-
-def _real(name: str, value: Any) -> float:
-    """``value`` as a finite float (any real number, numpy's too; not a bool), else a ``ValueError``."""
-    f = float(value) if isinstance(value, numbers.Real) and not _is_bool(value) else None
-    if f is None or not math.isfinite(f):
-        raise ValueError(f"{name} = {value if f is None else f!r}: must be a finite number")
-    return f
-
-
-def _scenario_args(scenario: Scenario) -> Dict[str, Optional[str]]:
-    """The extension's two ways to take a scenario: ``{"path": ...}`` for a str or ``os.PathLike``
-    (always a path), ``{"toml_text": ...}`` for :class:`Toml` or a dict of sections (written as TOML)."""
-    if scenario is None:
-        return {}
-    if isinstance(scenario, Toml):
-        return {"toml_text": scenario.text}
-    if isinstance(scenario, Mapping):
-        return {"toml_text": _stickslip_toml(scenario)}
-    if isinstance(scenario, str):
-        if "\n" in scenario:
-            shown = scenario if len(scenario) <= 60 else scenario[:57] + "..."
-            raise ValueError(f"scenario {shown!r}: a str is taken as a path, and this one holds a newline; TOML text must be given as stickslip.Toml(text)")
-        return {"path": scenario}
-    if isinstance(scenario, os.PathLike):
-        return {"path": os.fsdecode(scenario)}
-    raise ValueError(f"scenario: a path (str or os.PathLike), a dict of sections or stickslip.Toml(text), not {type(scenario).__name__}")
-
-
-def _sets(set: Optional[Mapping[str, Any]]) -> List[str]:
-    """Dotted keys and values as the CLI's ``--set KEY=VALUE`` arguments (TOML values); every
-    error names the key."""
-    if set is None:
-        return []
-    if not isinstance(set, Mapping):
-        raise ValueError(f"set: a dict of dotted keys and values, e.g. {{'model.damping': 0.5}}, not {type(set).__name__}")
-    out = []
-    for key, value in set.items():
-        if not isinstance(key, str) or not key or "=" in key:
-            raise ValueError(f"set: key {key!r}: must be a dotted scenario key such as 'model.damping'")
-        out.append(f"{key}={_toml_literal(value, f'set: {key}')}")
-    return out
-
-
-def _cli_scenario_args(scenario: Scenario, set: Optional[Mapping[str, Any]], tmp: str) -> list:
-    """A scenario and overrides as command-line arguments (TOML text goes through a file)."""
-    args: list = []
-    a = _scenario_args(scenario)
-    if "path" in a:
-        path = a["path"] or ""
-        # (a relative path starting with '-' would be read as an option)
-        args.append(os.path.join(".", path) if path.startswith("-") else path)
-    elif a:
-        p = os.path.join(tmp, "scenario.toml")
-        with open(p, "w", encoding="utf-8") as f:
-            f.write(a["toml_text"] or "")
-        args.append(p)
-    for s in _sets(set):
-        args += ["--set", s]
-    return args
-
-
-def _toml_literal(v: Any, where: str = "set") -> str:
-    """A Python value as a TOML literal: booleans (numpy's too), integers (any ``numbers.Integral``),
-    finite floats (any ``numbers.Real``), strings, lists and tuples (and numpy arrays, via
-    ``.tolist()``), dicts as inline tables. ``where`` (``"set: model.damping"``) names the key in
-    the ``ValueError`` for anything else, NaN and infinities included."""
-    if _is_bool(v):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, numbers.Integral):
-        return str(int(v))
-    if isinstance(v, numbers.Real):
-        f = float(v)
-        if not math.isfinite(f):
-            raise ValueError(f"{where} = {f!r}: must be a finite number")
-        return repr(f)
-    if isinstance(v, Mapping):
-        return "{ " + ", ".join(f"{k} = {_toml_literal(x, where)}" for k, x in v.items()) + " }"
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_toml_literal(x, where) for x in v) + "]"
-    if callable(getattr(v, "tolist", None)):
-        return _toml_literal(v.tolist(), where)
-    raise ValueError(f"{where} = {v!r}: not a scenario value (a number, string, boolean, list or dict)")
-
-
-def _stickslip_toml(d: Mapping[str, Any]) -> str:
-    lines = []
-    for section, keys in d.items():
-        if not isinstance(keys, Mapping):
-            raise ValueError(f"scenario: section {section!r} must be a dict of keys")
-        lines.append(f"[{section}]")
-        lines += [f"{k} = {_toml_literal(v, f'scenario: {section}.{k}')}" for k, v in keys.items()]
-    return "\n".join(lines) + "\n"
+    #: the part file
+    path: Path
+    #: realizations written (fewer than asked when ``target_se`` stopped the run)
+    realizations: int
+    #: wall-clock time [s]
+    seconds: float
+    #: Σ S_T over the realizations written
+    total_sticks: int
+    #: with ``target_se``: whether every target was met (else the cap was reached)
+    targets_met: Optional[bool]
 
 
 def simulate(
@@ -231,20 +106,19 @@ def simulate(
     seed: Optional[int] = None,
     set: Optional[Mapping[str, Any]] = None,
     threads: Optional[int] = None,
-    out: Union[str, "os.PathLike[str]", None] = None,
+    out: Optional[PathArg] = None,
+    target_se: Optional[Sequence[str]] = None,
     progress: bool = False,
-) -> Optional[Table]:
-    """Simulate realizations of a scene.
+) -> Union[pl.DataFrame, List[Written]]:
+    """Simulate realizations of a scene (``stickslip simulate``).
 
     Parameters
     ----------
     scenario : str, os.PathLike, dict, Toml or None
-        A ``str`` or ``os.PathLike`` is always the path of a TOML file (``=`` or ``[`` in it, as in
-        the sweep cells' ``hive/mass=1/scene.toml``, change nothing; a ``str`` holding a newline is
-        refused with a hint); a dict is sections of keys (``{"belt": {"switch_rate": 1.0}}``);
-        TOML text is given as ``stickslip.Toml(text)``. Keys it omits keep the paper's values
-        (m = 1 kg, k = 4 N/m, n = 9.8 N, mu = 0.51, v0 = 1 m/s, lambda = 5 /s, t_a = 10 s, 18,000
-        realizations). None: the paper scenario.
+        A ``str`` or ``os.PathLike`` is always the path of a TOML file; a dict is sections of keys
+        (``{"belt": {"switch_rate": 1.0}}``); TOML text is given as ``stickslip.Toml(text)``. Keys
+        it omits keep the paper's values (m = 1 kg, k = 4 N/m, n = 9.8 N, mu = 0.51, v0 = 1 m/s,
+        lambda = 5 /s, t_a = 10 s, 18,000 realizations). None: the paper scenario.
     realizations : int, optional
         Overrides ``run.realizations`` (at least 1).
     seed : int, optional
@@ -256,168 +130,293 @@ def simulate(
     threads : int, optional
         Worker threads (default: all cores; the rows do not depend on it).
     out : str or os.PathLike, optional
-        Write the dataset directory exactly as ``stickslip simulate --out`` does, and return None.
+        Write the dataset directory exactly as ``stickslip simulate --out`` does.
+    target_se : sequence of str, optional
+        With ``out``: stop once every standard error is reached (``["S_T=0.01"]``, the CLI's
+        ``--target-se``); ``realizations`` is the cap.
     progress : bool
-        With ``out=``: the CLI's progress bar and summary line on a terminal (into memory nothing
-        is shown).
+        Draw a progress bar on stderr (tqdm's when installed).
 
     Returns
     -------
-    Table or None
-        The dataset (one row per realization; columns as the CLI's Parquet files, provenance in the
-        schema metadata) as an Arrow table; None with ``out=``.
+    polars.DataFrame or list of Written
+        The dataset (one row per realization; the columns of the CLI's Parquet files;
+        :func:`provenance` gives its metadata); with ``out``, the part files written.
 
     Raises
     ------
-    ValueError
-        Bad input, named: an argument, a scenario key or value, a file.
+    UsageError, ScenarioError, OutputError
+        Bad input, named: an argument, a scenario key or value, a file, the output directory.
+
+    Examples
+    --------
+    >>> import stickslip
+    >>> df = stickslip.simulate(realizations=100, seed=1)
+    >>> df.height
+    100
     """
-    realizations = _optional_integer("realizations", realizations)
-    seed = _optional_integer("seed", seed, 0)
-    threads = _optional_integer("threads", threads)
-    if out is not None:
-        with tempfile.TemporaryDirectory() as tmp:
-            argv = ["stickslip", *([] if progress else ["--quiet"]), "simulate", *_cli_scenario_args(scenario, set, tmp), f"--out={os.fspath(out)}"]
-            argv += [] if realizations is None else [f"--realizations={realizations}"]
-            argv += [] if seed is None else [f"--seed={seed}"]
-            argv += [] if threads is None else [f"--threads={threads}"]
-            _run_stage(argv, progress)
+    realizations = _args.optional_integer("realizations", realizations)
+    seed = _args.optional_integer("seed", seed, 0)
+    threads = _args.optional_integer("threads", threads)
+    kind, value = _args.scenario(scenario)
+    sets = _args.sets(set)
+    if out is None:
+        if target_se is not None:
+            raise UsageError("target_se: needs out=DIR (the run stops at a chunk boundary of the written dataset)")
+        return _frame(_stickslip.simulate_table(kind, value, sets, realizations, seed, threads, _progress(progress)))
+    targets = _args.strings("target_se", target_se) or []
+    written = _stickslip.simulate_to(kind, value, sets, os.fspath(out), realizations, seed, threads, targets, _progress(progress))
+    return [Written(Path(p), n, s, t, met) for p, n, s, t, met in written]
+
+
+def provenance(df: pl.DataFrame) -> Dict[str, str]:
+    """The provenance of a frame :func:`simulate` returned: the ``stickslip.*`` metadata the CLI
+    writes into each part file's footer (``stickslip.scenario``: the resolved scenario as TOML,
+    ``stickslip.seed``, ``stickslip.schema_version``, …).
+
+    A frame derived from it (filtered, selected) is a new frame and has none: read the dataset's
+    footers with ``pyarrow.parquet.read_schema(path).metadata`` for written files.
+
+    Raises
+    ------
+    DatasetError
+        ``df`` is not a frame :func:`simulate` returned.
+    """
+    table = _TABLES.get(id(df))
+    if table is None:
+        raise DatasetError("provenance: not a frame stickslip.simulate returned (a frame derived from one is a new frame; keep the original)")
+    return dict(table.metadata)
+
+
+def _summary_value(tp: Any, value: Any) -> Any:
+    """``value`` (parsed JSON) as the annotation ``tp`` of :mod:`stickslip._summary` says."""
+    origin, args = typing.get_origin(tp), typing.get_args(tp)
+    if value is None:
         return None
-    return _stickslip.simulate_table(
-        **_scenario_args(scenario), sets=_sets(set), realizations=realizations, seed=seed, threads=threads
-    )
+    if dataclasses.is_dataclass(tp):
+        hints = typing.get_type_hints(tp, vars(_summary))
+        return tp(**{f.name: _summary_value(hints[f.name], value.get(f.name)) for f in dataclasses.fields(tp)})
+    if origin is Union:
+        inner = [a for a in args if a is not type(None)]
+        return _summary_value(inner[0], value) if len(inner) == 1 else value
+    if origin in (list, List):
+        return [_summary_value(args[0], v) for v in value]
+    if origin in (dict, Dict):
+        return {k: _summary_value(args[1], v) for k, v in value.items()}
+    if origin is tuple:
+        return tuple(_summary_value(a, v) for a, v in zip(args, value))
+    return value
 
 
-class Analysis:
-    """The tables of an analysis (Arrow tables, by name: ``moments``, ``histograms``,
-    ``joint_histograms``, ``growth``, ``convergence``, ``independence``, ``survival``, ``tails``, …,
-    as the CLI's ``ADIR/*.parquet``) and its summary (``summary.json`` as a dict)."""
+class Tables(Mapping[str, pl.DataFrame]):
+    """Tables by name (``t["moments"]`` or ``t.moments``), as the CLI's ``DIR/NAME.parquet``."""
 
-    def __init__(self, directory: Path):
+    def __init__(self, tables: Mapping[str, pl.DataFrame], directory: Optional[Path] = None):
+        self.tables: Dict[str, pl.DataFrame] = dict(tables)
+        #: where the files were written (None: only in memory)
         self.directory = directory
-        self.tables: Dict[str, Table] = {
-            p.stem: _stickslip.read_parquet(str(p)) for p in sorted(directory.glob("*.parquet"))
-        }
-        with open(directory / "summary.json", encoding="utf-8") as f:
-            self.summary: Dict[str, Any] = json.load(f)
 
-    def __getattr__(self, name: str) -> Table:
+    def __getitem__(self, name: str) -> pl.DataFrame:
+        if name not in self.tables:
+            raise KeyError(f"no table {name!r}; the tables are {', '.join(self.tables)}")
+        return self.tables[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.tables)
+
+    def __len__(self) -> int:
+        return len(self.tables)
+
+    def __getattr__(self, name: str) -> pl.DataFrame:
         tables = self.__dict__.get("tables", {})
         if name in tables:
             return tables[name]
         raise AttributeError(f"no table {name!r}; the tables are {', '.join(tables)}")
 
     def __repr__(self) -> str:
-        return f"stickslip.Analysis({', '.join(self.tables)})"
+        return f"stickslip.{type(self).__name__}({', '.join(self.tables)})"
+
+
+class Analysis(Tables):
+    """An analysis: its tables by name (``moments``, ``histograms``, ``joint_histograms``,
+    ``independence``, ``growth``, ``convergence``, ``survival``, ``tails``) as polars frames, its
+    typed :class:`Summary` (``summary.json``); for a sweep, the ``sweep`` table and each cell's
+    :class:`Analysis` in ``cells`` (by hive path) with no summary of its own."""
+
+    def __init__(self, tables: Mapping[str, pl.DataFrame], summary: Optional[Summary], cells: Mapping[str, "Analysis"], directory: Optional[Path]):
+        super().__init__(tables, directory)
+        #: the typed ``summary.json`` (None for a sweep's top level)
+        self.summary = summary
+        #: a sweep's cells by hive path (empty for a plain dataset)
+        self.cells: Dict[str, Analysis] = dict(cells)
 
 
 def analyze(
-    dataset: Union[str, "os.PathLike[str]", Table], *, out: Union[str, "os.PathLike[str]", None] = None, args: tuple = (), progress: bool = False
+    dataset: Union[PathArg, pl.DataFrame],
+    *,
+    out: Optional[PathArg] = None,
+    max_index: Optional[int] = None,
+    bins: Optional[int] = None,
+    pairs: Optional[Sequence[str]] = None,
+    permutations: Optional[int] = None,
+    allow_partial: bool = False,
+    tails: bool = True,
+    tail_times: Optional[Sequence[float]] = None,
+    severity: Optional[Sequence[float]] = None,
+    progress: bool = False,
 ) -> Analysis:
     """Analyse a dataset (``stickslip analyze``): moments with intervals, histograms, joint
-    histograms, independence tests, growth regressions, counts, tails. ``dataset``: a dataset
-    directory, or a table from :func:`simulate` (written to a temporary dataset first, exactly as
-    ``simulate --out`` writes it). ``out``: where the tables go (default: a temporary directory, read
-    back and removed). ``args``: further CLI flags, e.g. ``("--max-index", "4")``. ``progress``: show
-    the CLI's progress bar on a terminal."""
-    if isinstance(dataset, Table):
+    histograms, independence tests, growth regressions, counts, tails.
+
+    Parameters
+    ----------
+    dataset : str, os.PathLike or polars.DataFrame
+        A dataset directory (a sweep's too), or a frame :func:`simulate` returned (written to a
+        temporary dataset first, exactly as ``simulate --out`` writes it).
+    out : str or os.PathLike, optional
+        Also write the CLI's files there (replaced when complete).
+    max_index, bins, pairs, permutations, allow_partial, tails, tail_times, severity
+        As the CLI's ``--max-index`` (default 6), ``--bins`` (default: Scott's rule), ``--pair``
+        (``["T1,T2"]``), ``--permutations``, ``--allow-partial``, ``--no-tails`` (``tails=False``),
+        ``--tail-times``, ``--severity``.
+    progress : bool
+        Draw a progress bar on stderr.
+
+    Returns
+    -------
+    Analysis
+        The tables as polars frames and the typed summary.
+
+    Raises
+    ------
+    DatasetError, UsageError, OutputError
+        A dataset that cannot be analysed, an option out of range, a refused output directory.
+
+    Examples
+    --------
+    >>> import stickslip
+    >>> a = stickslip.analyze(stickslip.simulate(realizations=500, seed=1))
+    >>> a.summary.dataset.realizations
+    500
+    """
+    if isinstance(dataset, pl.DataFrame):
+        table = _TABLES.get(id(dataset))
+        if table is None:
+            raise DatasetError("dataset: a frame stickslip.simulate returned, or a dataset directory (a frame derived from one is a new frame: write it with simulate(out=...))")
         with tempfile.TemporaryDirectory() as tmp:
-            _stickslip.write_table(dataset, os.path.join(tmp, "dataset"))
-            return analyze(os.path.join(tmp, "dataset"), out=out, args=args, progress=progress)
-    quiet = [] if progress else ["--quiet"]
-    if out is not None:
-        _run_stage(["stickslip", *quiet, "analyze", _positional(os.fspath(dataset)), f"--out={os.fspath(out)}", *args], progress)
-        return Analysis(Path(out))
-    with tempfile.TemporaryDirectory() as tmp:
-        adir = Path(tmp) / "analysis"
-        _run_stage(["stickslip", *quiet, "analyze", _positional(os.fspath(dataset)), f"--out={adir}", *args], progress)
-        return Analysis(adir)
+            _stickslip.write_table(table, os.path.join(tmp, "dataset"))
+            return _analyze(os.path.join(tmp, "dataset"), out, max_index, bins, pairs, permutations, allow_partial, tails, tail_times, severity, progress)
+    if not isinstance(dataset, (str, os.PathLike)):
+        raise UsageError(f"dataset: a dataset directory or a frame stickslip.simulate returned, not {type(dataset).__name__}")
+    return _analyze(os.fspath(dataset), out, max_index, bins, pairs, permutations, allow_partial, tails, tail_times, severity, progress)
 
 
-def _positional(path: str) -> str:
-    """A path as a positional argument (a relative one starting with '-' would be read as an option)."""
-    return os.path.join(".", path) if path.startswith("-") else path
+def _analyze(dataset: str, out: Optional[PathArg], max_index: Any, bins: Any, pairs: Any, permutations: Any, allow_partial: bool, tails: bool, tail_times: Any, severity: Any, progress: bool) -> Analysis:
+    cells, sweep = _stickslip.analyze(
+        dataset,
+        None if out is None else os.fspath(out),
+        _args.optional_integer("max_index", max_index, 1, _args.MAX_U32),
+        _args.optional_integer("bins", bins),
+        _args.strings("pairs", pairs),
+        _args.optional_integer("permutations", permutations, 0, _args.MAX_U32),
+        bool(allow_partial),
+        bool(tails),
+        _args.times("tail_times", tail_times),
+        _args.times("severity", severity),
+        _progress(progress),
+    )
+    directory = None if out is None else Path(out)
+    analyses = {
+        path: Analysis({name: pl.DataFrame(t) for name, t in tables}, _summary_value(Summary, json.loads(text)), {}, directory and directory / path)
+        for path, tables, text in cells
+    }
+    if sweep is None:
+        return analyses[""]
+    return Analysis({"sweep": pl.DataFrame(sweep)}, None, analyses, directory)
 
 
-def _stage_table(stage: str, table: str, scenario: Scenario, out: Union[str, "os.PathLike[str]"], realizations: int, set: Optional[Mapping[str, Any]], progress: bool) -> Table:
-    """Run ``stickslip STAGE`` into ``out`` and read back its table."""
-    realizations = _integer("realizations", realizations)
-    with tempfile.TemporaryDirectory() as tmp:
-        quiet = [] if progress else ["--quiet"]
-        _run_stage(["stickslip", *quiet, stage, *_cli_scenario_args(scenario, set, tmp), f"--out={os.fspath(out)}", f"--realizations={realizations}"], progress)
-    return _stickslip.read_parquet(os.path.join(os.fspath(out), table))
+def _read_tables(directory: PathArg) -> Tables:
+    d = Path(directory)
+    return Tables({p.stem: pl.read_parquet(p) for p in sorted(d.glob("*.parquet"))}, d)
 
 
-def tradeoff(
-    scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 100, set: Optional[Mapping[str, Any]] = None, progress: bool = False
-) -> Table:
-    """The speed/accuracy trade (``stickslip tradeoff``) written into ``out``.
+def tradeoff(scenario: Scenario = None, *, out: PathArg, realizations: Optional[int] = None, set: Optional[Mapping[str, Any]] = None, progress: bool = False) -> pl.DataFrame:
+    """The speed/accuracy trade of the solvers on the same realizations (``stickslip tradeoff``),
+    written into ``out``.
 
     Parameters
     ----------
     scenario, set
-        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys).
+        As for :func:`simulate`.
     out : str or os.PathLike
-        The output directory.
-    realizations : int
-        Realizations per setting (at least 1).
+        The output directory (replaced when complete).
+    realizations : int, optional
+        Realizations per setting (at least 1; default 100).
     progress : bool
-        The CLI's progress on a terminal.
+        Notes on stderr.
 
     Returns
     -------
-    Table
-        ``tradeoff.parquet``.
+    polars.DataFrame
+        ``tradeoff.parquet``: one row per setting.
     """
-    return _stage_table("tradeoff", "tradeoff.parquet", scenario, out, realizations, set, progress)
+    realizations = _args.optional_integer("realizations", realizations)
+    _stickslip.tradeoff(*_args.scenario(scenario), _args.sets(set), os.fspath(out), realizations, None, _progress(progress))
+    return pl.read_parquet(Path(out) / "tradeoff.parquet")
 
 
 def sensitivity(
-    scenario: Scenario = None, *, out: Union[str, "os.PathLike[str]"], realizations: int = 1000, set: Optional[Mapping[str, Any]] = None, progress: bool = False
-) -> Table:
-    """Sobol indices (``stickslip sensitivity``) written into ``out``.
+    scenario: Scenario = None, *, out: PathArg, realizations: Optional[int] = None, seed: Optional[int] = None, set: Optional[Mapping[str, Any]] = None, progress: bool = False
+) -> pl.DataFrame:
+    """First-order and total Sobol indices with bootstrap intervals (``stickslip sensitivity``),
+    written into ``out``.
 
     Parameters
     ----------
     scenario, set
-        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys); some key
-        must be random (a distribution).
+        As for :func:`simulate`; some key must be random (a distribution).
     out : str or os.PathLike
-        The output directory.
-    realizations : int
-        Pick-freeze samples N (at least 1; the run simulates N·(d+3) realizations for d random keys).
+        The output directory (replaced when complete).
+    realizations : int, optional
+        Pick-freeze samples N (2 to 10**8; default 2000; the run simulates N·(d+3) realizations
+        for d random keys).
+    seed : int, optional
+        Overrides ``run.seed``.
     progress : bool
-        The CLI's progress on a terminal.
+        Notes on stderr.
 
     Returns
     -------
-    Table
-        ``sobol.parquet``.
+    polars.DataFrame
+        ``sobol.parquet``: one row per (output, input).
     """
-    return _stage_table("sensitivity", "sobol.parquet", scenario, out, realizations, set, progress)
+    realizations = _args.optional_integer("realizations", realizations)
+    seed = _args.optional_integer("seed", seed, 0)
+    _stickslip.sensitivity(*_args.scenario(scenario), _args.sets(set), os.fspath(out), realizations, seed, _progress(progress))
+    return pl.read_parquet(Path(out) / "sobol.parquet")
 
 
 def exact_law(
     scenario: Scenario = None,
     *,
-    out: Union[str, "os.PathLike[str]"],
-    resolution: int = 80,
+    out: PathArg,
+    resolution: Optional[int] = None,
     tail_times: Optional[Sequence[float]] = None,
     counts: Optional[int] = None,
     densities: Optional[int] = None,
     set: Optional[Mapping[str, Any]] = None,
     progress: bool = False,
-) -> Dict[str, Table]:
-    """The law without sampling (``stickslip exact-law``) written into ``out``.
+) -> Tables:
+    """The law without sampling (``stickslip exact-law``), written into ``out``.
 
     Parameters
     ----------
     scenario, set
-        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys).
+        As for :func:`simulate`.
     out : str or os.PathLike
-        The output directory.
-    resolution : int
-        The finest resolution N (8 to 320; the solve runs at N/4, N/2 and N).
+        The output directory (replaced when complete).
+    resolution : int, optional
+        The finest resolution N (8 to 320; default 80; the solve runs at N/4, N/2 and N).
     tail_times : sequence of float, optional
         Times t [s] (finite, >= 0) at which P(D_k > t) is also evaluated; default reproduce's.
     counts : int, optional
@@ -425,45 +424,35 @@ def exact_law(
     densities : int, optional
         A resolution (8 to 320; minutes and gigabytes): also the densities of T_k, L_k, H_k.
     progress : bool
-        The CLI's progress on a terminal.
+        Each resolution's line, and the live iteration, on stderr.
 
     Returns
     -------
-    dict of str to Table
-        By name: ``stationary`` (the long run), ``moments`` (Table 1's means and variances of T_k,
-        L_k, D_k, H_k; with ``counts`` also S_T, S_L), ``survival`` (the law of D_k: P(D_k > t) and
-        its density, on a grid with ``tail_times`` added), ``convergence``, ``density``,
-        ``stick_survival``; with ``counts`` also ``counts`` (P(S_T = n), P(S_L = n)); with
-        ``densities`` also ``densities`` (averaged over 100 cells of [0, t_a]).
+    Tables
+        By name: ``stationary``, ``moments``, ``survival``, ``convergence``, ``density``,
+        ``stick_survival``; with ``counts`` also ``counts``; with ``densities`` also
+        ``densities`` and ``characteristic``.
     """
-    args = [f"--resolution={_integer('resolution', resolution, 1, _MAX_U32)}"]
-    if tail_times is not None:
-        times = [tail_times] if isinstance(tail_times, numbers.Real) else list(tail_times)
-        if not times:
-            raise ValueError("tail_times = []: give at least one time, or None for the default")
-        checked = [_real("tail_times", t) for t in times]
-        if any(t < 0 for t in checked):
-            raise ValueError(f"tail_times = {min(checked)!r}: must be a finite time >= 0 s")
-        args.append("--tail-times=" + ",".join(repr(t) for t in checked))
-    args += [] if counts is None else [f"--counts={_integer('counts', counts, 1, _MAX_U32)}"]
-    args += [] if densities is None else [f"--densities={_integer('densities', densities, 1, _MAX_U32)}"]
-    with tempfile.TemporaryDirectory() as tmp:
-        quiet = [] if progress else ["--quiet"]
-        _run_stage(["stickslip", *quiet, "exact-law", *_cli_scenario_args(scenario, set, tmp), f"--out={os.fspath(out)}", *args], progress)
-    return {p.stem: _stickslip.read_parquet(str(p)) for p in sorted(Path(out).glob("*.parquet"))}
+    resolution = _args.optional_integer("resolution", resolution, 1, _args.MAX_U32)
+    counts = _args.optional_integer("counts", counts, 1, _args.MAX_U32)
+    densities = _args.optional_integer("densities", densities, 1, _args.MAX_U32)
+    kind, value = _args.scenario(scenario)
+    _stickslip.exact_law(kind, value, _args.sets(set), os.fspath(out), resolution, _args.times("tail_times", tail_times), counts, densities, _progress(progress))
+    return _read_tables(out)
 
 
 def predict(
-    state: "tuple[float, float, float]",
+    state: Any,
     scenario: Scenario = None,
     *,
     stuck: bool = False,
     futures: Optional[int] = None,
     horizon: Optional[float] = None,
-    resolution: int = 40,
+    resolution: Optional[int] = None,
     seed: Optional[int] = None,
     set: Optional[Mapping[str, Any]] = None,
-) -> Table:
+    progress: bool = False,
+) -> pl.DataFrame:
     """The next stick from a state (``stickslip predict``): the mean and variance of the time to
     its start, its duration, the slip after it and whether it ends by breakaway — exact where the
     scene allows, and from conditional Monte Carlo futures.
@@ -474,40 +463,46 @@ def predict(
         (x [m], mass velocity [m/s], belt velocity [m/s]), finite; the belt velocity one of the
         belt's states.
     scenario, set
-        As for :func:`simulate` (a path, a dict, or ``stickslip.Toml(text)``; dotted keys).
+        As for :func:`simulate`.
     stuck : bool
         The mass is stuck now: first the current stick's remaining time.
     futures : int, optional
         Monte Carlo futures (at least 1).
     horizon : float, optional
         The futures' horizon [s] (finite, > 0).
-    resolution : int
-        The exact method's finest resolution (8 to 320).
+    resolution : int, optional
+        The exact method's finest resolution (8 to 320; default 40).
     seed : int, optional
         Seed of the futures (0 to 2**63 - 1).
+    progress : bool
+        Notes on stderr.
 
     Returns
     -------
-    Table
-        ``prediction.parquet`` (``variable``, ``method``, ``mean``, ``variance``, ``error``, ``futures``).
+    polars.DataFrame
+        ``prediction.parquet`` (``variable``, ``method``, ``mean``, ``variance``, ``error``,
+        ``variance_error``, ``futures``).
+
+    Examples
+    --------
+    >>> import stickslip
+    >>> p = stickslip.predict((0.5, 0.0, 1.0), resolution=16)
+    >>> sorted(set(p["method"]))
+    ['exact']
     """
-    values = state.tolist() if callable(getattr(state, "tolist", None)) else state  # (a numpy array too)
-    values = list(values) if isinstance(values, (list, tuple)) else None
-    if values is None or len(values) != 3 or not all(isinstance(s, numbers.Real) and not _is_bool(s) and math.isfinite(s) for s in values):
-        raise ValueError(f"state = {state!r}: must be three finite numbers (x [m], mass velocity [m/s], belt velocity [m/s])")
-    x, v, belt = (float(s) for s in values)
-    args = [f"--state={x!r},{v!r},{belt!r}", f"--resolution={_integer('resolution', resolution, 1, _MAX_U32)}"]
-    args += ["--stuck"] if stuck else []
-    args += [] if futures is None else [f"--futures={_integer('futures', futures)}"]
+    x = _args.state(state)
+    futures = _args.optional_integer("futures", futures)
+    h = None
     if horizon is not None:
-        h = _real("horizon", horizon)
+        h = _args.real("horizon", horizon)
         if h <= 0:
-            raise ValueError(f"horizon = {h!r}: must be a positive number of seconds")
-        args.append(f"--horizon={h!r}")
-    args += [] if seed is None else [f"--seed={_integer('seed', seed, 0)}"]
+            raise UsageError(f"horizon = {h!r}: must be a positive number of seconds")
+    resolution = _args.optional_integer("resolution", resolution, 1, _args.MAX_U32)
+    seed = _args.optional_integer("seed", seed, 0)
+    kind, value = _args.scenario(scenario)
     with tempfile.TemporaryDirectory() as tmp:
-        _run_stage(["stickslip", "--quiet", "predict", *_cli_scenario_args(scenario, set, tmp), *args, f"--out={os.path.join(tmp, 'p')}"])
-        return _stickslip.read_parquet(os.path.join(tmp, "p", "prediction.parquet"))
+        _stickslip.predict(kind, value, _args.sets(set), x, os.path.join(tmp, "p"), bool(stuck), futures, h, resolution, seed, None, _progress(progress))
+        return pl.read_parquet(os.path.join(tmp, "p", "prediction.parquet"))
 
 
 def scenes() -> Dict[str, str]:

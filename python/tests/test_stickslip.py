@@ -1,6 +1,8 @@
-"""The Python package against the command line it wraps: the same rows, the same tables, the same
-errors. The CLI here is the package's own console script (`stickslip`, the Rust binary's code)."""
+"""The Python package against the command line: the same rows, the same tables, the same errors
+(the stages run in-process; the CLI here is the package's own console script, the Rust binary's
+code)."""
 
+import dataclasses
 import json
 import shutil
 import subprocess
@@ -13,6 +15,11 @@ import pytest
 import stickslip
 
 
+def pq_metadata(path: Path) -> dict:
+    pq = pytest.importorskip("pyarrow.parquet")
+    return {k.decode(): v.decode() for k, v in pq.read_metadata(path).metadata.items()}
+
+
 def cli(*args: str) -> subprocess.CompletedProcess:
     exe = shutil.which("stickslip")
     assert exe, "the package installs the stickslip console script"
@@ -23,13 +30,15 @@ def test_simulate_equals_the_cli_dataset_of_the_paper_scenario(tmp_path: Path) -
     r = cli("simulate", "--out", str(tmp_path / "d"), "--realizations", "18000", "--seed", "1")
     assert r.returncode == 0, r.stderr
     from_cli = pl.read_parquet(tmp_path / "d").sort("realization")
-    table = stickslip.simulate(seed=1, realizations=18000)
-    assert table.num_rows == 18000
-    from_python = pl.DataFrame(table)
+    from_python = stickslip.simulate(seed=1, realizations=18000)
+    assert isinstance(from_python, pl.DataFrame) and from_python.height == 18000
     assert from_python.columns == from_cli.columns
     assert from_python.equals(from_cli), "every value of every column"
-    # provenance travels with the table
-    assert "stickslip.scenario" in table.metadata
+    # provenance: the part file's footer
+    footer = pq_metadata(next((tmp_path / "d").glob("part-*.parquet")))
+    assert stickslip.provenance(from_python)["stickslip.scenario"] == footer["stickslip.scenario"]
+    with pytest.raises(stickslip.DatasetError, match="provenance"):
+        stickslip.provenance(from_python.head(3))
 
 
 def test_any_thread_count_gives_the_same_rows() -> None:
@@ -57,25 +66,36 @@ def test_analyze_tables_equal_the_cli_files(tmp_path: Path) -> None:
     names = sorted(p.stem for p in (tmp_path / "a").glob("*.parquet"))
     assert sorted(a.tables) == names and "moments" in names
     for name in names:
-        assert pl.DataFrame(a.tables[name]).equals(pl.read_parquet(tmp_path / "a" / f"{name}.parquet")), name
+        assert a.tables[name].equals(pl.read_parquet(tmp_path / "a" / f"{name}.parquet")), name
+    # the typed summary is summary.json, field for field
     cli_summary = json.loads((tmp_path / "a" / "summary.json").read_text())
-    assert a.summary["dataset"] == cli_summary["dataset"] if "dataset" in cli_summary else True
-    moments = pl.DataFrame(a.moments)
+    assert isinstance(a.summary, stickslip.Summary) and isinstance(a.summary.counts["S_T"].mean, float)
+    assert json.loads(json.dumps(dataclasses.asdict(a.summary))) == cli_summary
+    moments = a.moments
     st = moments.filter(pl.col("variable") == "S_T")
     assert st.height == 1 and 15 < st["mean"][0] < 18
 
 
-def test_bad_input_raises_value_error_naming_the_key(tmp_path: Path) -> None:
-    with pytest.raises(ValueError, match="model.mass"):
+def test_bad_input_raises_the_class_of_its_culprit_naming_it(tmp_path: Path) -> None:
+    with pytest.raises(stickslip.ScenarioError, match="model.mass"):
         stickslip.simulate(set={"model.mass": -1.0}, realizations=10)
-    with pytest.raises(ValueError, match="belt.swich_rate"):
+    with pytest.raises(stickslip.ScenarioError, match="belt.swich_rate"):
         stickslip.simulate({"belt": {"swich_rate": 1.0}})
-    with pytest.raises(ValueError, match="nope.toml"):
+    with pytest.raises(stickslip.ScenarioError, match="nope.toml"):
         stickslip.simulate(str(tmp_path / "nope.toml"))
-    with pytest.raises(ValueError, match="out=DIR"):
+    with pytest.raises(stickslip.UsageError, match="out=DIR"):
         stickslip.simulate(realizations=10**8)
-    with pytest.raises(ValueError, match="no dataset part files"):
+    with pytest.raises(stickslip.DatasetError, match="no dataset part files"):
         stickslip.analyze(tmp_path)
+    with pytest.raises(stickslip.UsageError, match="bins = -3"):
+        stickslip.analyze(tmp_path, bins=-3)
+    (tmp_path / "file").write_text("mine")
+    with pytest.raises(stickslip.OutputError, match="file"):
+        stickslip.simulate(realizations=10, out=tmp_path / "file")
+    # each is a ValueError, as the command line's exit code 2; a failure while running is not
+    for cls in (stickslip.UsageError, stickslip.ScenarioError, stickslip.DatasetError, stickslip.OutputError):
+        assert issubclass(cls, ValueError)
+    assert issubclass(stickslip.RunError, RuntimeError) and not issubclass(stickslip.RunError, ValueError)
 
 
 def test_scenes_and_the_console_script() -> None:
@@ -89,11 +109,13 @@ def test_scenes_and_the_console_script() -> None:
     assert r.returncode == 2 and r.stderr.startswith("stickslip: error: ") and "model.mass" in r.stderr
 
 
-def test_pyarrow_takes_the_table_without_copy() -> None:
-    pa = pytest.importorskip("pyarrow")
-    t = stickslip.simulate(realizations=100)
-    at = pa.table(t)
+def test_pyarrow_and_pandas_take_the_frame_as_the_readme_says() -> None:
+    pytest.importorskip("pyarrow")
+    df = stickslip.simulate(realizations=100)
+    at = df.to_arrow()
     assert at.num_rows == 100 and "stick_duration" in at.column_names
+    pd = pytest.importorskip("pandas")
+    assert isinstance(df.to_pandas(), pd.DataFrame) and len(df.to_pandas()) == 100
 
 
 def test_the_worked_example_runs(tmp_path: Path) -> None:
@@ -141,11 +163,11 @@ def test_a_table_written_or_analysed_is_the_cli_dataset(tmp_path: Path) -> None:
     by_table = stickslip.analyze(t)
     by_dir = stickslip.analyze(tmp_path / "cli")
     for name in by_dir.tables:
-        assert pl.DataFrame(by_table.tables[name]).equals(pl.DataFrame(by_dir.tables[name])), name
+        assert by_table.tables[name].equals(by_dir.tables[name]), name
     # the part file written from a table is the CLI's, byte for byte
     from stickslip import _stickslip
 
-    path = _stickslip.write_table(t, str(tmp_path / "from_table"))
+    path = _stickslip.write_table(stickslip._TABLES[id(t)], str(tmp_path / "from_table"))
     cli_part = next((tmp_path / "cli").glob("part-*.parquet"))
     assert Path(path).name == cli_part.name
     assert Path(path).read_bytes() == cli_part.read_bytes()
@@ -153,28 +175,33 @@ def test_a_table_written_or_analysed_is_the_cli_dataset(tmp_path: Path) -> None:
 
 def test_ctrl_c_ends_a_stage_that_writes_files_and_leaves_nothing(tmp_path: Path) -> None:
     out = tmp_path / "big"
-    interrupt_after(f"stickslip.simulate(realizations=10**8, out={str(out)!r})", 1.5)
-    # the CLI's cleanup: no part file, no temporary, no directory it created
+    assert interrupt_after(f"stickslip.simulate(realizations=10**8, out={str(out)!r})", 1.5) < 5
+    # the stage's own cleanup: no part file, no temporary, no directory it created
     assert not out.exists() or not any(out.iterdir()), list(out.iterdir())
+    # and an analysis, in-process too
+    data = tmp_path / "d"
+    stickslip.simulate(realizations=400_000, out=data)
+    assert interrupt_after(f"stickslip.analyze({str(data)!r}, out={str(tmp_path / 'a')!r})", 1.0) < 5
+    assert not (tmp_path / "a").exists() and [p.name for p in tmp_path.iterdir()] == ["d"]
 
 
 def test_tradeoff_and_sensitivity_return_the_cli_tables(tmp_path: Path) -> None:
-    t = pl.DataFrame(stickslip.tradeoff(out=tmp_path / "t", realizations=20))
+    t = stickslip.tradeoff(out=tmp_path / "t", realizations=20)
     assert t.equals(pl.read_parquet(tmp_path / "t" / "tradeoff.parquet")) and "solver" in t.columns
-    s = pl.DataFrame(stickslip.sensitivity(set={"model.friction_coefficient": {"dist": "uniform", "low": 0.4, "high": 0.6}}, out=tmp_path / "s", realizations=200))
+    s = stickslip.sensitivity(set={"model.friction_coefficient": {"dist": "uniform", "low": 0.4, "high": 0.6}}, out=tmp_path / "s", realizations=200)
     assert s.equals(pl.read_parquet(tmp_path / "s" / "sobol.parquet")) and s.height > 0
-    with pytest.raises(ValueError, match="no random key"):
+    with pytest.raises(stickslip.ScenarioError, match="no random key"):
         stickslip.sensitivity(out=tmp_path / "s2", realizations=20)
 
 
 def test_exact_law_and_predict_return_the_cli_tables(tmp_path: Path) -> None:
     law = stickslip.exact_law(out=tmp_path / "law", resolution=16, tail_times=[0.75])
-    m = pl.DataFrame(law["moments"])
+    m = law.moments
     assert m.equals(pl.read_parquet(tmp_path / "law" / "moments.parquet")) and m.height == 24
     assert set(law) >= {"stationary", "moments", "convergence", "density", "stick_survival", "survival"}
-    d = pl.DataFrame(law["survival"])
+    d = law["survival"]
     assert set(d["index"]) == set(range(1, 7)) and d.filter(pl.col("t") == 0.75).height == 6
-    p = pl.DataFrame(stickslip.predict((0.5, 0.0, 1.0), resolution=16, futures=2000))
+    p = stickslip.predict((0.5, 0.0, 1.0), resolution=16, futures=2000)
     assert set(p["method"]) == {"exact", "monte_carlo"} and "time_to_stick" in set(p["variable"])
     with pytest.raises(ValueError, match="not a state of this belt"):
         stickslip.predict((0.5, 0.0, 2.0))
@@ -228,7 +255,7 @@ def test_numpy_numbers_in_set_are_the_python_numbers() -> None:
     assert by_numpy.height == 20 and by_numpy.equals(by_python)
     # numpy integers as arguments, numpy arrays as lists, numpy booleans as booleans
     assert pl.DataFrame(stickslip.simulate(set={"model.damping": np.float32(0.5)}, realizations=np.int64(20), seed=np.uint64(1))).height == 20
-    assert stickslip._sets({"model.damping": np.array([0.0, 0.5]), "a.b": np.bool_(True), "a.c": np.int32(-3)}) == [
+    assert stickslip._args.sets({"model.damping": np.array([0.0, 0.5]), "a.b": np.bool_(True), "a.c": np.int32(-3)}) == [
         "model.damping=[0.0, 0.5]",
         "a.b=true",
         "a.c=-3",
@@ -298,18 +325,43 @@ def test_exact_law_and_predict_refuse_bad_numbers_naming_the_argument(tmp_path: 
         stickslip.predict((0.5, 0.0))
 
 
-def test_the_error_of_a_stage_is_its_error_line_not_the_help_hint(tmp_path: Path) -> None:
-    clap = (
-        "error: unexpected argument '-1' found\n\n  tip: to pass '-1' as a value, use '-- -1'\n\n"
-        "Usage: stickslip predict [OPTIONS] --state <X,V,V_BELT> [SCENARIO]\n\nFor more information, try '--help'.\n"
-    )
-    assert stickslip._error_line(clap, 2) == "unexpected argument '-1' found"
-    ours = "warning: 3 futures had not finished\nstickslip: error: set: model.mass = -1: must be > 0\n"
-    assert stickslip._error_line(ours, 2) == "set: model.mass = -1: must be > 0"
-    assert stickslip._error_line("Usage: stickslip x\n\nFor more information, try '--help'.\n", 2) == "stickslip exited with code 2"
-    assert stickslip._error_line("Traceback (most recent call last):\nMemoryError: boom\n\n", 1) == "MemoryError: boom"
-    assert stickslip._error_line("", 1) == "stickslip exited with code 1"
-    # and a real clap error, through the child process
-    with pytest.raises(ValueError, match=r"'-3'|--bins") as e:
-        stickslip.analyze(tmp_path, args=("--bins", "-3"))
-    assert "For more information" not in str(e.value)
+def test_the_stub_names_every_function_of_the_extension_with_its_parameters() -> None:
+    import ast
+    import inspect
+
+    from stickslip import _stickslip
+
+    stub = ast.parse((Path(stickslip.__file__).parent / "_stickslip.pyi").read_text())
+    stubbed = {f.name: [a.arg for a in f.args.args] for f in stub.body if isinstance(f, ast.FunctionDef)}
+    classes = {c.name for c in stub.body if isinstance(c, ast.ClassDef)}
+    functions = {n: f for n, f in vars(_stickslip).items() if callable(f) and not isinstance(f, type)}
+    assert set(stubbed) == set(functions)
+    for name, f in functions.items():
+        assert stubbed[name] == list(inspect.signature(f).parameters), name
+    assert classes == {n for n, c in vars(_stickslip).items() if isinstance(c, type)}
+
+
+def test_progress_is_drawn_on_stderr_when_asked(capfd: pytest.CaptureFixture) -> None:
+    stickslip.simulate(realizations=20_000, progress=True)
+    err = capfd.readouterr().err
+    assert "20000/20000" in err or "20000/20000" in err.replace(" ", "")
+    stickslip.simulate(realizations=20_000)
+    assert capfd.readouterr().err == ""
+
+
+def test_a_sweep_analysed_from_python_has_its_cells(tmp_path: Path) -> None:
+    stickslip.simulate(set={"model.damping": [0.0, 0.5]}, realizations=300, out=tmp_path / "d")
+    a = stickslip.analyze(tmp_path / "d", out=tmp_path / "a")
+    assert sorted(a.cells) == ["damping=0", "damping=0.5"] and a.summary is None
+    assert a.sweep.equals(pl.read_parquet(tmp_path / "a" / "sweep.parquet"))
+    cell = a.cells["damping=0.5"]
+    assert cell.moments.equals(pl.read_parquet(tmp_path / "a" / "damping=0.5" / "moments.parquet"))
+    assert cell.summary is not None and cell.summary.dataset.realizations == 300
+
+
+def test_the_readme_python_section_runs_as_written(tmp_path: Path) -> None:
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    section = readme[readme.index("## Python") :]
+    code = section[section.index("```python") + len("```python") : section.index("```", section.index("```python") + 9)]
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr

@@ -95,8 +95,8 @@ pub enum InputError {
 
 impl crate::blame::Blame for InputError {
     /// Every one: the dataset given is not one that can be analysed.
-    fn blames_input(&self) -> bool {
-        true
+    fn blame(&self) -> Option<crate::blame::Culprit> {
+        Some(crate::blame::Culprit::Dataset)
     }
 }
 

@@ -42,6 +42,7 @@ use rayon::prelude::*;
 use sketch::{Sketch, Sketch2};
 
 use crate::observables::Observable;
+use crate::progress::{Cancelled, Control};
 
 mod options;
 pub use options::{Options, Pair, DEFAULT_MAX_INDEX, DEFAULT_PERMUTATIONS, DEFAULT_SEVERITY, GROWTH_MIN_REACHED, MAX_BINS, MAX_INDEX};
@@ -75,14 +76,18 @@ pub enum AnalysisError {
     /// The output directory could not be staged or replaced.
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
+    /// The caller cancelled the run (Ctrl-C in a Python session).
+    #[error("interrupted")]
+    Cancelled(#[from] Cancelled),
 }
 
 impl crate::blame::Blame for AnalysisError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            AnalysisError::Input(_) | AnalysisError::Options(_) | AnalysisError::Read { .. } => true,
-            AnalysisError::Out(o) => o.blames_input(),
-            AnalysisError::Write { .. } => false,
+            AnalysisError::Input(_) | AnalysisError::Read { .. } => Some(crate::blame::Culprit::Dataset),
+            AnalysisError::Options(_) => Some(crate::blame::Culprit::Usage),
+            AnalysisError::Out(o) => o.blame(),
+            AnalysisError::Write { .. } | AnalysisError::Cancelled(_) => None,
         }
     }
 }
@@ -259,11 +264,12 @@ pub fn analyze(dir: &Path, opts: &Options) -> Result<Analysis, AnalysisError> {
 
 /// Analyse one checked dataset.
 pub fn analyze_dataset(data: Dataset, opts: &Options) -> Result<Analysis, AnalysisError> {
-    Ok(analyze_cells(vec![data], opts)?.remove(0))
+    Ok(analyze_cells(vec![data], opts, Control::silent())?.remove(0))
 }
 
-/// Analyse checked datasets (the cells of a sweep) in one scan.
-pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis>, AnalysisError> {
+/// Analyse checked datasets (the cells of a sweep) in one scan; `ctl` is told the realizations
+/// read and asked between runs of the query.
+pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options, ctl: Control) -> Result<Vec<Analysis>, AnalysisError> {
     opts.check()?;
     let kind = |d: &Dataset| (d.switch_times, d.tails_state);
     let (switch_times, tails_state) = kind(&cells[0]);
@@ -278,7 +284,7 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
         for k in kinds {
             let order: Vec<usize> = (0..indexed.len()).filter(|&i| indexed[i].as_ref().is_some_and(|d| kind(d) == k)).collect();
             let data: Vec<Dataset> = order.iter().map(|&i| indexed[i].take().expect("each cell once")).collect();
-            out.extend(order.into_iter().zip(analyze_cells(data, opts)?));
+            out.extend(order.into_iter().zip(analyze_cells(data, opts, ctl)?));
         }
         out.sort_by_key(|(i, _)| *i);
         return Ok(out.into_iter().map(|(_, a)| a).collect());
@@ -314,10 +320,10 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
     let tail_plans: Option<Vec<tails::TailPlan>> =
         opts.tails.then(|| refs.iter().map(|d| tails::TailPlan::new(d, opts.max_index, &opts.tail)).collect::<Result<_, _>>()).transpose().map_err(failed)?;
     let plan = query::Plan { series: &series, pairs: &pairs, convergence: &convergence, checkpoints: &grid, tails: tail_plans.as_deref() };
-    let bar = progress(opts.progress, refs.iter().map(|d| d.rows).sum());
     let mut pilots = query::pilots(&refs, &plan).map_err(failed)?;
-    let aggregates = query::aggregate(&refs, &plan, &mut pilots, &bar).map_err(failed)?;
-    bar.finish_and_clear();
+    ctl.check()?;
+    let aggregates = query::aggregate(&refs, &plan, &mut pilots, ctl).map_err(|e| if ctl.check().is_err() { Cancelled.into() } else { failed(e) })?;
+    ctl.progress.finish();
     let tails: Vec<Option<tails::Tails>> =
         aggregates.iter().enumerate().map(|(c, agg)| tail_plans.as_ref().map(|p| tails::finish(&p[c], &agg.tails))).collect();
     let mut out = Vec::with_capacity(cells.len());
@@ -328,18 +334,6 @@ pub fn analyze_cells(cells: Vec<Dataset>, opts: &Options) -> Result<Vec<Analysis
         out.push(Analysis { tails, ..finish(data, opts, &series, &pairs, &grid, &agg, pilot) });
     }
     Ok(out)
-}
-
-/// A bar of the realizations aggregated (advanced after each run of the query) with the elapsed
-/// time (`show`), hidden otherwise.
-fn progress(show: bool, rows: u64) -> indicatif::ProgressBar {
-    if !show {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(rows);
-    bar.set_style(indicatif::ProgressStyle::with_template("analyze {bar:40} {pos}/{len} realizations  {elapsed}  eta {eta}").expect("valid template"));
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar
 }
 
 /// The analysis of one cell from what the scan aggregated.

@@ -31,8 +31,6 @@ pub struct Options {
     pub permutations: u32,
     /// Analyse a dataset with missing realization ranges (recorded in `summary.json`).
     pub allow_partial: bool,
-    /// Show progress on stderr while reading.
-    pub progress: bool,
     /// Compute the tails (survival curves, the conditional estimator, extremes; [`tails`]).
     pub tails: bool,
     /// Which survival-curve times and severity thresholds to evaluate (with `tails`).
@@ -94,7 +92,6 @@ impl Default for Options {
             pairs: vec![Pair(Observable::StickStart(1), Observable::StickStart(2)), Pair(Observable::StickDuration(1), Observable::StickDuration(2))],
             permutations: DEFAULT_PERMUTATIONS,
             allow_partial: false,
-            progress: false,
             tails: true,
             tail: tails::TailOptions { times: Vec::new(), severity: DEFAULT_SEVERITY.to_vec() },
         }

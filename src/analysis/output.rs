@@ -380,19 +380,28 @@ fn werr(path: &Path, e: &dyn std::fmt::Display) -> AnalysisError {
     AnalysisError::Write { path: path.to_owned(), message: e.to_string() }
 }
 
+/// The tables of an analysis by name (each written as NAME.parquet): moments, histograms,
+/// joint_histograms, independence, growth, convergence, and with the tails survival and tails.
+pub fn tables(a: &Analysis) -> Vec<(&'static str, Table)> {
+    let mut tables = vec![
+        ("moments", moments_table(a)),
+        ("histograms", histogram_table(a)),
+        ("joint_histograms", joint_table(a)),
+        ("independence", independence_table(a)),
+        ("growth", growth_table(a)),
+        ("convergence", convergence_table(a)),
+    ];
+    if let Some(t) = &a.tails {
+        tables.extend([("survival", survival_table(t)), ("tails", tails_table(t))]);
+    }
+    tables
+}
+
 /// Write the files of an analysis into the existing directory `dir` (named `shown` in errors).
 pub fn write_into(a: &Analysis, dir: &Path, shown: &Path) -> Result<(), AnalysisError> {
-    let tables = [
-        ("moments.parquet", moments_table(a)),
-        ("histograms.parquet", histogram_table(a)),
-        ("joint_histograms.parquet", joint_table(a)),
-        ("independence.parquet", independence_table(a)),
-        ("growth.parquet", growth_table(a)),
-        ("convergence.parquet", convergence_table(a)),
-    ];
-    let tails = a.tails.as_ref().map(|t| [("survival.parquet", survival_table(t)), ("tails.parquet", tails_table(t))]);
-    for (file, table) in tables.into_iter().chain(tails.into_iter().flatten()) {
-        table.write_parquet(&dir.join(file)).map_err(|e| werr(&shown.join(file), &e))?;
+    for (name, table) in tables(a) {
+        let file = format!("{name}.parquet");
+        table.write_parquet(&dir.join(&file)).map_err(|e| werr(&shown.join(&file), &e))?;
     }
     std::fs::write(dir.join("summary.json"), summary(a).to_json()).map_err(|e| werr(&shown.join("summary.json"), &e))?;
     std::fs::write(dir.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&shown.join("table1.md"), &e))?;

@@ -50,6 +50,7 @@ use super::sketch;
 use super::tail_counts;
 use super::tails::{TailCounts, TailPlan};
 use crate::observables::Observable;
+use crate::progress::Control;
 
 /// Rows of each cell the pilot reads.
 pub(crate) const PILOT_ROWS: usize = 16_384;
@@ -305,10 +306,13 @@ fn unchanged(cells: &[&Dataset]) -> PolarsResult<()> {
 /// Run the main query over every cell (module docs); a broken rule is reported by [`locate`].
 /// Should a value lie farther from its centre than the pilot's bound of the exact sums (a count
 /// beyond twice the pilot's reach), the scan is run once more with the bound the data show.
-pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot], progress: &indicatif::ProgressBar) -> PolarsResult<Vec<Aggregates>> {
+/// `ctl` is told the realizations aggregated; when it is cancelled, the scan stops with an error
+/// between runs (the caller asks `ctl` what it was).
+pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot], ctl: Control) -> PolarsResult<Vec<Aggregates>> {
+    let rows = cells.iter().map(|d| d.rows).sum();
     loop {
-        progress.set_position(0);
-        let out = aggregate_once(cells, plan, pilots, progress)?;
+        ctl.progress.start("analyze", rows);
+        let out = aggregate_once(cells, plan, pilots, ctl)?;
         let mut again = false;
         for (agg, pilot) in out.iter().zip(pilots.iter_mut()) {
             for (i, groups) in agg.sums.iter().enumerate() {
@@ -325,7 +329,7 @@ pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot], p
     }
 }
 
-fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], progress: &indicatif::ProgressBar) -> PolarsResult<Vec<Aggregates>> {
+fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], ctl: Control) -> PolarsResult<Vec<Aggregates>> {
     unchanged(cells)?;
     // runs of (cell, file, first row, rows, read position of the file's row 0)
     let mut runs: Vec<Vec<(usize, usize, u64, u64, u64)>> = vec![Vec::new()];
@@ -349,8 +353,11 @@ fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], progress: &
     }
     let mut out: Vec<Aggregates> = cells.iter().map(|_| Aggregates::new(plan)).collect();
     for run in runs.iter().filter(|r| !r.is_empty()) {
+        if ctl.check().is_err() {
+            polars_bail!(ComputeError: "interrupted");
+        }
         aggregate_run(cells, plan, pilots, run, &mut out)?;
-        progress.inc(run.iter().map(|r| r.3).sum());
+        ctl.progress.advance(run.iter().map(|r| r.3).sum());
     }
     unchanged(cells)?;
     Ok(out)

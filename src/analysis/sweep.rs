@@ -172,16 +172,21 @@ pub fn table(cells: &[CellSummary]) -> Table {
     t
 }
 
-/// Analyse every cell of the dataset below `dir` into `out` (replaced when complete). A plain
-/// dataset (one cell at `dir` itself) gets the ordinary analysis; returns the analyses by cell.
-pub fn analyze_all(dir: &Path, opts: &Options, out: &Path) -> Result<Vec<(String, Analysis)>, AnalysisError> {
+/// Analyse every cell of the dataset below `dir` into `out` (replaced when complete; none: the
+/// analyses are only returned). A plain dataset (one cell at `dir` itself) gets the ordinary
+/// analysis; returns the analyses by cell.
+pub fn analyze_all(dir: &Path, opts: &Options, out: Option<&Path>, ctl: crate::progress::Control) -> Result<Vec<(String, Analysis)>, AnalysisError> {
     opts.check()?;
-    let staged = StagedDir::new(out, Kind::Analysis, "--out", &[dir])?;
+    let staged = out.map(|out| StagedDir::new(out, Kind::Analysis, "--out", &[dir])).transpose()?;
     let mut cells = open_cells(dir, opts.allow_partial)?;
     cells.sort_by(|a, b| cell_order(&a.0, &b.0));
     let (paths, datasets): (Vec<String>, Vec<_>) = cells.into_iter().unzip();
     // every cell in one scan
-    let analyses = analyze_cells(datasets, opts)?;
+    let analyses = analyze_cells(datasets, opts, ctl)?;
+    ctl.check()?;
+    let (Some(staged), Some(out)) = (staged, out) else {
+        return Ok(paths.into_iter().zip(analyses).collect());
+    };
     let mut done = Vec::with_capacity(paths.len());
     for (path, a) in paths.into_iter().zip(analyses) {
         let cell_dir = staged.path().join(&path);

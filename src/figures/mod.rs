@@ -49,11 +49,11 @@ pub enum FigureError {
 }
 
 impl crate::blame::Blame for FigureError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            FigureError::Read { .. } => true,
-            FigureError::Out(o) => o.blames_input(),
-            FigureError::Draw { .. } => false,
+            FigureError::Read { .. } => Some(crate::blame::Culprit::Dataset),
+            FigureError::Out(o) => o.blame(),
+            FigureError::Draw { .. } => None,
         }
     }
 }

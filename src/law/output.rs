@@ -9,6 +9,7 @@ use super::sticks;
 use super::{Level, QUANTITIES};
 use crate::figures::chart::{Figure, Panel, Series};
 use crate::outdir::{Kind, StagedDir};
+use crate::progress::{Cancelled, Control};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::table::{Col, Table};
 
@@ -35,16 +36,18 @@ pub enum LawError {
     /// The output directory could not be staged or replaced.
     #[error(transparent)]
     Out(#[from] crate::outdir::OutDirError),
+    /// The caller cancelled the run (Ctrl-C in a Python session).
+    #[error("interrupted")]
+    Cancelled(#[from] Cancelled),
 }
 
 impl crate::blame::Blame for LawError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            LawError::Scenario(e) => e.blames_input(),
-            LawError::Refused(_) => true,
-            LawError::Failed(_) => false,
-            LawError::Write { .. } => false,
-            LawError::Out(e) => e.blames_input(),
+            LawError::Scenario(e) => e.blame(),
+            LawError::Refused(_) => Some(crate::blame::Culprit::Scenario),
+            LawError::Failed(_) | LawError::Write { .. } | LawError::Cancelled(_) => None,
+            LawError::Out(e) => e.blame(),
         }
     }
 }
@@ -71,20 +74,16 @@ pub struct Options {
 /// counted), the counts' laws, the densities and the window's warning.
 pub type Found = (Vec<Level>, Vec<sticks::Row>, Vec<super::counts::CountRow>, Vec<super::densities::DensityRow>, Option<String>);
 
-/// Solve the scenario's stationary law at [`LEVELS`] resolutions up to `finest` and write `out` (replaced
-/// when complete); `progress` hears each resolution's result as it is done, `step` each
-/// iteration (resolution, iteration, change of the measure; for the counts: resolution, stick
-/// k, P(T_k ≤ t_a)), `sticks_progress` each sequence (what, resolution, seconds). D_k's law (`survival.parquet`) is evaluated on a grid of times
-/// with `tail_times` [s] added; with `counts`, the laws of S_T and S_L are written to
-/// `counts.parquet` and their means and variances added to `moments.parquet`.
-pub fn run(
-    scenario: &Scenario,
-    opts: &Options,
-    out: &Path,
-    progress: &mut dyn FnMut(&Level, f64),
-    step: &mut dyn FnMut(u32, u32, f64),
-    sticks_progress: &mut dyn FnMut(&str, u32, f64),
-) -> Result<Found, LawError> {
+/// Solve the scenario's stationary law at [`LEVELS`] resolutions up to `finest` and write `out`
+/// (replaced when complete). `ctl` hears each resolution's result as a note when it is done, each
+/// iteration as a status (resolution, iteration, change of the measure; for the counts:
+/// resolution, stick k, P(T_k ≤ t_a)) and each sequence's time as a note; it is asked between
+/// resolutions and sequences. D_k's law (`survival.parquet`) is evaluated on a grid of times with
+/// `tail_times` [s] added; with `counts`, the laws of S_T and S_L are written to `counts.parquet`
+/// and their means and variances added to `moments.parquet`.
+pub fn run(scenario: &Scenario, opts: &Options, out: &Path, ctl: Control) -> Result<Found, LawError> {
+    let note = |what: &str, n: u32, seconds: f64| ctl.progress.note(&format!("{what} from the initial conditions, resolution {n:>3}: {seconds:.1} s"));
+    let step = |n: u32, i: u32, change: f64| ctl.progress.status(&format!("resolution {n:>3}: iteration {i}, change {change:.1e}"));
     let (finest, tail_times, counts) = (opts.finest, &opts.tail_times, opts.counts);
     let scene = scenario.scene()?;
     let frames = super::frames(&scene).map_err(LawError::Refused)?;
@@ -101,21 +100,24 @@ pub fn run(
     let (mut levels, mut density) = (Vec::new(), None);
     for rung in &ladder {
         let (n, start) = (rung.0, std::time::Instant::now());
+        ctl.check()?;
         let (level, d) = super::solve(&frames, rung, n == finest, &mut |i, change| step(n, i, change)).map_err(LawError::Failed)?;
-        progress(&level, start.elapsed().as_secs_f64());
+        ctl.progress.note(&format!("resolution {:>3}: {} iterations, {:.1} s", level.n, level.iterations, start.elapsed().as_secs_f64()));
         levels.push(level);
         density = d.or(density);
     }
     let density = density.expect("the finest resolution computes the density");
-    let after = sticks::solve(scenario, &frames, &ladder, &mut |n, s| sticks_progress("sticks 1-6", n, s)).map_err(LawError::Failed)?;
+    ctl.check()?;
+    let after = sticks::solve(scenario, &frames, &ladder, &mut |n, s| note("sticks 1-6", n, s)).map_err(LawError::Failed)?;
     let order = sticks::order(scenario);
     let mut rows = sticks::rows(&after, order);
     let counts = match counts {
         Some(n) => {
             let ladder = super::ladder(&frames, n, LEVELS).map_err(LawError::Refused)?;
-            let solved =
-                super::counts::solve(scenario, &frames, &ladder, &mut |n, s| sticks_progress("S_T and S_L", n, s), &mut |n, k, p| step(n, k as u32, p))
-                    .map_err(LawError::Failed)?;
+            ctl.check()?;
+            let counting = |n: u32, k: usize, p: f64| ctl.progress.status(&format!("S_T and S_L, resolution {n:>3}: stick {k}, P(T_k <= t_a) = {p:.1e}"));
+            let solved = super::counts::solve(scenario, &frames, &ladder, &mut |n, s| note("S_T and S_L", n, s), &mut |n, k, p| counting(n, k, p))
+                .map_err(LawError::Failed)?;
             super::counts::reach(&solved, &mut rows);
             super::counts::rows(&solved)
         }
@@ -126,7 +128,8 @@ pub fn run(
         Some(ladder) => {
             let t_a = scenario.run.duration;
             let half_period = super::densities::half_period(t_a, after.last().map_or((f64::NAN, f64::NAN), |(_, s)| s.next_start));
-            let solved = super::densities::solve(scenario, &frames, ladder, half_period, &mut |n, s| sticks_progress("densities of T_k, L_k, H_k", n, s))
+            ctl.check()?;
+            let solved = super::densities::solve(scenario, &frames, ladder, half_period, &mut |n, s| note("densities of T_k, L_k, H_k", n, s))
                 .map_err(LawError::Failed)?;
             super::window::windowed(&solved, half_period, t_a, &mut rows);
             (super::densities::rows(&solved, half_period, t_a), super::densities::characteristic_table(&solved, half_period))

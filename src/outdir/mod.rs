@@ -85,8 +85,8 @@ pub struct OutDirError {
 }
 
 impl crate::blame::Blame for OutDirError {
-    fn blames_input(&self) -> bool {
-        self.refused
+    fn blame(&self) -> Option<crate::blame::Culprit> {
+        self.refused.then_some(crate::blame::Culprit::Output)
     }
 }
 

@@ -60,11 +60,11 @@ pub enum ReportError {
 }
 
 impl crate::blame::Blame for ReportError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            ReportError::Read { .. } | ReportError::Mismatch { .. } | ReportError::Dataset(_) => true,
-            ReportError::Out(o) => o.blames_input(),
-            ReportError::Write { .. } => false,
+            ReportError::Read { .. } | ReportError::Mismatch { .. } | ReportError::Dataset(_) => Some(crate::blame::Culprit::Dataset),
+            ReportError::Out(o) => o.blame(),
+            ReportError::Write { .. } => None,
         }
     }
 }

@@ -25,9 +25,11 @@ pub use crate::solver::Numerics;
 
 mod belt;
 mod check;
+mod input;
 mod spec;
 
 pub use check::fastest_rate;
+pub use input::{Input, Source};
 pub use spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, ProcessName, Run, Sign};
 
 /// The paper scenario, embedded: the default of every key.
@@ -164,8 +166,8 @@ pub enum ScenarioError {
 
 impl crate::blame::Blame for ScenarioError {
     /// Every one: a scenario error names the key, value or file at fault.
-    fn blames_input(&self) -> bool {
-        true
+    fn blame(&self) -> Option<crate::blame::Culprit> {
+        Some(crate::blame::Culprit::Scenario)
     }
 }
 
@@ -234,7 +236,11 @@ impl Scenario {
     /// base seed and the cell's path (SplitMix64 of seed ⊕ FNV-1a(path)), so cells draw
     /// independent streams, and re-running one cell's recorded scenario reproduces it.
     pub fn resolve_sweep(file: Option<&Path>, sets: &[String], over: Overrides) -> Result<Vec<Cell>, ScenarioError> {
-        let mut base = typed(merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), file.map(belt::base_dir), sets)?)?;
+        Scenario::sweep_cells(typed(merged(read(file)?.as_deref(), file.unwrap_or(Path::new("<scenario>")), file.map(belt::base_dir), sets)?)?, over)
+    }
+
+    /// The cells of the sweep `base` (typed, not yet checked) with `over` applied.
+    fn sweep_cells(mut base: Scenario, over: Overrides) -> Result<Vec<Cell>, ScenarioError> {
         over.apply(&mut base);
         let mut axes: Vec<(Key, Vec<f64>)> = Vec::new();
         for key in Key::ALL {

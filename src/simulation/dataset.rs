@@ -274,11 +274,11 @@ pub enum DatasetError {
 }
 
 impl crate::blame::Blame for DatasetError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            DatasetError::Layout { .. } => true,
-            DatasetError::Out(o) => o.blames_input(),
-            DatasetError::Write { .. } => false,
+            DatasetError::Layout { .. } => Some(crate::blame::Culprit::Output),
+            DatasetError::Out(o) => o.blame(),
+            DatasetError::Write { .. } => None,
         }
     }
 }

@@ -9,13 +9,13 @@ use std::str::FromStr;
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 use arrow_schema::Schema;
 
 use crate::metadata as meta;
 use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
+use crate::progress::{Cancelled, Control};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
 use crate::simulation::ensemble::{Ensemble, Outcome, RunError};
@@ -66,8 +66,6 @@ pub struct Options {
     pub shard: Shard,
     /// Worker threads (None: all cores).
     pub threads: Option<usize>,
-    /// show a progress bar on stderr
-    pub progress: bool,
 }
 
 /// What a run did.
@@ -106,9 +104,9 @@ pub enum SimulateError {
     /// The worker thread pool could not be started.
     #[error("cannot start worker threads: {0}")]
     Pool(String),
-    /// The caller asked the run to stop (`batches`' `stop`: Ctrl-C in a Python session).
+    /// The caller cancelled the run (Ctrl-C in a Python session).
     #[error("interrupted")]
-    Interrupted,
+    Cancelled(#[from] Cancelled),
     /// A cell of a sweep failed.
     #[error("sweep cell {cell}: {source}")]
     Cell {
@@ -120,13 +118,14 @@ pub enum SimulateError {
 }
 
 impl crate::blame::Blame for SimulateError {
-    fn blames_input(&self) -> bool {
+    fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
-            SimulateError::Threads(_) | SimulateError::Scenario(_) => true,
-            SimulateError::Dataset(d) => d.blames_input(),
-            SimulateError::Out(o) => o.blames_input(),
-            SimulateError::Run(_) | SimulateError::Pool(_) | SimulateError::Interrupted => false,
-            SimulateError::Cell { source, .. } => source.blames_input(),
+            SimulateError::Threads(_) => Some(crate::blame::Culprit::Usage),
+            SimulateError::Scenario(_) => Some(crate::blame::Culprit::Scenario),
+            SimulateError::Dataset(d) => d.blame(),
+            SimulateError::Out(o) => o.blame(),
+            SimulateError::Run(_) | SimulateError::Pool(_) | SimulateError::Cancelled(_) => None,
+            SimulateError::Cell { source, .. } => source.blame(),
         }
     }
 }
@@ -235,11 +234,11 @@ impl Pending {
 /// renamed into place only when all cells succeeded, so a failure leaves the previous sweep, if
 /// any, untouched (each pending part's temporary and the cell directories it created go).
 /// `opts.out` is replaced by each cell's directory.
-pub fn sweep(cells: &[crate::scenario::Cell], out: &std::path::Path, opts: &Options, targets: &[Target]) -> Result<Vec<Summary>, SimulateError> {
+pub fn sweep(cells: &[crate::scenario::Cell], out: &std::path::Path, opts: &Options, targets: &[Target], ctl: Control) -> Result<Vec<Summary>, SimulateError> {
     let mut pending = Vec::with_capacity(cells.len());
     for cell in cells {
         let opts = Options { out: if cell.path.is_empty() { out.to_path_buf() } else { out.join(&cell.path) }, ..opts.clone() };
-        match compute_until(&cell.scenario, &opts, targets) {
+        match compute_until(&cell.scenario, &opts, targets, ctl) {
             Ok(p) => pending.push(p),
             Err(e) if cell.path.is_empty() => return Err(e),
             Err(e) => return Err(SimulateError::Cell { cell: cell.path.clone(), source: Box::new(e) }),
@@ -251,20 +250,17 @@ pub fn sweep(cells: &[crate::scenario::Cell], out: &std::path::Path, opts: &Opti
 /// Run the stage: simulate and commit the part file into `opts.out`.
 pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError> {
     let dir = DatasetDir::prepare(&opts.out, &[])?;
-    let summary = compute(scenario, opts)?.commit()?;
+    let summary = compute_until(scenario, opts, &[], Control::silent())?.commit()?;
     dir.commit();
     Ok(summary)
 }
 
-/// Simulate into a finished, uncommitted part file; `opts.out` is a prepared dataset directory.
-pub fn compute(scenario: &Scenario, opts: &Options) -> Result<Pending, SimulateError> {
-    compute_until(scenario, opts, &[])
-}
-
-/// [`compute`], stopping at the first chunk boundary where every `targets` standard error is met
+/// Simulate into a finished, uncommitted part file (`opts.out` is a prepared dataset directory),
+/// stopping at the first chunk boundary where every `targets` standard error is met
 /// ([`crate::simulation::precision`]; `run.realizations` is the cap). A shard applies the targets to its own
 /// block of realizations and records the block (`stickslip.shard_block`).
-pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) -> Result<Pending, SimulateError> {
+/// `ctl` is told each window of chunks written and asked between windows.
+pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target], ctl: Control) -> Result<Pending, SimulateError> {
     let start = Instant::now();
 
     let threads = worker_threads(opts.threads)?;
@@ -282,7 +278,8 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
         metadata.retain(|(k, _)| k != meta::REALIZATION_RANGE && (sharded || k != meta::REALIZATIONS));
     }
     let writer = PartWriter::create(&opts.out, opts.shard.index, opts.shard.count, layout, metadata)?;
-    let progress = progress_bar(range.end - range.start, opts.progress);
+    let progress = ctl.progress;
+    progress.start("simulate", range.end - range.start);
 
     // chunks of realizations, generated lazily (a run may have ~10^12 of them)
     let chunk = ensemble.chunk_len();
@@ -301,20 +298,21 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
             }
             Ok(writer)
         });
-        let computed = (|| -> Result<(), RunError> {
+        let computed = (|| -> Result<(), SimulateError> {
             while chunks.peek().is_some() {
+                ctl.check()?;
                 let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
                 let rows: Vec<Result<(Rows, Tracker), RunError>> = pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), targets)).collect());
                 for (r, range) in rows.into_iter().zip(&window) {
                     let (r, t) = r?;
-                    progress.inc(r.len() as u64);
+                    progress.advance(r.len() as u64);
                     total_sticks += r.total_sticks();
                     if tx.send(r).is_err() {
                         return Ok(()); // the writer failed; its error is reported below
                     }
                     if !targets.is_empty() {
                         tracker.merge(&t);
-                        progress.set_message(tracker.describe());
+                        progress.message(&tracker.describe());
                         if tracker.met() {
                             reached = range.end;
                             return Ok(());
@@ -327,7 +325,7 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
         drop(tx);
         (computed, writer_thread.join().expect("writer thread does not panic"))
     });
-    progress.finish_and_clear();
+    progress.finish();
     computed?;
     let mut written = written?;
     if !targets.is_empty() {
@@ -368,9 +366,9 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target]) ->
 
 /// Simulate one scene into memory: the dataset's Arrow record batches (its schema carries the
 /// provenance as metadata), in realization order — the rows `simulate` writes, chunk for chunk.
-/// `stop` is asked between windows of chunks; when it answers true the run ends with
-/// [`SimulateError::Interrupted`] (how a Python session's Ctrl-C reaches the run).
-pub fn batches(scenario: &Scenario, threads: Option<usize>, stop: &(dyn Fn() -> bool + Sync)) -> Result<Vec<arrow_array::RecordBatch>, SimulateError> {
+/// `ctl` is told each window of chunks and asked between them (how a Python session's Ctrl-C
+/// reaches the run).
+pub fn batches(scenario: &Scenario, threads: Option<usize>, ctl: Control) -> Result<Vec<arrow_array::RecordBatch>, SimulateError> {
     let threads = worker_threads(threads)?;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| SimulateError::Pool(e.to_string()))?;
     let ensemble = Ensemble::new(scenario)?;
@@ -380,18 +378,20 @@ pub fn batches(scenario: &Scenario, threads: Option<usize>, stop: &(dyn Fn() -> 
     let total = scenario.run.realizations;
     let mut chunks = (0..total).step_by(chunk as usize).map(|lo| lo..(lo + chunk).min(total)).peekable();
     let mut out = Vec::new();
+    ctl.progress.start("simulate", total);
     while chunks.peek().is_some() {
-        if stop() {
-            return Err(SimulateError::Interrupted);
-        }
+        ctl.check()?;
         let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
         let rows: Vec<Result<(Rows, Tracker), RunError>> = pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), &[])).collect());
         for r in rows {
-            let batch = r?.0.into_batch(&layout);
+            let rows = r?.0;
+            ctl.progress.advance(rows.len() as u64);
+            let batch = rows.into_batch(&layout);
             let schema = std::sync::Arc::new(batch.schema().as_ref().clone().with_metadata(metadata.clone()));
             out.push(batch.with_schema(schema).expect("the same fields"));
         }
     }
+    ctl.progress.finish();
     Ok(out)
 }
 
@@ -445,13 +445,4 @@ fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path:
         tables.push(index, &sampler.samples, out.switches(), out.velocities(), &out.record);
     }
     Ok((tables.write(&place, &scenario.to_toml())?, created))
-}
-
-fn progress_bar(len: u64, enabled: bool) -> ProgressBar {
-    if !enabled {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(len);
-    bar.set_style(ProgressStyle::with_template("simulate {bar:40} {pos}/{len} realizations  {per_sec}  eta {eta}  {msg}").expect("valid template"));
-    bar
 }

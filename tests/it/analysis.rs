@@ -17,7 +17,7 @@ fn read(path: &Path) -> DataFrame {
 }
 
 fn simulate_into(dir: &Path, sets: &[&str]) {
-    let opts = simulate::Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: Some(2), progress: false };
+    let opts = simulate::Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: Some(2) };
     simulate::run(&scenario(sets), &opts).unwrap();
 }
 
@@ -204,7 +204,7 @@ fn whole_and_sharded_agree(realizations: u64, shards: u64, tables: &[&str]) {
     let sc = scenario(&[set.as_str()]);
     for (dir, shards) in [("whole", 1u64), ("sharded", shards)] {
         for i in 0..shards {
-            let opts = simulate::Options { out: tmp.path().join(dir), shard: Shard { index: i, count: shards }, threads: Some(1), progress: false };
+            let opts = simulate::Options { out: tmp.path().join(dir), shard: Shard { index: i, count: shards }, threads: Some(1) };
             simulate::run(&sc, &opts).unwrap();
         }
         let a = analysis::analyze(&tmp.path().join(dir), &Options::default()).unwrap();

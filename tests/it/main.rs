@@ -19,6 +19,7 @@ mod pinned;
 mod pipelines;
 mod precision;
 mod predict;
+mod python_types;
 mod readme;
 mod reference;
 mod safety;

@@ -40,8 +40,14 @@ fn exact_agrees_with_futures_from_the_same_state() {
     ] {
         let mut all: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
         let sc = scenario(&sets);
-        let p = run(&sc, State { x, velocity: v, belt, stuck }, Options { resolution: 24, futures: None, horizon: None, densities: None }, None, &mut |_| {})
-            .unwrap();
+        let p = run(
+            &sc,
+            State { x, velocity: v, belt, stuck },
+            Options { resolution: 24, futures: None, horizon: None, densities: None },
+            None,
+            stickslip::progress::Control::silent(),
+        )
+        .unwrap();
         assert!(p.exact_refused.is_none() && p.rows.iter().all(|r| r.method == "exact"));
         all.extend([format!("initial_conditions.position=[{x:?}, {x:?}]"), format!("initial_conditions.velocity=[{v:?}, {v:?}]"), "run.duration=15".into()]);
         all.push(format!("belt.initial_sign={}", if belt > 0.0 { 1 } else { -1 }));

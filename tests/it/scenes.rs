@@ -156,7 +156,7 @@ fn random_scenes_are_the_same_for_any_threads_and_shards() {
         "belt.reverse_switch_rate={dist = \"uniform\", low = 1, high = 3}",
     ]);
     let run = |dir: &str, shard: Shard, threads: usize| {
-        let opts = Options { out: tmp.path().join(dir), shard, threads: Some(threads), progress: false };
+        let opts = Options { out: tmp.path().join(dir), shard, threads: Some(threads) };
         simulate::run(&sc, &opts).expect("simulate").path
     };
     let (a, b) = (run("t1", Shard::WHOLE, 1), run("t2", Shard::WHOLE, 2));

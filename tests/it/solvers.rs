@@ -217,7 +217,8 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
 #[test]
 fn tradeoff_writes_one_row_per_setting() {
     let tmp = tempfile::tempdir().unwrap();
-    let rows = tradeoff::run(&scenario(&["run.duration=2"]), 10, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
+    let rows =
+        tradeoff::run(&scenario(&["run.duration=2"]), 10, tradeoff::BIAS_FRACTION, &tmp.path().join("t"), stickslip::progress::Control::silent()).unwrap();
     let t = stickslip::table::Table::read_parquet(&tmp.path().join("t/tradeoff.parquet")).unwrap();
     assert_eq!(t.height(), tradeoff::ladder(2.0).len());
     assert_eq!(rows.len(), t.height());
@@ -251,14 +252,14 @@ fn tradeoff_writes_one_row_per_setting() {
 fn tradeoff_recommends_nothing_without_a_standard_error_and_the_same_thing_every_run() {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["run.duration=2", "model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"]);
-    let one = tradeoff::run(&sc, 1, tradeoff::BIAS_FRACTION, &tmp.path().join("one")).unwrap();
+    let one = tradeoff::run(&sc, 1, tradeoff::BIAS_FRACTION, &tmp.path().join("one"), stickslip::progress::Control::silent()).unwrap();
     assert!(one.iter().all(|r| r.max_bias_over_se.is_none() && !r.recommended));
     let t = stickslip::table::Table::read_parquet(&tmp.path().join("one/tradeoff.parquet")).unwrap();
     assert!(t.floats("max_bias_over_se").unwrap().iter().all(Option::is_none), "no score is written as a number");
     // the ranking is counted, not timed: two runs recommend the same setting, and it is the
     // eligible one with the fewest right-hand-side evaluations (counts are deterministic)
-    let a = tradeoff::run(&sc, 12, tradeoff::BIAS_FRACTION, &tmp.path().join("a")).unwrap();
-    let b = tradeoff::run(&sc, 12, tradeoff::BIAS_FRACTION, &tmp.path().join("b")).unwrap();
+    let a = tradeoff::run(&sc, 12, tradeoff::BIAS_FRACTION, &tmp.path().join("a"), stickslip::progress::Control::silent()).unwrap();
+    let b = tradeoff::run(&sc, 12, tradeoff::BIAS_FRACTION, &tmp.path().join("b"), stickslip::progress::Control::silent()).unwrap();
     let pick = |rows: &[tradeoff::Row]| rows.iter().find(|r| r.recommended).map(|r| (r.solver, r.setting.clone()));
     assert_eq!(pick(&a), pick(&b));
     let evals = |rows: &[tradeoff::Row]| rows.iter().map(|r| r.evaluations_per_realization).collect::<Vec<_>>();
@@ -277,7 +278,7 @@ fn without_closed_forms_the_reference_is_tight_rk45_and_the_answer_is_numerical(
     // 1e-13, else this fails), and the recommendation is the cheapest setting under the fraction
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["run.duration=3", "model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1", "model.static_friction_coefficient=0.6"]);
-    let rows = tradeoff::run(&sc, 10, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
+    let rows = tradeoff::run(&sc, 10, tradeoff::BIAS_FRACTION, &tmp.path().join("t"), stickslip::progress::Control::silent()).unwrap();
     assert_eq!((rows[0].solver, rows[0].error_max), ("rk45", 0.0));
     assert!(rows[0].setting.contains("1e-14"), "{}", rows[0].setting);
     assert!(rows.iter().all(|r| r.solver != "exact"));
@@ -295,7 +296,7 @@ fn without_closed_forms_the_reference_is_tight_rk45_and_the_answer_is_numerical(
 fn on_the_paper_scene_the_answer_is_exact() {
     // exact costs ~6 µs per paper realization, the cheapest numerical rung ~30 µs and biased
     let tmp = tempfile::tempdir().unwrap();
-    let rows = tradeoff::run(&scenario(&[]), 40, tradeoff::BIAS_FRACTION, &tmp.path().join("t")).unwrap();
+    let rows = tradeoff::run(&scenario(&[]), 40, tradeoff::BIAS_FRACTION, &tmp.path().join("t"), stickslip::progress::Control::silent()).unwrap();
     assert_eq!(rows.iter().filter(|r| r.recommended).map(|r| r.solver).collect::<Vec<_>>(), ["exact"]);
     assert!(tmp.path().join("t/work_precision.png").is_file() && tmp.path().join("t/work_precision.svg").is_file());
 }

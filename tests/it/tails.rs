@@ -140,7 +140,7 @@ use stickslip::simulation::simulate::{self, Shard};
 fn tails_of(sets: &[&str], times: &[f64]) -> analysis::tails::Tails {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("d");
-    let opts = simulate::Options { out: dir.clone(), shard: Shard::WHOLE, threads: Some(2), progress: false };
+    let opts = simulate::Options { out: dir.clone(), shard: Shard::WHOLE, threads: Some(2) };
     simulate::run(&scenario(sets), &opts).unwrap();
     let opts = Options { tail: TailOptions { times: times.to_vec(), severity: vec![1.0] }, ..Options::default() };
     analysis::analyze(&dir, &opts).unwrap().tails.expect("tails are on by default")
