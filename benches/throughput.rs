@@ -39,7 +39,7 @@ struct Setting {
 impl Setting {
     fn new(label: &str, scene: Scenario, (first, n, reps): (u64, u64, u64)) -> Setting {
         scene.check().unwrap();
-        Setting { label: label.into(), ensemble: Ensemble::new(&scene).unwrap(), first, n, reps }
+        Setting { label: label.into(), ensemble: scene.ensemble().unwrap(), first, n, reps }
     }
 
     /// Seconds per realization, one pass.
@@ -118,7 +118,7 @@ fn main() {
         let (data, top) = (dir.path().join("paper/dataset"), dir.path().join("paper"));
         let mut sc = Scenario::paper();
         (sc.output.trajectories, sc.output.switch_times) = (3, true);
-        simulate::run(&sc, &Options { out: data.clone(), shard: Shard::WHOLE, threads: None }).unwrap();
+        simulate::run(&sc.plan().unwrap(), &Options { out: data.clone(), shard: Shard::WHOLE, threads: None }).unwrap();
         let a = analysis::analyze(&data, &analysis::Options::default()).unwrap();
         analysis::output::write(&a, &top.join("analysis")).unwrap();
         let start = Instant::now();

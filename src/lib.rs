@@ -27,6 +27,7 @@ pub mod report;
 pub mod scenario;
 pub mod scenes;
 pub mod sensitivity;
+pub(crate) mod shown;
 pub mod simulation;
 pub mod solver;
 pub(crate) mod special;

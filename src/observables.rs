@@ -21,6 +21,7 @@ use polars::prelude::{col, lit, when, DataType, Expr, NULL};
 use crate::simulation::dataset::columns as name;
 use crate::simulation::ensemble::Outcome;
 use crate::simulation::events::{Record, StickEnd};
+use crate::simulation::precision::Targets;
 
 pub use crate::simulation::schema::SEVERITY_BOUND;
 
@@ -382,8 +383,60 @@ impl FromStr for Observable {
     }
 }
 
+/// One `--target-se VAR=SE`: stop the run once the mean of VAR has this standard error
+/// ([`crate::simulation::precision`] tracks it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Target {
+    /// VAR, the quantity whose mean is tracked
+    pub quantity: Observable,
+    /// SE, the standard error of the mean to reach (> 0)
+    pub se: f64,
+}
+
+impl fmt::Display for Target {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.quantity)
+    }
+}
+
+impl FromStr for Target {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Target, String> {
+        let bad = |why: &str| format!("--target-se {s:?}: {why}; expected VAR=SE, e.g. S_T=0.05");
+        let (var, se) = s.split_once('=').ok_or_else(|| bad("no '='"))?;
+        let se: f64 = se.trim().parse().map_err(|_| bad("SE is not a number"))?;
+        if !(se.is_finite() && se > 0.0) {
+            return Err(bad("SE must be a positive number"));
+        }
+        let quantity = var.parse::<Observable>().map_err(|e| bad(&e))?;
+        Ok(Target { quantity, se })
+    }
+}
+
+impl Target {
+    /// The targets as the simulate path tracks them.
+    pub fn tracked(targets: &[Target]) -> Targets<'_> {
+        Targets {
+            names: targets.iter().map(Target::to_string).collect(),
+            se: targets.iter().map(|t| t.se).collect(),
+            value: Box::new(|i, o| targets[i].quantity.value(o)),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn targets_parse_and_bad_ones_are_named() {
+        let t: Target = "D_3=0.01".parse().unwrap();
+        assert_eq!((t.quantity, t.se, t.to_string()), (Observable::StickDuration(3), 0.01, "D_3".to_string()));
+        assert_eq!("stick_fraction=1e-3".parse::<Target>().unwrap().quantity, Observable::StickFraction);
+        for bad in ["S_T", "S_T=0", "S_T=-1", "X_1=0.1", "T_0=0.1", "T_x=0.1", "S_T=nan", "T_+1=0.1"] {
+            let e = bad.parse::<Target>().unwrap_err();
+            assert!(e.contains("--target-se"), "{e}");
+        }
+    }
+
     use super::*;
     use crate::simulation::events::{Observer, Release};
 

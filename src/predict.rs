@@ -15,7 +15,7 @@ pub use crate::law::LawError;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::belt::{InitialSign, Process};
-use crate::simulation::ensemble::{Ensemble, Outcome};
+use crate::simulation::ensemble::Outcome;
 use crate::simulation::events::StickEnd;
 use crate::stats::Moments;
 use crate::table::{Col, Table};
@@ -352,7 +352,7 @@ fn futures_scenario(scenario: &Scenario, state: State, sign: i32, n: u64, horizo
 
 /// The conditional Monte Carlo rows from `n` futures, and how many were cut by the horizon.
 fn monte_carlo(s: &Scenario, stuck: bool, n: u64) -> Result<(Vec<Row>, u64), LawError> {
-    let ensemble = Ensemble::new(s)?;
+    let ensemble = s.ensemble()?;
     // per chunk, the moments of each variable (in the order of VARIABLES) and the futures cut by
     // the horizon; merged in chunk order (the same for any number of threads), nothing per future
     // kept

@@ -33,7 +33,7 @@ use crate::figures::{render, Figure, Panel, Series};
 use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
-use crate::simulation::ensemble::{Ensemble, Outcome, RunError};
+use crate::simulation::ensemble::{Outcome, RunError};
 use crate::table::{Col, Table};
 
 /// The per-realization outputs whose variance is apportioned.
@@ -164,7 +164,7 @@ pub fn with_intervals(fa: &[f64], fb: &[f64], fab: &[f64], seed: u64) -> ((f64, 
 
 /// Compute every index on N pick-freeze samples of `scenario`.
 pub fn compute(scenario: &Scenario, n: u64) -> Result<Vec<Index>, SensitivityError> {
-    let ens = Ensemble::new(scenario)?;
+    let ens = scenario.ensemble()?;
     let keys = ens.scene().columns();
     if keys.is_empty() {
         return Err(SensitivityError::NoRandomKey);

@@ -43,7 +43,7 @@ use crate::figures::{render, Figure, Panel, Series};
 use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Numerics, Scenario, ScenarioError};
-use crate::simulation::ensemble::{Ensemble, Outcome, RunError};
+use crate::simulation::ensemble::{Outcome, RunError};
 use crate::solver::SolverKind;
 use crate::table::{Col, Table};
 
@@ -231,7 +231,7 @@ struct Measured {
 }
 
 fn run_all(sc: &Scenario, n: u64) -> Result<Measured, TradeoffError> {
-    let ens = Ensemble::new(sc)?;
+    let ens = sc.ensemble()?;
     let mut out = Outcome::default();
     let (mut seconds, mut steps) = (0.0, 0u64);
     let mut records = Vec::with_capacity(n as usize);

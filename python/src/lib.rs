@@ -6,7 +6,7 @@
 //! Tables cross into Python through the Arrow C stream interface (`__arrow_c_stream__`, a
 //! PyCapsule named `arrow_array_stream` holding an `ArrowArrayStream`): polars, pyarrow and
 //! pandas take them without copying a value. Errors are raised as the exception class of what
-//! is to blame (`stickslip::blame::Culprit`: `UsageError`, `ScenarioError`, `DatasetError`,
+//! is to blame (`stickslip::stage::Culprit`: `UsageError`, `ScenarioError`, `DatasetError`,
 //! `OutputError`, subclasses of `ValueError`; `RunError`, of `RuntimeError`), with the command
 //! line's one-line message. Ctrl-C is noticed between chunks of work (the stages' cancel token)
 //! and raises `KeyboardInterrupt`; whatever the stage had staged is removed.
@@ -22,11 +22,11 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyCapsule;
 
-use stickslip::blame::Culprit;
 use stickslip::progress::{Control, Progress};
 use stickslip::scenario::{Input, Overrides, Scenario, Source};
 use stickslip::simulation::simulate;
 use stickslip::stage;
+use stickslip::stage::Culprit;
 
 pyo3::create_exception!(_stickslip, UsageError, PyValueError, "An argument's value is out of range, or values that cannot go together.");
 pyo3::create_exception!(_stickslip, ScenarioError, PyValueError, "The scenario: a key, a value, the scenario file, or a scene the stage cannot take.");
@@ -79,11 +79,11 @@ impl Table {
 
 /// An error as Python sees it: the class of what is to blame, the CLI's one-line message.
 fn to_py(e: anyhow::Error) -> PyErr {
-    if stickslip::blame::cancelled(&e) {
+    if stickslip::stage::cancelled(&e) {
         return PyKeyboardInterrupt::new_err("interrupted");
     }
-    let message = stickslip::blame::message(&e);
-    match stickslip::blame::culprit(&e) {
+    let message = stickslip::stage::message(&e);
+    match stickslip::stage::culprit(&e) {
         Some(Culprit::Usage) => UsageError::new_err(message),
         Some(Culprit::Scenario) => ScenarioError::new_err(message),
         Some(Culprit::Dataset) => DatasetError::new_err(message),
@@ -177,13 +177,13 @@ fn simulate_table(
         sc.check()?;
         sc.refuse_sweep("simulate (from Python, into memory)")?;
         if sc.run.realizations > MAX_IN_MEMORY {
-            return Err(stickslip::blame::Usage(format!(
+            return Err(stickslip::stage::Usage(format!(
                 "realizations = {}: at most {MAX_IN_MEMORY} are held in memory (about 750 bytes each on the paper scene); write them with out=DIR and scan the Parquet files",
                 sc.run.realizations
             ))
             .into());
         }
-        Ok(simulate::batches(&sc, threads, ctl)?)
+        Ok(simulate::batches(&sc.plan()?, threads, ctl)?)
     })?;
     let schema = batches.first().map_or_else(|| Arc::new(Schema::empty()), RecordBatch::schema);
     Ok(Table { schema, batches })
@@ -365,8 +365,8 @@ fn run_cli(py: Python<'_>, argv: Vec<String>) -> i32 {
     py.detach(|| match stickslip::cli::main_from(argv) {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("stickslip: error: {}", stickslip::blame::message(&e));
-            i32::from(stickslip::blame::exit_code(&e))
+            eprintln!("stickslip: error: {}", stickslip::stage::message(&e));
+            i32::from(stickslip::stage::exit_code(&e))
         }
     })
 }
@@ -381,7 +381,7 @@ fn write_table(py: Python<'_>, table: &Table, out: PathBuf) -> PyResult<String> 
         })?;
     py.detach(|| -> anyhow::Result<String> {
         let sc = Scenario::recorded(&text, std::path::Path::new("<table>"))?;
-        Ok(simulate::write_batches(&table.batches, &sc, &out)?.display().to_string())
+        Ok(simulate::write_batches(&table.batches, &sc.plan()?, &out)?.display().to_string())
     })
     .map_err(to_py)
 }

@@ -340,7 +340,7 @@ pub struct RunArgs {
     /// --realizations (run.realizations) is the cap. With --shard, each shard applies the targets
     /// to its own block (its standard errors, not the union's).
     #[arg(long = "target-se", value_name = "VAR=SE")]
-    pub target_se: Vec<crate::simulation::precision::Target>,
+    pub target_se: Vec<crate::observables::Target>,
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long, value_name = "T")]
     pub threads: Option<usize>,

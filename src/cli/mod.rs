@@ -18,7 +18,7 @@ mod print;
 mod terminal;
 
 use crate::blame::usage;
-pub use crate::blame::{exit_code, message, Usage};
+pub use crate::stage::{exit_code, message, Usage};
 pub use args::*;
 use print::print_analysis;
 

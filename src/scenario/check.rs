@@ -9,6 +9,7 @@ use crate::observables::SEVERITY_BOUND;
 use crate::physics::{FrictionLaw, Law, Params, Stribeck};
 use crate::simulation::belt::{Belt, Process, MAX_SPEED};
 use crate::simulation::keys::{Key, Scene};
+use crate::simulation::plan::fastest_rate;
 use crate::solver::SolverKind;
 
 impl Scenario {
@@ -445,17 +446,5 @@ fn shown_share(p: f64) -> String {
         format!("{p:.1e}")
     } else {
         format!("{:.3}", p)
-    }
-}
-
-/// The rate [1/s] that sets a realization's work, the key that sets it and its symbol: ω = √(k/m)
-/// for `exact` (closed forms absorb any damping), the fastest of ω and the slip's damping
-/// (c + σ_v)/m for a `numerical` solver (the largest eigenvalue of the linear part is at most
-/// max(ω, (c + σ_v)/m): the step must resolve it); `damping_key` names the larger of c and σ_v.
-pub fn fastest_rate(numerical: bool, omega: f64, damping_per_m: f64, damping_key: Key) -> (f64, Key, &'static str) {
-    if numerical && damping_per_m > omega {
-        (damping_per_m, damping_key, "(c + sigma_v)/m")
-    } else {
-        (omega, Key::Stiffness, "ω = √(k/m)")
     }
 }

@@ -26,9 +26,11 @@ pub use crate::solver::Numerics;
 mod belt;
 mod check;
 mod input;
+mod plan;
 mod spec;
 
-pub use check::fastest_rate;
+pub use crate::shown::short;
+pub use crate::simulation::plan::fastest_rate;
 pub use input::{Input, Source};
 pub use spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, ProcessName, Run, Sign};
 
@@ -332,17 +334,6 @@ fn schema_error(e: &toml::de::Error, table: &Table) -> ScenarioError {
     }
     let owned = v.map_or_else(|| "(missing)".to_string(), shown);
     ScenarioError::Invalid { key: path, value: owned, reason: msg.trim_end().to_string() }
-}
-
-/// A number in its shortest round-trip form, never as hundreds of digits (hive values, errors):
-/// positional while that takes at most 16 characters (0.51, 0.00001, 2.5), else with an exponent.
-pub fn short(x: f64) -> String {
-    let plain = format!("{x}");
-    if plain.len() <= 16 {
-        plain
-    } else {
-        format!("{x:e}")
-    }
 }
 
 /// The seed of a sweep cell: SplitMix64(seed ⊕ FNV-1a 64(path)), kept below 2^63.

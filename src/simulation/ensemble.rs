@@ -9,10 +9,10 @@
 //! shards.
 
 use crate::physics::{Params, PerUnitMass};
-use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::belt::BeltPath;
 use crate::simulation::events::{Observer, Record};
 use crate::simulation::keys::Scene;
+use crate::simulation::plan::Plan;
 use crate::simulation::rng::{realization_rng, unit_f64};
 use crate::simulation::trajectory::{Sampler, Tee};
 use crate::solver::{Drive, SolveError, Solver};
@@ -76,30 +76,25 @@ pub struct Ensemble {
     solver: Solver,
     /// the scene per unit mass when no key is random (computed once)
     physics: PerUnitMass,
-    /// the rate rule a drawn realization must meet ([`Scenario::max_rate`]): the largest rate,
+    /// the rate rule a drawn realization must meet ([`Plan::max_rate`]): the largest rate,
     /// the rule, and whether the solver is numerical (its rate counts c/m too)
     max_rate: (f64, String, bool),
 }
 
 impl Ensemble {
-    /// Prepare `scenario` to run: build its scene and solver (an error when the scene cannot be
-    /// built).
-    pub fn new(scenario: &Scenario) -> Result<Ensemble, ScenarioError> {
-        let scene = scenario.scene()?;
-        let solver = Solver::new(scenario.solver(), scenario.numerics, scene.damped());
-        Ok(Ensemble {
-            position: scenario.initial_conditions.position,
-            velocity: scenario.initial_conditions.velocity,
-            seed: scenario.run.seed,
-            store_switch_times: scenario.output.switch_times,
-            solver,
+    /// Prepare the run `plan`: its scene and solver.
+    pub fn new(plan: &Plan) -> Ensemble {
+        let scene = plan.scene.clone();
+        Ensemble {
+            position: plan.position,
+            velocity: plan.velocity,
+            seed: plan.seed,
+            store_switch_times: plan.switch_times,
+            solver: Solver::new(plan.solver, plan.numerics, scene.damped()),
             physics: scene.params.per_unit_mass(),
-            max_rate: {
-                let (rate, rule, _) = scenario.max_rate();
-                (rate, rule, scenario.solver() != crate::solver::SolverKind::Exact)
-            },
+            max_rate: (plan.max_rate.0, plan.max_rate.1.clone(), plan.solver != crate::solver::SolverKind::Exact),
             scene,
-        })
+        }
     }
 
     /// The scene the realizations are drawn from.
@@ -156,7 +151,7 @@ impl Ensemble {
             }
             let (max_rate, rule, numerical) = &self.max_rate;
             let (rate, _, symbol) =
-                crate::scenario::fastest_rate(*numerical, physics.omega2.sqrt(), physics.slip_damping(), crate::simulation::keys::Key::Damping);
+                crate::simulation::plan::fastest_rate(*numerical, physics.omega2.sqrt(), physics.slip_damping(), crate::simulation::keys::Key::Damping);
             if rate > *max_rate {
                 let p = &out.params;
                 let drawn = format!(
@@ -177,7 +172,7 @@ impl Ensemble {
         out.record.finish(belt.duration);
         (out.t_a, out.speed_scale) = (belt.duration, belt.scale());
         if let Some((column, x, rule)) = out.record.outside(out.t_a, out.record.severity(out.speed_scale)) {
-            return Err(RunError { realization: index, source: SolveError::Unwritable { column, value: crate::scenario::short(x), rule } });
+            return Err(RunError { realization: index, source: SolveError::Unwritable { column, value: crate::shown::short(x), rule } });
         }
         Ok(())
     }

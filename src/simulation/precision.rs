@@ -1,6 +1,7 @@
 //! Stop at a target precision: `simulate --target-se VAR=SE` (repeatable).
 //!
-//! VAR is the mean of one per-realization quantity of [`crate::observables`] — `S_T`, `S_L`,
+//! VAR is the mean of one per-realization quantity of the observables home (`crate::observables`,
+//! which parses `VAR=SE` and reads the values: this file only tracks them) — `S_T`, `S_L`,
 //! `T_k`, `D_k`, `L_k`, `H_k` (k ≥ 1), `stick_fraction`, `mean_stick_duration`,
 //! `mean_slip_duration` — and SE the standard error of that mean the run should reach,
 //! `se = √(s²/n)` over the realizations that have the quantity (its censoring rule is the
@@ -11,60 +12,49 @@
 //! the same seed, for any thread count; `run.realizations` is the cap, and reaching it before the
 //! targets is reported (stderr and the dataset's metadata), not hidden.
 
-use std::str::FromStr;
-
-use crate::observables::Observable;
 use crate::simulation::ensemble::Outcome;
 use crate::stats::Moments;
 
-/// One `--target-se VAR=SE`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Target {
-    /// VAR, the quantity whose mean is tracked
-    pub quantity: Observable,
-    /// SE, the standard error of the mean to reach (> 0)
-    pub se: f64,
+/// The targets of a run: a name, the standard error to reach and how to read the value off a
+/// realization, for each (the observables home builds them from `--target-se`).
+pub struct Targets<'a> {
+    /// VAR of each target, for progress and messages
+    pub names: Vec<String>,
+    /// SE of each, the standard error of the mean to reach (> 0)
+    pub se: Vec<f64>,
+    /// the value of target `i` on a realization (None: the realization has none)
+    pub value: Box<dyn Fn(usize, &Outcome) -> Option<f64> + Sync + 'a>,
 }
 
-impl std::fmt::Display for Target {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}", self.quantity)
+impl Targets<'_> {
+    /// No target: the run goes to its size.
+    pub fn none() -> Targets<'static> {
+        Targets { names: Vec::new(), se: Vec::new(), value: Box::new(|_, _| None) }
     }
-}
 
-impl FromStr for Target {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Target, String> {
-        let bad = |why: &str| format!("--target-se {s:?}: {why}; expected VAR=SE, e.g. S_T=0.05");
-        let (var, se) = s.split_once('=').ok_or_else(|| bad("no '='"))?;
-        let se: f64 = se.trim().parse().map_err(|_| bad("SE is not a number"))?;
-        if !(se.is_finite() && se > 0.0) {
-            return Err(bad("SE must be a positive number"));
-        }
-        let quantity = var.parse::<Observable>().map_err(|e| bad(&e))?;
-        Ok(Target { quantity, se })
+    /// Whether there is none.
+    pub fn is_empty(&self) -> bool {
+        self.se.is_empty()
     }
 }
 
 /// The running moments of each target's quantity.
 #[derive(Debug, Clone)]
 pub struct Tracker {
-    /// the targets, in the order given
-    pub targets: Vec<Target>,
-    /// the running moments of each target's quantity, in the same order
+    /// the running moments of each target's quantity, in the targets' order
     pub moments: Vec<Moments>,
 }
 
 impl Tracker {
     /// A tracker of `targets` with no realization added.
-    pub fn new(targets: &[Target]) -> Tracker {
-        Tracker { targets: targets.to_vec(), moments: vec![Moments::default(); targets.len()] }
+    pub fn new(targets: &Targets) -> Tracker {
+        Tracker { moments: vec![Moments::default(); targets.se.len()] }
     }
 
     /// Add one realization.
-    pub fn add(&mut self, o: &Outcome) {
-        for (t, m) in self.targets.iter().zip(&mut self.moments) {
-            if let Some(x) = t.quantity.value(o) {
+    pub fn add(&mut self, targets: &Targets, o: &Outcome) {
+        for (i, m) in self.moments.iter_mut().enumerate() {
+            if let Some(x) = (targets.value)(i, o) {
                 m.add(x);
             }
         }
@@ -83,33 +73,19 @@ impl Tracker {
     }
 
     /// Every target met.
-    pub fn met(&self) -> bool {
-        self.errors().iter().zip(&self.targets).all(|(se, t)| se.is_some_and(|se| se <= t.se))
+    pub fn met(&self, targets: &Targets) -> bool {
+        self.errors().iter().zip(&targets.se).all(|(se, t)| se.is_some_and(|se| se <= *t))
     }
 
     /// `VAR se=… (target …)` for each target, for progress and messages.
-    pub fn describe(&self) -> String {
-        self.targets
+    pub fn describe(&self, targets: &Targets) -> String {
+        targets
+            .names
             .iter()
+            .zip(&targets.se)
             .zip(self.errors())
-            .map(|(t, se)| format!("{t} se {} (target {})", se.map_or("–".into(), |x| format!("{x:.3e}")), crate::scenario::short(t.se)))
+            .map(|((name, t), se)| format!("{name} se {} (target {})", se.map_or("–".into(), |x| format!("{x:.3e}")), crate::shown::short(*t)))
             .collect::<Vec<_>>()
             .join(", ")
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn targets_parse_and_bad_ones_are_named() {
-        let t: Target = "D_3=0.01".parse().unwrap();
-        assert_eq!((t.quantity, t.se, t.to_string()), (Observable::StickDuration(3), 0.01, "D_3".to_string()));
-        assert_eq!("stick_fraction=1e-3".parse::<Target>().unwrap().quantity, Observable::StickFraction);
-        for bad in ["S_T", "S_T=0", "S_T=-1", "X_1=0.1", "T_0=0.1", "T_x=0.1", "S_T=nan", "T_+1=0.1"] {
-            let e = bad.parse::<Target>().unwrap_err();
-            assert!(e.contains("--target-se"), "{e}");
-        }
     }
 }

@@ -1,4 +1,5 @@
-//! The `simulate` stage: a scenario in, one Parquet part file out.
+//! The simulate path's driver: a run plan in, one Parquet part file out (the `simulate` stage
+//! above resolves the scenario and its sweep into plans).
 //!
 //! Realizations are cut into fixed chunks ([`Ensemble::chunk_len`]); windows of chunks run in
 //! parallel on a rayon pool while a writer thread streams the previous window to Parquet, so
@@ -16,10 +17,10 @@ use arrow_schema::Schema;
 use crate::metadata as meta;
 use crate::outdir::{Created, DatasetDir, Lock, OutDirError, TempFile};
 use crate::progress::{Cancelled, Control};
-use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::dataset::{DatasetError, Finished, Layout, PartWriter, Rows, SCHEMA_VERSION};
 use crate::simulation::ensemble::{Ensemble, Outcome, RunError};
-use crate::simulation::precision::{Target, Tracker};
+use crate::simulation::plan::Plan;
+use crate::simulation::precision::{Targets, Tracker};
 use crate::simulation::rng::GENERATOR;
 use crate::simulation::trajectory;
 
@@ -95,9 +96,6 @@ pub enum SimulateError {
     /// A realization could not be solved.
     #[error(transparent)]
     Run(#[from] RunError),
-    /// The scenario is invalid.
-    #[error(transparent)]
-    Scenario(#[from] ScenarioError),
     /// `--threads` out of range.
     #[error("--threads {0}: must be between 1 and {MAX_THREADS}")]
     Threads(usize),
@@ -121,7 +119,6 @@ impl crate::blame::Blame for SimulateError {
     fn blame(&self) -> Option<crate::blame::Culprit> {
         match self {
             SimulateError::Threads(_) => Some(crate::blame::Culprit::Usage),
-            SimulateError::Scenario(_) => Some(crate::blame::Culprit::Scenario),
             SimulateError::Dataset(d) => d.blame(),
             SimulateError::Out(o) => o.blame(),
             SimulateError::Run(_) | SimulateError::Pool(_) | SimulateError::Cancelled(_) => None,
@@ -145,10 +142,10 @@ pub fn worker_threads(asked: Option<usize>) -> Result<usize, SimulateError> {
 /// The provenance a part added to `dir` must share with the parts already there (but the one it
 /// replaces): another seed, scenario (its size included), solver, generator or schema would make
 /// a directory `analyze` refuses afterwards. `Err` names the other part and the first key.
-pub fn joins(dir: &std::path::Path, scenario: &Scenario, shard: Shard) -> Result<(), String> {
+pub fn joins(dir: &std::path::Path, plan: &Plan, shard: Shard) -> Result<(), String> {
     const SHARED: [&str; 5] = ["stickslip.seed", "stickslip.solver", "stickslip.generator", meta::SCHEMA_VERSION, meta::SCENARIO];
     let Ok(entries) = std::fs::read_dir(dir) else { return Ok(()) };
-    let all = provenance(scenario, shard);
+    let all = provenance(plan, shard);
     let ours: Vec<(String, String)> = SHARED.iter().filter_map(|key| all.iter().find(|(k, _)| k == key).cloned()).collect();
     let own = crate::simulation::dataset::part_name(shard.index, shard.count);
     for entry in entries.flatten() {
@@ -176,23 +173,23 @@ pub fn joins(dir: &std::path::Path, scenario: &Scenario, shard: Shard) -> Result
 }
 
 /// Key-value metadata recorded in every part file.
-pub fn provenance(scenario: &Scenario, shard: Shard) -> Vec<(String, String)> {
-    let range = shard.range(scenario.run.realizations);
+pub fn provenance(plan: &Plan, shard: Shard) -> Vec<(String, String)> {
+    let range = shard.range(plan.realizations);
     [
         (meta::SCHEMA_VERSION, SCHEMA_VERSION.to_string()),
         (meta::VERSION, env!("CARGO_PKG_VERSION").to_string()),
-        (meta::SCENARIO, scenario.to_toml()),
-        ("stickslip.seed", scenario.run.seed.to_string()),
-        ("stickslip.solver", scenario.solver().name().to_string()),
+        (meta::SCENARIO, plan.scenario_toml.clone()),
+        ("stickslip.seed", plan.seed.to_string()),
+        ("stickslip.solver", plan.solver.name().to_string()),
         ("stickslip.generator", GENERATOR.to_string()),
         ("stickslip.poisson", "rand_distr 0.6.0 Poisson (Knuth for mean < 12, Ahrens-Dieter 1982 otherwise)".into()),
-        (meta::REALIZATIONS, scenario.run.realizations.to_string()),
+        (meta::REALIZATIONS, plan.realizations.to_string()),
         ("stickslip.shard", format!("{}/{}", shard.index, shard.count)),
         (meta::REALIZATION_RANGE, format!("{}..{}", range.start, range.end)),
     ]
     .into_iter()
     .map(|(k, v)| (k.to_string(), v))
-    .chain(scenario.belt.file.as_deref().and_then(log_digest).map(|d| ("stickslip.belt_file_fnv1a64".to_string(), d)))
+    .chain(plan.belt_file.as_deref().and_then(log_digest).map(|d| ("stickslip.belt_file_fnv1a64".to_string(), d)))
     .collect()
 }
 
@@ -234,23 +231,23 @@ impl Pending {
 /// renamed into place only when all cells succeeded, so a failure leaves the previous sweep, if
 /// any, untouched (each pending part's temporary and the cell directories it created go).
 /// `opts.out` is replaced by each cell's directory.
-pub fn sweep(cells: &[crate::scenario::Cell], out: &std::path::Path, opts: &Options, targets: &[Target], ctl: Control) -> Result<Vec<Summary>, SimulateError> {
+pub fn sweep(cells: &[(String, Plan)], out: &std::path::Path, opts: &Options, targets: &Targets, ctl: Control) -> Result<Vec<Summary>, SimulateError> {
     let mut pending = Vec::with_capacity(cells.len());
-    for cell in cells {
-        let opts = Options { out: if cell.path.is_empty() { out.to_path_buf() } else { out.join(&cell.path) }, ..opts.clone() };
-        match compute_until(&cell.scenario, &opts, targets, ctl) {
+    for (path, plan) in cells {
+        let opts = Options { out: if path.is_empty() { out.to_path_buf() } else { out.join(path) }, ..opts.clone() };
+        match compute_until(plan, &opts, targets, ctl) {
             Ok(p) => pending.push(p),
-            Err(e) if cell.path.is_empty() => return Err(e),
-            Err(e) => return Err(SimulateError::Cell { cell: cell.path.clone(), source: Box::new(e) }),
+            Err(e) if path.is_empty() => return Err(e),
+            Err(e) => return Err(SimulateError::Cell { cell: path.clone(), source: Box::new(e) }),
         }
     }
     pending.into_iter().map(Pending::commit).collect()
 }
 
 /// Run the stage: simulate and commit the part file into `opts.out`.
-pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError> {
+pub fn run(plan: &Plan, opts: &Options) -> Result<Summary, SimulateError> {
     let dir = DatasetDir::prepare(&opts.out, &[])?;
-    let summary = compute_until(scenario, opts, &[], Control::silent())?.commit()?;
+    let summary = compute_until(plan, opts, &Targets::none(), Control::silent())?.commit()?;
     dir.commit();
     Ok(summary)
 }
@@ -260,20 +257,20 @@ pub fn run(scenario: &Scenario, opts: &Options) -> Result<Summary, SimulateError
 /// ([`crate::simulation::precision`]; `run.realizations` is the cap). A shard applies the targets to its own
 /// block of realizations and records the block (`stickslip.shard_block`).
 /// `ctl` is told each window of chunks written and asked between windows.
-pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target], ctl: Control) -> Result<Pending, SimulateError> {
+pub fn compute_until(plan: &Plan, opts: &Options, targets: &Targets, ctl: Control) -> Result<Pending, SimulateError> {
     let start = Instant::now();
 
     let threads = worker_threads(opts.threads)?;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| SimulateError::Pool(e.to_string()))?;
-    let range = opts.shard.range(scenario.run.realizations);
-    let ensemble = Ensemble::new(scenario)?;
-    let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
+    let range = opts.shard.range(plan.realizations);
+    let ensemble = Ensemble::new(plan);
+    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns() };
     // with targets, the realizations written are known only at the end: their metadata is
     // appended when the part is finished
     // (sharded: each shard stops within its block at its own targets; the run's size stays the
     // index space the blocks split, and the block is recorded for the reader)
     let sharded = opts.shard != Shard::WHOLE;
-    let mut metadata = provenance(scenario, opts.shard);
+    let mut metadata = provenance(plan, opts.shard);
     if !targets.is_empty() {
         metadata.retain(|(k, _)| k != meta::REALIZATION_RANGE && (sharded || k != meta::REALIZATIONS));
     }
@@ -312,8 +309,8 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target], ct
                     }
                     if !targets.is_empty() {
                         tracker.merge(&t);
-                        progress.message(&tracker.describe());
-                        if tracker.met() {
+                        progress.message(&tracker.describe(targets));
+                        if tracker.met(targets) {
                             reached = range.end;
                             return Ok(());
                         }
@@ -329,8 +326,9 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target], ct
     computed?;
     let mut written = written?;
     if !targets.is_empty() {
-        let rule = targets.iter().map(|t| format!("{t}={}", crate::scenario::short(t.se))).collect::<Vec<_>>().join(", ");
+        let rule = targets.names.iter().zip(&targets.se).map(|(t, se)| format!("{t}={}", crate::shown::short(*se))).collect::<Vec<_>>().join(", ");
         let reached_se = targets
+            .names
             .iter()
             .zip(tracker.errors())
             .map(|(t, se)| format!("{t}={}", se.map_or("none".into(), |x| format!("{x:e}"))))
@@ -345,21 +343,21 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target], ct
         for (k, v) in written_meta.into_iter().chain([
             ("stickslip.target_se", rule),
             ("stickslip.target_se_reached", reached_se),
-            ("stickslip.target_se_met", tracker.met().to_string()),
-            ("stickslip.target_se_cap", scenario.run.realizations.to_string()),
+            ("stickslip.target_se_met", tracker.met(targets).to_string()),
+            ("stickslip.target_se_cap", plan.realizations.to_string()),
         ]) {
             written.append_metadata(k, &v);
         }
     }
     let part = written.finish()?;
     // Trajectories (Fig. 4) of realizations 0..N, written by the shard that holds realization 0.
-    let trajectories = if scenario.output.trajectories > 0 && range.start == 0 { Some(write_trajectories(&ensemble, scenario, &opts.out)?) } else { None };
+    let trajectories = if plan.trajectories > 0 && range.start == 0 { Some(write_trajectories(&ensemble, plan, &opts.out)?) } else { None };
     let summary = Summary {
         path: part.path().to_owned(),
         realizations: reached - range.start,
         seconds: start.elapsed().as_secs_f64(),
         total_sticks,
-        targets: (!targets.is_empty()).then(|| (tracker.met(), tracker.describe())),
+        targets: (!targets.is_empty()).then(|| (tracker.met(targets), tracker.describe(targets))),
     };
     Ok(Pending { part, trajectories, summary })
 }
@@ -368,21 +366,21 @@ pub fn compute_until(scenario: &Scenario, opts: &Options, targets: &[Target], ct
 /// provenance as metadata), in realization order — the rows `simulate` writes, chunk for chunk.
 /// `ctl` is told each window of chunks and asked between them (how a Python session's Ctrl-C
 /// reaches the run).
-pub fn batches(scenario: &Scenario, threads: Option<usize>, ctl: Control) -> Result<Vec<arrow_array::RecordBatch>, SimulateError> {
+pub fn batches(plan: &Plan, threads: Option<usize>, ctl: Control) -> Result<Vec<arrow_array::RecordBatch>, SimulateError> {
     let threads = worker_threads(threads)?;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| SimulateError::Pool(e.to_string()))?;
-    let ensemble = Ensemble::new(scenario)?;
-    let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
-    let metadata: std::collections::HashMap<String, String> = provenance(scenario, Shard::WHOLE).into_iter().collect();
+    let ensemble = Ensemble::new(plan);
+    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns() };
+    let metadata: std::collections::HashMap<String, String> = provenance(plan, Shard::WHOLE).into_iter().collect();
     let chunk = ensemble.chunk_len();
-    let total = scenario.run.realizations;
+    let total = plan.realizations;
     let mut chunks = (0..total).step_by(chunk as usize).map(|lo| lo..(lo + chunk).min(total)).peekable();
     let mut out = Vec::new();
     ctl.progress.start("simulate", total);
     while chunks.peek().is_some() {
         ctl.check()?;
         let window: Vec<std::ops::Range<u64>> = chunks.by_ref().take(8 * threads).collect();
-        let rows: Vec<Result<(Rows, Tracker), RunError>> = pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), &[])).collect());
+        let rows: Vec<Result<(Rows, Tracker), RunError>> = pool.install(|| window.par_iter().map(|r| rows(&ensemble, r.clone(), &Targets::none())).collect());
         for r in rows {
             let rows = r?.0;
             ctl.progress.advance(rows.len() as u64);
@@ -396,13 +394,13 @@ pub fn batches(scenario: &Scenario, threads: Option<usize>, ctl: Control) -> Res
 }
 
 /// Write record batches made by [`batches`] as the dataset directory `out` — the part file
-/// `simulate --out` writes for the same scene, with the same provenance. `scenario` is the
-/// batches' own (their schema's `stickslip.scenario`).
-pub fn write_batches(batches: &[arrow_array::RecordBatch], scenario: &Scenario, out: &std::path::Path) -> Result<PathBuf, SimulateError> {
+/// `simulate --out` writes for the same scene, with the same provenance. `plan` is the batches'
+/// own (from their schema's `stickslip.scenario`).
+pub fn write_batches(batches: &[arrow_array::RecordBatch], plan: &Plan, out: &std::path::Path) -> Result<PathBuf, SimulateError> {
     let dir = DatasetDir::prepare(out, &[])?;
-    let ensemble = Ensemble::new(scenario)?;
-    let layout = Layout { switch_times: scenario.output.switch_times, drawn: ensemble.scene().columns() };
-    let mut writer = PartWriter::create(out, 0, 1, layout, provenance(scenario, Shard::WHOLE))?;
+    let ensemble = Ensemble::new(plan);
+    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns() };
+    let mut writer = PartWriter::create(out, 0, 1, layout, provenance(plan, Shard::WHOLE))?;
     for b in batches {
         // (the schema without the provenance the batches carry: the file holds it in its footer)
         let plain = arrow_array::RecordBatch::try_new(std::sync::Arc::new(Schema::new(b.schema().fields().clone())), b.columns().to_vec())
@@ -415,7 +413,7 @@ pub fn write_batches(batches: &[arrow_array::RecordBatch], scenario: &Scenario, 
 }
 
 /// Simulate a contiguous range of realizations into dataset rows, and the targets' quantities.
-fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target]) -> Result<(Rows, Tracker), RunError> {
+fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &Targets) -> Result<(Rows, Tracker), RunError> {
     let mut rows = Rows::new(ensemble.store_switch_times(), ensemble.scene().columns().len(), (range.end - range.start) as usize, ensemble.list_len_hint());
     let mut tracker = Tracker::new(targets);
     let mut out = Outcome::default();
@@ -423,7 +421,7 @@ fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target]) ->
         ensemble.realization(index, &mut out)?;
         rows.push(index, &out);
         if !targets.is_empty() {
-            tracker.add(&out);
+            tracker.add(targets, &out);
         }
     }
     Ok((rows, tracker))
@@ -431,7 +429,7 @@ fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &[Target]) ->
 
 /// Sample the first `output.trajectories` realizations into the trajectory tables beside the
 /// dataset ([`trajectory::dir_for`]), under temporary names (committed with the part).
-fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path::Path) -> Result<(Vec<(TempFile, Lock)>, Created), SimulateError> {
+fn write_trajectories(ensemble: &Ensemble, plan: &Plan, dir: &std::path::Path) -> Result<(Vec<(TempFile, Lock)>, Created), SimulateError> {
     let place = trajectory::dir_for(dir).ok_or_else(|| OutDirError {
         path: dir.to_owned(),
         message: "has no parent to put its trajectories beside".into(),
@@ -440,9 +438,9 @@ fn write_trajectories(ensemble: &Ensemble, scenario: &Scenario, dir: &std::path:
     let created = Created::dir_all(&place)?;
     let mut tables = trajectory::Tables::default();
     let mut out = Outcome::default();
-    for index in 0..scenario.output.trajectories.min(scenario.run.realizations) {
-        let sampler = ensemble.trajectory(index, scenario.output.trajectory_step, &mut out)?;
+    for index in 0..plan.trajectories.min(plan.realizations) {
+        let sampler = ensemble.trajectory(index, plan.trajectory_step, &mut out)?;
         tables.push(index, &sampler.samples, out.switches(), out.velocities(), &out.record);
     }
-    Ok((tables.write(&place, &scenario.to_toml())?, created))
+    Ok((tables.write(&place, &plan.scenario_toml)?, created))
 }

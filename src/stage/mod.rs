@@ -19,6 +19,7 @@
 
 pub mod analyze;
 pub mod exact_law;
+mod failure;
 pub mod figures;
 pub mod predict;
 pub mod report;
@@ -29,9 +30,10 @@ pub mod tradeoff;
 
 use std::path::Path;
 
-pub use crate::blame::Usage;
+pub use crate::blame::{Culprit, Usage};
 pub use crate::progress::{Cancelled, Control, Progress, Silent};
 pub use crate::scenario::{Input, Source};
+pub use failure::{cancelled, culprit, exit_code, message};
 
 /// The scenario file as an input an output must stay apart from.
 fn inputs(input: &Input) -> Vec<&Path> {

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use super::{analyze, figures, report, simulate, Control, Input};
 use crate::analysis::{self, tails};
-use crate::simulation::precision::Target;
+use crate::observables::Target;
 use crate::simulation::simulate::Shard;
 
 /// Scenario overrides `reproduce` applies first (the user's sets come after and win).

@@ -7,9 +7,9 @@ use anyhow::Context;
 
 use super::{inputs, Control, Input};
 use crate::blame::usage;
+use crate::observables::Target;
 use crate::outdir::DatasetDir;
 use crate::scenario::{Cell, Overrides, Scenario};
-use crate::simulation::precision::Target;
 use crate::simulation::simulate::{self, Shard, Summary};
 
 /// What to simulate, and where.
@@ -52,8 +52,9 @@ pub fn run(req: &Request, ctl: Control) -> anyhow::Result<Outcome> {
     simulate::worker_threads(req.threads)?;
     let cells = req.input.resolve_sweep(Overrides { realizations: req.realizations, seed: req.seed })?;
     same_shape(&req.out, &cells)?;
-    for cell in &cells {
-        simulate::joins(&req.out.join(&cell.path), &cell.scenario, req.shard).map_err(usage)?;
+    let plans = cells.iter().map(|c| Ok((c.path.clone(), c.scenario.plan()?))).collect::<Result<Vec<_>, crate::scenario::ScenarioError>>()?;
+    for (path, plan) in &plans {
+        simulate::joins(&req.out.join(path), plan, req.shard).map_err(usage)?;
     }
     let dir = DatasetDir::prepare(&req.out, &inputs(&req.input))?;
     if let Some(sc) = cells.first().map(|c| &c.scenario).filter(|sc| slow_default_numerics(sc)) {
@@ -63,7 +64,7 @@ pub fn run(req: &Request, ctl: Control) -> anyhow::Result<Outcome> {
         ));
     }
     let opts = simulate::Options { out: req.out.clone(), shard: req.shard, threads: req.threads };
-    let summaries = simulate::sweep(&cells, &req.out, &opts, &req.target_se, ctl).context("simulate")?;
+    let summaries = simulate::sweep(&plans, &req.out, &opts, &Target::tracked(&req.target_se), ctl).context("simulate")?;
     dir.commit();
     Ok(Outcome { summaries })
 }

@@ -18,7 +18,7 @@ fn read(path: &Path) -> DataFrame {
 
 fn simulate_into(dir: &Path, sets: &[&str]) {
     let opts = simulate::Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: Some(2) };
-    simulate::run(&scenario(sets), &opts).unwrap();
+    simulate::run(&scenario(sets).plan().unwrap(), &opts).unwrap();
 }
 
 /// Population skewness / Pearson kurtosis and unbiased variance, two-pass.
@@ -89,7 +89,7 @@ fn moments_match_a_direct_computation_including_truncation() {
 fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
     // a horizon that holds every value of the sample (quantiles of Exp(1) reach ln(2n) ≈ 10.6)
     let sc = scenario(&[&format!("run.realizations={n}"), "run.duration=100"]);
-    let mut w = PartWriter::create(dir, 0, 1, Layout::default(), provenance(&sc, Shard::WHOLE)).unwrap();
+    let mut w = PartWriter::create(dir, 0, 1, Layout::default(), provenance(&sc.plan().unwrap(), Shard::WHOLE)).unwrap();
     let mut rows = Rows::new(false, 0, 0, 0);
     let mut x = Vec::new();
     for i in 0..n {
@@ -205,7 +205,7 @@ fn whole_and_sharded_agree(realizations: u64, shards: u64, tables: &[&str]) {
     for (dir, shards) in [("whole", 1u64), ("sharded", shards)] {
         for i in 0..shards {
             let opts = simulate::Options { out: tmp.path().join(dir), shard: Shard { index: i, count: shards }, threads: Some(1) };
-            simulate::run(&sc, &opts).unwrap();
+            simulate::run(&sc.plan().unwrap(), &opts).unwrap();
         }
         let a = analysis::analyze(&tmp.path().join(dir), &Options::default()).unwrap();
         output::write(&a, &tmp.path().join(format!("{dir}-a"))).unwrap();

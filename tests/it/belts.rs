@@ -36,7 +36,7 @@ fn a_markov_belt_starts_in_its_stationary_law_and_changes_at_its_rates() {
     // the initial level of 20,000 realizations against π = (2, 4, 1)/7, and the mean number of
     // changes in 10 s against the stationary flux Σ_i π_i q_i t_a = (2·2 + 4·2 + 1·4)/7 · 10
     let sc = scenario(&with(&STOPPING, &["run.realizations=20000"]));
-    let ens = stickslip::simulation::ensemble::Ensemble::new(&sc).unwrap();
+    let ens = sc.ensemble().unwrap();
     let mut o = stickslip::simulation::ensemble::Outcome::default();
     let (mut counts, mut changes) = ([0u64; 3], 0.0);
     let n = 20_000;

@@ -6,7 +6,7 @@ use std::process::{Command, Output};
 use stickslip::physics::Params;
 use stickslip::scenario::Scenario;
 use stickslip::simulation::belt::{BeltPath, Process};
-use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::ensemble::Outcome;
 use stickslip::simulation::events::Record;
 use stickslip::solver::{Drive, Solver};
 use stickslip::tradeoff::match_events;
@@ -19,7 +19,7 @@ pub fn scenario(sets: &[&str]) -> Scenario {
 
 /// Realizations `0..n` of a scenario.
 pub fn outcomes(sc: &Scenario, n: u64) -> Vec<Outcome> {
-    let ens = Ensemble::new(sc).expect("a valid scene");
+    let ens = sc.ensemble().expect("a valid scene");
     (0..n)
         .map(|i| {
             let mut o = Outcome::default();

@@ -11,7 +11,7 @@ use crate::common::scenario;
 fn analysed(dir: &std::path::Path, seed: u64, n: u64) -> analysis::Analysis {
     let mut sc = scenario(&[]);
     (sc.run.seed, sc.run.realizations) = (seed, n);
-    simulate::run(&sc, &Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: None }).unwrap();
+    simulate::run(&sc.plan().unwrap(), &Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: None }).unwrap();
     analysis::analyze(dir, &analysis::Options::default()).unwrap()
 }
 

@@ -31,7 +31,7 @@ pub fn read_dir(dir: &std::path::Path) -> DataFrame {
 
 fn write(dir: &std::path::Path, sets: &[&str]) -> std::path::PathBuf {
     let opts = Options { out: dir.to_owned(), shard: Shard::WHOLE, threads: Some(2) };
-    simulate::run(&scenario(sets), &opts).expect("simulate").path
+    simulate::run(&scenario(sets).plan().unwrap(), &opts).expect("simulate").path
 }
 
 #[test]

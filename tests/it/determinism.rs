@@ -9,7 +9,7 @@ use crate::dataset::read_dir;
 fn run(dir: &std::path::Path, shard: Shard, threads: usize) -> std::path::PathBuf {
     let sc = scenario(&["run.realizations=3000", "run.seed=42", "output.switch_times=true"]);
     let opts = Options { out: dir.to_owned(), shard, threads: Some(threads) };
-    simulate::run(&sc, &opts).expect("simulate").path
+    simulate::run(&sc.plan().unwrap(), &opts).expect("simulate").path
 }
 
 #[test]

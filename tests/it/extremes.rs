@@ -3,7 +3,7 @@
 use std::f64::consts::PI;
 
 use stickslip::scenario::Scenario;
-use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::ensemble::Outcome;
 use stickslip::simulation::keys::Key;
 
 use crate::common::{check_invariants, outcomes, scenario, solve_scripted};
@@ -53,7 +53,7 @@ fn every_key_runs_at_both_ends_of_its_range() {
                     continue;
                 }
             };
-            let ens = Ensemble::new(&sc).unwrap();
+            let ens = sc.ensemble().unwrap();
             let mut o = Outcome::default();
             ens.realization(0, &mut o).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
             check_invariants(&sc, &o, false).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
@@ -155,7 +155,7 @@ fn an_unbounded_law_is_checked_per_draw_naming_the_realization() {
     // rk4 is stable only for ω·step ≤ 1: a lognormal stiffness whose mean passes, but some of
     // whose draws do not, stops at the first such draw with its realization and values
     let sc = scenario(&["run.solver=\"rk4\"", "numerics.step=1e-3", "model.stiffness={dist = \"lognormal\", mean = 2e5, cv = 2}"]);
-    let ens = Ensemble::new(&sc).unwrap();
+    let ens = sc.ensemble().unwrap();
     let (mut failed, mut o) = (None, Outcome::default());
     for i in 0..400 {
         if let Err(e) = ens.realization(i, &mut o) {

@@ -18,12 +18,15 @@ fn metadata(dir: &std::path::Path, key: &str) -> Option<String> {
 fn a_target_run_is_a_prefix_of_the_fixed_run() {
     let tmp = tempfile::tempdir().unwrap();
     let t = tmp.path();
-    let targets = ["S_T=0.06".parse().unwrap(), "H_1=0.005".parse().unwrap()];
+    let targets: [stickslip::observables::Target; 2] = ["S_T=0.06".parse().unwrap(), "H_1=0.005".parse().unwrap()];
     let mut sc = scenario(&[]);
     sc.run.realizations = 40_000;
     for (dir, threads) in [("t1", 1), ("t2", 2)] {
         let opts = Options { out: t.join(dir), shard: Shard::WHOLE, threads: Some(threads) };
-        let s = simulate::compute_until(&sc, &opts, &targets, stickslip::progress::Control::silent()).unwrap().commit().unwrap();
+        let s = simulate::compute_until(&sc.plan().unwrap(), &opts, &stickslip::observables::Target::tracked(&targets), stickslip::progress::Control::silent())
+            .unwrap()
+            .commit()
+            .unwrap();
         assert!(s.targets.as_ref().is_some_and(|(met, _)| *met), "{:?}", s.targets);
     }
     let one = std::fs::read(t.join("t1/part-00000-of-00001.parquet")).unwrap();
@@ -33,7 +36,7 @@ fn a_target_run_is_a_prefix_of_the_fixed_run() {
     assert_eq!(metadata(&t.join("t1"), "stickslip.target_se_met").as_deref(), Some("true"));
     // the same seed, a fixed N of 3n: the target run is its first n rows
     sc.run.realizations = 3 * n;
-    simulate::run(&sc, &Options { out: t.join("fixed"), shard: Shard::WHOLE, threads: Some(2) }).unwrap();
+    simulate::run(&sc.plan().unwrap(), &Options { out: t.join("fixed"), shard: Shard::WHOLE, threads: Some(2) }).unwrap();
     let prefix = read_dir(&t.join("fixed")).slice(0, n as usize);
     assert!(read_dir(&t.join("t1")).equals(&prefix));
     // and the SEs it stopped at are below the targets

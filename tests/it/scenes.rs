@@ -1,7 +1,7 @@
 //! Scenes beyond the paper: damping, static friction above kinetic, the asymmetric belt and
 //! random parameters — closed forms, an independent reference, extremes, determinism, the door.
 
-use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::ensemble::Outcome;
 use stickslip::simulation::simulate::{self, Options, Shard};
 
 use crate::common::{check_invariants, outcomes, params, scenario, stickslip};
@@ -135,7 +135,7 @@ fn a_random_key_draws_its_own_stream_and_is_stored() {
     assert!(plain.column("friction_coefficient").is_err(), "only keys that vary are stored");
     // each realization is the fixed scene at its drawn value
     let sc = scenario(&[dist]);
-    let ens = Ensemble::new(&sc).unwrap();
+    let ens = sc.ensemble().unwrap();
     let mut out = Outcome::default();
     for i in [0u64, 7, 99] {
         ens.realization(i, &mut out).unwrap();
@@ -157,7 +157,7 @@ fn random_scenes_are_the_same_for_any_threads_and_shards() {
     ]);
     let run = |dir: &str, shard: Shard, threads: usize| {
         let opts = Options { out: tmp.path().join(dir), shard, threads: Some(threads) };
-        simulate::run(&sc, &opts).expect("simulate").path
+        simulate::run(&sc.plan().unwrap(), &opts).expect("simulate").path
     };
     let (a, b) = (run("t1", Shard::WHOLE, 1), run("t2", Shard::WHOLE, 2));
     assert!(std::fs::read(a).unwrap() == std::fs::read(b).unwrap(), "thread count changed the bytes");
@@ -270,7 +270,7 @@ fn trajectories_are_sampled_for_every_method() {
     // the driver samples each method's own pieces: closed forms, dense output, Moreau's grid
     let sample = |extra: &[&str]| {
         let sets: Vec<&str> = ["model.damping=0.5", "model.static_friction_coefficient=0.6"].iter().chain(extra).copied().collect();
-        let ens = Ensemble::new(&scenario(&sets)).unwrap();
+        let ens = scenario(&sets).ensemble().unwrap();
         ens.trajectory(3, 1e-2, &mut Outcome::default()).unwrap().samples
     };
     let exact = sample(&[]);

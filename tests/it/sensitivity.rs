@@ -1,7 +1,7 @@
 //! `sensitivity`: Sobol indices by pick-freeze, checked against an independent estimate.
 
 use stickslip::sensitivity;
-use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::ensemble::Outcome;
 
 use crate::common::{scenario, stickslip};
 
@@ -12,7 +12,7 @@ const LAMBDA: &str = "belt.switch_rate={dist = \"uniform\", low = 2, high = 10}"
 fn the_first_order_index_of_lambda_agrees_with_binning_a_plain_run() {
     // Var(E[S_T | λ]) / Var(S_T) from 200,000 plain realizations (seed 5), λ in 40 bins
     let plain = scenario(&[MU, LAMBDA, "run.seed=5"]);
-    let ens = Ensemble::new(&plain).unwrap();
+    let ens = plain.ensemble().unwrap();
     let lambda_col = ens.scene().columns().iter().position(|c| *c == "switch_rate").unwrap();
     let mut out = Outcome::default();
     let (mut bins, mut all) = (vec![(0.0f64, 0u64); 40], Vec::with_capacity(200_000));

@@ -1,13 +1,13 @@
 //! The numerical solvers against the exact one: convergence, extremes, the trade-off table.
 
-use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::ensemble::Outcome;
 use stickslip::simulation::events::Record;
 use stickslip::tradeoff;
 
 use crate::common::{event_errors, rms, scenario, stickslip};
 
 fn records(sets: &[&str], n: u64) -> Vec<Record> {
-    let ens = Ensemble::new(&scenario(sets)).unwrap();
+    let ens = scenario(sets).ensemble().unwrap();
     let mut out = Outcome::default();
     (0..n)
         .map(|i| {
@@ -80,7 +80,7 @@ fn grazing_touches_are_not_sticks_for_the_numerical_solvers() {
     ] {
         let run = |extra: &[&str]| {
             let all: Vec<&str> = ["belt.switch_rate=0", "run.duration=30"].iter().chain(extra).copied().collect();
-            let ens = Ensemble::new(&scenario(&all)).unwrap();
+            let ens = scenario(&all).ensemble().unwrap();
             let mut out = Outcome::default();
             (0..20)
                 .map(|i| {
@@ -163,7 +163,7 @@ fn numerical_solvers_finish_or_refuse_at_the_extremes() {
                     continue;
                 }
             };
-            let ens = Ensemble::new(&sc).unwrap();
+            let ens = sc.ensemble().unwrap();
             for i in 0..2 {
                 let mut o = Outcome::default();
                 match ens.realization(i, &mut o) {

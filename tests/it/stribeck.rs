@@ -2,7 +2,7 @@
 //! reference; the Coulomb reduction, convergence orders, the shallow arrival, the peak guard,
 //! `auto`, and the extremes.
 
-use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::ensemble::Outcome;
 use stickslip::simulation::events::Record;
 use stickslip::solver::SolverKind;
 
@@ -197,7 +197,7 @@ fn the_extremes_converge_or_stop_with_the_culprit_named() {
         assert!(*errs.last().unwrap() < 1e-6, "{extra:?}: {:e}", errs.last().unwrap());
     }
     // a step budget too small for the guarded steps stops with the realization named
-    let ens = Ensemble::new(&scenario(&with(&tiny, &["run.solver=\"rk45\"", "numerics.step_budget=20"]))).unwrap();
+    let ens = (scenario(&with(&tiny, &["run.solver=\"rk45\"", "numerics.step_budget=20"]))).ensemble().unwrap();
     let e = (0..20).find_map(|i| ens.realization(i, &mut Outcome::default()).err()).expect("a budget stop").to_string();
     assert!(e.contains("realization") && e.contains("step_budget"), "{e}");
     // moreau treats the law semi-implicitly and runs at any v_s

@@ -2,7 +2,6 @@
 //! the extremes of the motion — checked against the physics and an independent trajectory.
 
 use stickslip::physics::Params;
-use stickslip::simulation::ensemble::Ensemble;
 use stickslip::simulation::events::StickEnd;
 
 use crate::common::{belt_velocity, outcomes, scenario};
@@ -64,7 +63,7 @@ fn velocity_extremes_enclose_a_fine_trajectory_and_are_reached() {
         &["model.static_friction_coefficient=0.8", "model.damping=3.0", "belt.switch_rate=0.3"][..],
     ] {
         let sc = scenario(sets);
-        let ens = Ensemble::new(&sc).unwrap();
+        let ens = sc.ensemble().unwrap();
         let step = 1e-3;
         for i in 0..30 {
             let mut o = Default::default();
@@ -99,8 +98,8 @@ fn velocity_extremes_enclose_a_fine_trajectory_and_are_reached() {
 /// solver's closed-form extremes on the same realizations.
 #[test]
 fn dop853_extremes_match_the_closed_forms_without_a_trajectory() {
-    let exact = Ensemble::new(&scenario(&[])).unwrap();
-    let dop = Ensemble::new(&scenario(&["run.solver=dop853", "numerics.rtol=1e-11", "numerics.atol=1e-11", "numerics.max_step=10"])).unwrap();
+    let exact = scenario(&[]).ensemble().unwrap();
+    let dop = scenario(&["run.solver=dop853", "numerics.rtol=1e-11", "numerics.atol=1e-11", "numerics.max_step=10"]).ensemble().unwrap();
     for i in 0..40 {
         let (mut a, mut b) = (Default::default(), Default::default());
         exact.realization(i, &mut a).unwrap();
@@ -141,7 +140,7 @@ fn tails_of(sets: &[&str], times: &[f64]) -> analysis::tails::Tails {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("d");
     let opts = simulate::Options { out: dir.clone(), shard: Shard::WHOLE, threads: Some(2) };
-    simulate::run(&scenario(sets), &opts).unwrap();
+    simulate::run(&scenario(sets).plan().unwrap(), &opts).unwrap();
     let opts = Options { tail: TailOptions { times: times.to_vec(), severity: vec![1.0] }, ..Options::default() };
     analysis::analyze(&dir, &opts).unwrap().tails.expect("tails are on by default")
 }
@@ -229,7 +228,7 @@ fn a_curve_at_a_user_time_counts_the_durations_just_below_it() {
     let rho = 10.0 / 65_536.0;
     assert_eq!((tau / rho).floor(), (d / rho).floor(), "d and τ share a cell");
     let sc = scenario(&[&format!("run.realizations={n}")]);
-    let mut w = PartWriter::create(tmp.path(), 0, 1, Layout::default(), simulate::provenance(&sc, Shard::WHOLE)).unwrap();
+    let mut w = PartWriter::create(tmp.path(), 0, 1, Layout::default(), simulate::provenance(&sc.plan().unwrap(), Shard::WHOLE)).unwrap();
     let mut rows = Rows::new(false, 0, 0, 0);
     for i in 0..n {
         let mut o = Outcome::default();

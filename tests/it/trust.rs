@@ -9,7 +9,7 @@ use arrow_array::{Array, ArrayRef, Float32Array, Float64Array, ListArray, String
 use arrow_buffer::OffsetBuffer;
 use arrow_schema::{DataType, Field};
 use stickslip::scenario::Scenario;
-use stickslip::simulation::ensemble::{Ensemble, Outcome};
+use stickslip::simulation::ensemble::Outcome;
 use stickslip::simulation::keys::Key;
 
 use crate::common::stickslip;
@@ -21,7 +21,7 @@ fn resolve(sets: &[&str]) -> Result<Scenario, String> {
 
 /// Every value a realization of `sets` writes, as the dataset's columns hold them.
 fn all_finite(sc: &Scenario, n: u64) {
-    let ens = Ensemble::new(sc).unwrap();
+    let ens = sc.ensemble().unwrap();
     let mut o = Outcome::default();
     for i in 0..n {
         ens.realization(i, &mut o).unwrap_or_else(|e| panic!("realization {i}: {e}"));
