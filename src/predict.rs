@@ -221,10 +221,10 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: staged.path().join(name), message: e.to_string() };
         table(&rows).write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
         if let Some(s) = &survival {
-            crate::law::survival_table(s).write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
+            crate::law::tables::survival(s).write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
         }
         if let Some(d) = &densities {
-            crate::law::densities_table(d).write_parquet(&staged.path().join("densities.parquet")).map_err(|e| werr("densities.parquet", &e))?;
+            crate::law::tables::densities(d).write_parquet(&staged.path().join("densities.parquet")).map_err(|e| werr("densities.parquet", &e))?;
         }
         staged.commit()?;
     }

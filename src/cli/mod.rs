@@ -170,7 +170,7 @@ fn exact_law_command(args: ExactLawArgs, quiet: bool, ctl: Control) -> anyhow::R
     };
     let done = stage::exact_law::run(&request, ctl)?;
     if !quiet {
-        print!("{}", crate::law::markdown(&done.levels));
+        print!("{}", crate::law::tables::markdown(&done.levels));
         println!();
         print!("{}", crate::law::sticks::markdown(&done.rows));
         if !done.counts.is_empty() {

@@ -37,15 +37,7 @@ pub fn integer(x: f64) -> Option<String> {
     (x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15).then(|| format!("{}", x as i64))
 }
 
-/// A table value with six decimals (`0.123457`), in exponent notation (`1.234568e12`) outside
-/// [1e-3, 1e9) — never hundreds of digits.
-pub fn six_decimals(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-3..1e9).contains(&x.abs()) {
-        format!("{x:.6}")
-    } else {
-        format!("{x:.6e}")
-    }
-}
+pub use crate::shown::six_decimals;
 
 /// `x` to `digits` significant digits, in plain notation (`13.0`, `1.94`, `0.0512`), or in
 /// exponent notation outside [1e-3, 1e5).

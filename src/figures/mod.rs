@@ -8,6 +8,7 @@
 
 pub(crate) mod chart;
 pub(crate) mod contour;
+pub(crate) mod exact;
 pub(crate) mod format;
 pub mod render;
 pub(crate) mod tails;

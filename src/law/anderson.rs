@@ -1,4 +1,4 @@
-//! Anderson mixing of a fixed-point iteration (the stationary measure of [`super::solve`]).
+//! Anderson mixing of a fixed-point iteration (the stationary measure of [`super::stationary::solve`]).
 
 /// Anderson mixing (type II) of a fixed-point iteration x ← G(x): with the residuals
 /// f_i = G(x_i) − x_i of the last steps, the next iterate is G(x_k) − Σ γ_j ΔG_j where γ minimises

@@ -324,7 +324,7 @@ impl Visitor for Deposit<'_> {
         self.tally.entries += self.m * e;
         self.tally.stick_time += self.m * decay(lambda, t, t + d);
         self.tally.d1 += self.m * e * -(-x).exp_m1() / lambda;
-        self.tally.d2 += self.m * e * 2.0 * super::one_minus_exp_poly(x) / (lambda * lambda);
+        self.tally.d2 += self.m * e * 2.0 * super::flow::one_minus_exp_poly(x) / (lambda * lambda);
         // a flip at y ∈ [x_e, x_b) leaves (−y, −v0): the next state's line support, linearly
         for (offset, dt, _, k, frac) in mesh.stick_intervals(x_e) {
             let s = t + offset;

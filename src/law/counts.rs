@@ -15,12 +15,12 @@
 //! and each is inverted to P(· ≤ t_a). The sequence stops once P(T_k ≤ t_a) is below
 //! [`NEGLIGIBLE`] past the counts' mode (or at [`MAX_STICKS`]). Like every table of
 //! `exact-law`, the values are extrapolated from three resolutions, with an error estimate
-//! ([`super::guarded`]).
+//! ([`super::richardson::guarded`]).
 
 use super::clock::{Euler, Points};
 use super::flow::Frame;
 use super::passage::{self, Step};
-use super::Rung;
+use super::stationary::Rung;
 use crate::scenario::Scenario;
 
 /// Where the sequence stops: P(T_k ≤ t_a) below this (past the mode) — the inversion's own
@@ -132,11 +132,11 @@ pub(crate) fn solve(
     Ok(out)
 }
 
-/// What the counts' resolutions show of the order ([`super::Order`]): they follow ~37 sticks at
+/// What the counts' resolutions show of the order ([`super::richardson::Order`]): they follow ~37 sticks at
 /// coarse resolutions (4 to 32), before their changes settle — at `--counts 16` the
 /// extrapolation's change on E S_T (0.003) fell 1.9× short of its distance to 10^7 realizations
 /// (0.0057) — so one ratio in range is no evidence there.
-const ORDER: super::Order = super::Order::Irregular;
+const ORDER: super::richardson::Order = super::richardson::Order::Irregular;
 
 /// The rows of `counts.parquet` and of `moments.parquet` (S_T, S_L: mean, variance, errors)
 /// from the levels (coarsest first).
@@ -147,12 +147,12 @@ pub(crate) fn rows(levels: &[(f64, Tails)]) -> (Vec<CountRow>, Vec<super::sticks
         let laws: Vec<(f64, Vec<f64>)> = levels.iter().map(|(h, t)| (*h, probabilities(&pick(t)))).collect();
         let top = laws.iter().map(|(_, l)| l.len()).max().unwrap_or(0);
         for n in 0..top {
-            let (p, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l.get(n).copied().unwrap_or(0.0))).collect::<Vec<_>>(), ORDER);
+            let (p, error) = super::richardson::guarded(&laws.iter().map(|(h, l)| (*h, l.get(n).copied().unwrap_or(0.0))).collect::<Vec<_>>(), ORDER);
             counts.push(CountRow { variable, value: n as u32, probability: p.clamp(0.0, 1.0), error });
         }
         let mv: Vec<(f64, (f64, f64))> = levels.iter().map(|(h, t)| (*h, mean_var(&pick(t)))).collect();
-        let mean = super::guarded(&mv.iter().map(|(h, m)| (*h, m.0)).collect::<Vec<_>>(), ORDER);
-        let variance = super::guarded(&mv.iter().map(|(h, m)| (*h, m.1)).collect::<Vec<_>>(), ORDER);
+        let mean = super::richardson::guarded(&mv.iter().map(|(h, m)| (*h, m.0)).collect::<Vec<_>>(), ORDER);
+        let variance = super::richardson::guarded(&mv.iter().map(|(h, m)| (*h, m.1)).collect::<Vec<_>>(), ORDER);
         moments.push(super::sticks::Row {
             variable,
             index: 0,
@@ -191,7 +191,7 @@ pub(crate) fn reach(levels: &[(f64, Tails)], rows: &mut [super::sticks::Row]) {
     for r in rows.iter_mut().filter(|r| r.index > 0) {
         let k = r.index as usize - 1;
         let pick = |t: &Tails| if matches!(r.variable, "T" | "D") { t.sticks.get(k).copied().unwrap_or(0.0) } else { t.slips.get(k).copied().unwrap_or(0.0) };
-        let (p, error) = super::guarded(&levels.iter().map(|(h, t)| (*h, pick(t))).collect::<Vec<_>>(), ORDER);
+        let (p, error) = super::richardson::guarded(&levels.iter().map(|(h, t)| (*h, pick(t))).collect::<Vec<_>>(), ORDER);
         r.reached = Some((p.clamp(0.0, 1.0), error));
     }
 }

@@ -50,8 +50,8 @@ use super::clock::{Laplace, Points, C64};
 use super::flow::Frame;
 use super::kept::{restick, start_point, Path};
 use super::passage::{self, Start, Step};
+use super::stationary::Rung;
 use super::sticks::STICKS;
-use super::Rung;
 use crate::scenario::Scenario;
 
 /// J, the highest term of the cosine series (on the paper scene, P = 10.4 s: ω_J = 77 rad/s, a
@@ -253,7 +253,7 @@ pub(crate) fn half_period(t_a: f64, next_start: passage::MeanVar) -> f64 {
 /// with its spread, plus twice the largest change from J/2 to J terms at the finest over the
 /// cell and two neighbours each side, plus any overshoot below 0 and the point mass's spread
 /// over the width (module docs).
-pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize, edges: &[f64], order: super::Order) -> Vec<(f64, f64, f64)> {
+pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize, edges: &[f64], order: super::richardson::Order) -> Vec<(f64, f64, f64)> {
     let Some((_, finest)) = levels.last() else { return Vec::new() };
     let phi = &finest[i].phi[..];
     let cells = edges.len().saturating_sub(1);
@@ -265,10 +265,10 @@ pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize,
     (0..cells)
         .map(|g| {
             let per: Vec<(f64, f64)> = levels.iter().zip(&full).map(|((h, _), f)| (*h, f[g])).collect();
-            let (value, spread) = super::guarded(&per, order);
+            let (value, spread) = super::richardson::guarded(&per, order);
             let truncation = 2.0 * change[g.saturating_sub(2)..(g + 3).min(cells)].iter().copied().fold(0.0, f64::max);
             let inside = |l: &Transforms| l[i].points.iter().filter(|(t, _)| (edges[g]..edges[g + 1]).contains(t)).map(|p| p.1).sum::<f64>();
-            let (mass, mass_spread) = super::guarded(&levels.iter().map(|(h, l)| (*h, inside(l))).collect::<Vec<_>>(), order);
+            let (mass, mass_spread) = super::richardson::guarded(&levels.iter().map(|(h, l)| (*h, inside(l))).collect::<Vec<_>>(), order);
             let width = edges[g + 1] - edges[g];
             (value.max(0.0), spread + truncation + (-value).max(0.0) + mass_spread / width, mass.max(0.0))
         })
@@ -279,11 +279,11 @@ pub(crate) fn averages(levels: &[(f64, Transforms)], half_period: f64, i: usize,
 /// first).
 pub(crate) fn rows(levels: &[(f64, Transforms)], half_period: f64, t_a: f64) -> Vec<DensityRow> {
     let edges: Vec<f64> = (0..=GRID).map(|g| t_a * g as f64 / GRID as f64).collect();
-    rows_on(levels, half_period, &edges, super::Order::Regular)
+    rows_on(levels, half_period, &edges, super::richardson::Order::Regular)
 }
 
 /// The rows of every transform of the levels (coarsest first) on the cells between `edges`.
-pub(crate) fn rows_on(levels: &[(f64, Transforms)], half_period: f64, edges: &[f64], order: super::Order) -> Vec<DensityRow> {
+pub(crate) fn rows_on(levels: &[(f64, Transforms)], half_period: f64, edges: &[f64], order: super::richardson::Order) -> Vec<DensityRow> {
     let mut out = Vec::new();
     for (i, x) in levels.last().map_or(&[][..], |l| &l.1[..]).iter().enumerate() {
         for (g, (density, error, point_mass)) in averages(levels, half_period, i, edges, order).into_iter().enumerate() {
@@ -375,40 +375,6 @@ pub fn markdown(rows: &[DensityRow]) -> String {
     m
 }
 
-/// `densities.png`: one panel per variable (T_k, L_k, H_k), the cell averages of k = 1 … 6 as
-/// lines through the cells' centres.
-pub(crate) fn figure(rows: &[DensityRow]) -> crate::figures::chart::Figure {
-    use crate::figures::chart::{Figure, Panel, Series};
-    let names = [("T", "stick starts T_k"), ("L", "slip starts L_k"), ("H", "slip durations H_k")];
-    let panels = names
-        .iter()
-        .map(|(v, title)| {
-            let lines = (1..=STICKS as u32)
-                .map(|k| Series {
-                    label: format!("k = {k}"),
-                    color: k as usize - 1,
-                    points: rows.iter().filter(|r| r.variable == *v && r.index == k).map(|r| (0.5 * (r.t_lo + r.t_hi), r.density)).collect(),
-                    errors: vec![],
-                })
-                .collect();
-            // the axis over the cells above 1e-3 of the panel's largest (the table has them all)
-            let mine: Vec<&DensityRow> = rows.iter().filter(|r| r.variable == *v).collect();
-            let top = mine.iter().map(|r| r.density).fold(0.0, f64::max);
-            let reach = mine.iter().filter(|r| r.density > 1e-3 * top).map(|r| r.t_hi).fold(0.0, f64::max);
-            let x_range = (reach > 0.0).then_some((0.0, reach));
-            Panel { title: title.to_string(), x_label: "t [s]".into(), y_label: "density [1/s]".into(), lines, x_range, ..Default::default() }
-        })
-        .collect();
-    Figure {
-        name: "densities".into(),
-        title: "Densities without sampling (averaged over the cells of [0, t_a])".into(),
-        rows: 1,
-        cols: 3,
-        size: (1800, 560),
-        panels,
-    }
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -484,8 +450,8 @@ pub(crate) mod tests {
         // (the second scene at λ = 1, where the point mass is about 0.013)
         for sets in [&[][..], &["model.static_friction_coefficient=0.6".to_string(), "belt.switch_rate=1".to_string()][..]] {
             let sc = crate::scenario::Scenario::resolve(None, sets).unwrap();
-            let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
-            let ladder = super::super::ladder(&frames, 8, 3).unwrap();
+            let frames = super::super::stationary::frames(&sc.scene().unwrap()).unwrap();
+            let ladder = super::super::stationary::ladder(&frames, 8, 3).unwrap();
             let h = &ladder[0].1;
             let (starts, half) = super::super::sticks::held_starts(&sc, &frames, h[0]);
             let moments = passage::sequence(&frames, h, half, &starts, STICKS).unwrap();
@@ -531,9 +497,9 @@ pub(crate) mod tests {
         for (sets, start) in cases {
             let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
             let sc = crate::scenario::Scenario::resolve(None, &sets).unwrap();
-            let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
+            let frames = super::super::stationary::frames(&sc.scene().unwrap()).unwrap();
             let f = frames[0];
-            let h = &super::super::ladder(&frames, 8, 3).unwrap()[0].1;
+            let h = &super::super::stationary::ladder(&frames, 8, 3).unwrap()[0].1;
             let half = f.box_half().max(passage::half_width(f, start));
             let moments = passage::sequence(&frames, h, half, &[(0, start, 1.0)], 1).unwrap();
             let p = 10.0;
@@ -591,7 +557,10 @@ pub(crate) mod tests {
             }
         }
         let edges = [0.0, 0.3, 1.0, 2.5];
-        assert_eq!(averages(&levels, 7.5, 1, &edges, super::super::Order::Regular), averages(&back, 7.5, 1, &edges, super::super::Order::Regular));
+        assert_eq!(
+            averages(&levels, 7.5, 1, &edges, super::super::richardson::Order::Regular),
+            averages(&back, 7.5, 1, &edges, super::super::richardson::Order::Regular)
+        );
     }
 
     #[test]

@@ -338,6 +338,15 @@ pub(crate) fn aged_decay(lambda: f64, t0: f64, t1: f64, a: f64) -> f64 {
     (-lambda * t0).exp() * (a * -(-lambda * d).exp_m1() / lambda + second)
 }
 
+/// 1 − e^{−x}(1 + x), accurate for small x (x²/2 − x³/3 + x⁴/8 − …).
+pub(crate) fn one_minus_exp_poly(x: f64) -> f64 {
+    if x < 1e-3 {
+        x * x * (0.5 - x / 3.0 + x * x / 8.0 - x * x * x / 30.0)
+    } else {
+        1.0 - (-x).exp() * (1.0 + x)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -118,13 +118,13 @@ pub(crate) mod tests {
         // μ_s = 0.6, λ = 1 (the closed form above): 0.0712 — against 0.0716 ± 0.0012 of 47,638
         // breakaways simulated ([`path`]), and e^{−λ t_r} = 0.0655
         let sc = crate::scenario::Scenario::resolve(None, &["model.static_friction_coefficient=0.6".into(), "belt.switch_rate=1".into()]).unwrap();
-        let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
+        let frames = super::super::stationary::frames(&sc.scene().unwrap()).unwrap();
         let (t_r, kept) = kept_breakaway_slip(frames[0]);
         let got = restick(&frames, 0).unwrap();
         assert!((got.t - t_r).abs() < 1e-9 && (got.kept - kept).abs() < 2e-6 * kept, "{got:?} against {t_r}, {kept}");
         assert!((kept - 0.0712).abs() < 1e-4, "{kept}");
         // the paper's breakaway slip grazes the belt line: no re-stick
-        let paper = super::super::frames(&crate::scenario::Scenario::resolve(None, &[]).unwrap().scene().unwrap()).unwrap();
+        let paper = super::super::stationary::frames(&crate::scenario::Scenario::resolve(None, &[]).unwrap().scene().unwrap()).unwrap();
         assert_eq!(restick(&paper, 0), None);
     }
 }

@@ -41,14 +41,14 @@
 //!
 //! **Accuracy**: as the chain's (second order in the grid spacing h: the start and the
 //! breakaway are walked exactly, every later state is held on the grid's nodes), extrapolated
-//! from three resolutions by [`super::extrapolate`].
+//! from three resolutions by [`super::richardson::extrapolate`].
 
 use std::f64::consts::TAU;
 
 use super::chain::{Mesh, CHUNKS};
 use super::clock::{Clocks, Moments};
+use super::flow::one_minus_exp_poly;
 use super::flow::{decay, Frame, Slip, Visitor};
-use super::one_minus_exp_poly;
 
 /// An atom's clocks for Table 1: its mass; ∫ t dμ and ∫ t² dμ, t the time since the origin;
 /// ∫ a dμ and ∫ a² dμ, a the time since the last stick ended (since the origin before the
@@ -242,7 +242,7 @@ fn passage<C: Clocks>(ctx: &C::Ctx, meshes: &[Mesh], first: Vec<Cloud<C>>, entri
     };
     let width = C::len(ctx);
     let mut x = k0.clone();
-    let mut anderson = super::anderson::Anderson::new(super::DEPTH);
+    let mut anderson = super::anderson::Anderson::new(super::stationary::DEPTH);
     let mut change = f64::INFINITY;
     for _ in 0..MAX_ITERATIONS {
         let atoms: Vec<Vec<(Slip, C)>> = meshes

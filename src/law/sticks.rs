@@ -29,7 +29,7 @@
 
 use super::flow::{Frame, Slip, Visitor};
 use super::passage::{self, MeanVar, Sequence, Start};
-use super::Rung;
+use super::stationary::Rung;
 use crate::scenario::Scenario;
 use crate::simulation::belt::InitialSign;
 
@@ -51,7 +51,7 @@ pub struct Row {
     pub mean: f64,
     /// the variance, s²
     pub variance: f64,
-    /// the estimated discretisation error of the mean ([`super::guarded`])
+    /// the estimated discretisation error of the mean ([`super::richardson::guarded`])
     pub error: f64,
     /// the estimated discretisation error of the variance
     pub variance_error: f64,
@@ -226,25 +226,25 @@ pub(crate) fn values(s: &Sequence) -> Vec<(&'static str, u32, MeanVar)> {
         .collect()
 }
 
-/// What the resolutions of the scenario's initial law show of the order ([`super::Order`]): a
+/// What the resolutions of the scenario's initial law show of the order ([`super::richardson::Order`]): a
 /// box of positive area is regular, a point (or a segment) is not.
-pub(crate) fn order(scenario: &Scenario) -> super::Order {
+pub(crate) fn order(scenario: &Scenario) -> super::richardson::Order {
     let ic = &scenario.initial_conditions;
     if ic.position[1] > ic.position[0] && ic.velocity[1] > ic.velocity[0] {
-        super::Order::Regular
+        super::richardson::Order::Regular
     } else {
-        super::Order::Irregular
+        super::richardson::Order::Irregular
     }
 }
 
 /// The rows from sequences at the ladder's spacings (coarsest first), of the initial law's `order`.
-pub(crate) fn rows(levels: &[(f64, Sequence)], order: super::Order) -> Vec<Row> {
+pub(crate) fn rows(levels: &[(f64, Sequence)], order: super::richardson::Order) -> Vec<Row> {
     let per: Vec<(f64, Vec<(&'static str, u32, MeanVar)>)> = levels.iter().map(|(h, s)| (*h, values(s))).collect();
     (0..per.first().map_or(0, |p| p.1.len()))
         .map(|i| {
             let (variable, index, _) = per[0].1[i];
-            let mean = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .0)).collect::<Vec<_>>(), order);
-            let variance = super::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .1)).collect::<Vec<_>>(), order);
+            let mean = super::richardson::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .0)).collect::<Vec<_>>(), order);
+            let variance = super::richardson::guarded(&per.iter().map(|(h, v)| (*h, v[i].2 .1)).collect::<Vec<_>>(), order);
             Row { variable, index, mean: mean.0, variance: variance.0.max(0.0), error: mean.1, variance_error: variance.1, reached: None, windowed: None }
         })
         .collect()
@@ -252,7 +252,7 @@ pub(crate) fn rows(levels: &[(f64, Sequence)], order: super::Order) -> Vec<Row> 
 
 /// One point of D_k's law (`survival.parquet`): P(D_k > t), extrapolated from the ladder's
 /// resolutions, and the density of D_k at t at the finest, each with its error estimate
-/// ([`super::guarded`]).
+/// ([`super::richardson::guarded`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurvivalRow {
     /// k, 1-based
@@ -272,17 +272,17 @@ pub struct SurvivalRow {
 /// D_k's law for every stick the sequences follow (k = 1 … [`STICKS`] for Table 1, k = 1 for
 /// `predict`) at the increasing `times`, from sequences at the ladder's spacings (coarsest
 /// first): [`passage::Sequence::stick_law`] per level, per point.
-pub(crate) fn survival_rows(frames: &[Frame], levels: &[(f64, Sequence)], times: &[f64], order: super::Order) -> Vec<SurvivalRow> {
+pub(crate) fn survival_rows(frames: &[Frame], levels: &[(f64, Sequence)], times: &[f64], order: super::richardson::Order) -> Vec<SurvivalRow> {
     let mut out = Vec::new();
     for k in 0..levels.first().map_or(0, |(_, s)| s.entries.len()) {
         let laws: Vec<(f64, Vec<(f64, f64, f64)>)> = levels.iter().map(|(h, s)| (*h, s.stick_law(frames, k, times))).collect();
         for (j, &t) in times.iter().enumerate() {
-            let (survival, error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].1)).collect::<Vec<_>>(), order);
+            let (survival, error) = super::richardson::guarded(&laws.iter().map(|(h, l)| (*h, l[j].1)).collect::<Vec<_>>(), order);
             // the density at the finest level (non-negative, of mass 1: an extrapolation of
             // entry densities spread over cells of three widths can overshoot where the law is
             // narrower than the coarse cells), with the extrapolation's error as its estimate
             let density = laws.last().map_or(0.0, |(_, l)| l[j].2);
-            let (_, density_error) = super::guarded(&laws.iter().map(|(h, l)| (*h, l[j].2)).collect::<Vec<_>>(), order);
+            let (_, density_error) = super::richardson::guarded(&laws.iter().map(|(h, l)| (*h, l[j].2)).collect::<Vec<_>>(), order);
             out.push(SurvivalRow { index: k as u32 + 1, t, survival: survival.clamp(0.0, 1.0), error, density, density_error });
         }
     }
@@ -365,8 +365,8 @@ mod tests {
             .map(String::from),
         )
         .unwrap();
-        let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
-        let ladder = super::super::ladder(&frames, 16, 3).unwrap();
+        let frames = super::super::stationary::frames(&sc.scene().unwrap()).unwrap();
+        let ladder = super::super::stationary::ladder(&frames, 16, 3).unwrap();
         let solved = solve(&sc, &frames, &ladder, &mut |_, _| {}).unwrap();
         let rows = rows(&solved, order(&sc));
         let (omega, v0, w0) = (2.0f64, 1.0, 0.5);
@@ -409,7 +409,7 @@ mod tests {
     #[test]
     fn the_box_is_held_on_cells_of_equal_weight_and_a_random_sign_takes_both_halves() {
         let sc = Scenario::resolve(None, &["belt.initial_sign=\"random\"".to_string()]).unwrap();
-        let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
+        let frames = super::super::stationary::frames(&sc.scene().unwrap()).unwrap();
         let s = starts(&sc, &frames, 0.1);
         // [−1, 1] × [−1, 1] m, m/s in cells 0.05 m by ω h/2 = 0.1 m/s: 40 × 20, twice, and the
         // cells cut by a fate's curve hold more than one start
@@ -428,7 +428,7 @@ mod tests {
     #[test]
     fn the_cells_cut_by_a_fate_are_split_along_it() {
         let sc = Scenario::resolve(None, &[]).unwrap();
-        let frames = super::super::frames(&sc.scene().unwrap()).unwrap();
+        let frames = super::super::stationary::frames(&sc.scene().unwrap()).unwrap();
         let f = frames[0];
         let (r, d) = (f.w0, f.ck - 1.0);
         let segment = (r * r * (d / r).acos() - d * (r * r - d * d).sqrt()) / 2.0;

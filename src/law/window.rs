@@ -56,7 +56,7 @@ pub(crate) fn windowed(levels: &[(f64, Transforms)], half_period: f64, t_a: f64,
             continue;
         }
         let [(p, pe), (q1, e1), (q2, e2)] =
-            std::array::from_fn(|i| super::guarded(&per.iter().map(|(h, q)| (*h, q[i])).collect::<Vec<_>>(), super::Order::Regular));
+            std::array::from_fn(|i| super::richardson::guarded(&per.iter().map(|(h, q)| (*h, q[i])).collect::<Vec<_>>(), super::richardson::Order::Regular));
         let inside = 1.0 - p.clamp(0.0, 1.0);
         if !(inside > 0.0) {
             continue;

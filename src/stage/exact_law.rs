@@ -7,8 +7,8 @@ use anyhow::Context;
 
 use super::{check_resolution, inputs, Control, Input};
 use crate::blame::usage;
-use crate::law::{counts::CountRow, densities::DensityRow, sticks, Level};
-use crate::outdir::check_separate;
+use crate::law::{counts::CountRow, densities::DensityRow, sticks, LawError, Level, SCENARIO_FILE};
+use crate::outdir::{check_separate, Kind, StagedDir};
 
 /// The finest resolution by default.
 pub const DEFAULT_RESOLUTION: u32 = 80;
@@ -72,6 +72,35 @@ pub fn run(req: &Request, ctl: Control) -> anyhow::Result<Outcome> {
         ctl.progress.note(&note);
     }
     let opts = crate::law::Options { finest: req.resolution, tail_times: req.tail_times.clone(), counts: req.counts, densities: req.densities };
-    let (levels, rows, counts, densities, warning) = crate::law::run(&scenario, &opts, &req.out, ctl).context("exact-law")?;
-    Ok(Outcome { levels, rows, counts, densities, warning })
+    let solved = solve_into(&scenario, &opts, &req.out, ctl).context("exact-law")?;
+    Ok(Outcome { levels: solved.levels, rows: solved.rows, counts: solved.counts, densities: solved.densities, warning: solved.warning })
+}
+
+/// Check, solve and write `out` (replaced when complete): the scenario the law is of
+/// (`scenario.toml`: the report refuses a law of another scene beside a dataset), every table of
+/// the law ([`crate::law::tables::all`]) and its figures.
+pub fn solve_into(
+    scenario: &crate::scenario::Scenario,
+    opts: &crate::law::Options,
+    out: &std::path::Path,
+    ctl: Control,
+) -> Result<crate::law::Solved, LawError> {
+    let plan = crate::law::plan(scenario, opts)?;
+    let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
+    let solved = crate::law::solve(scenario, &plan, ctl)?;
+    let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
+    std::fs::write(staged.path().join(SCENARIO_FILE), scenario.to_toml()).map_err(|e| werr(SCENARIO_FILE, &e))?;
+    for (name, table) in crate::law::tables::all(&solved) {
+        let file = format!("{name}.parquet");
+        table.write_parquet(&staged.path().join(&file)).map_err(|e| werr(&file, &e))?;
+    }
+    let mut figures = vec![crate::figures::exact::stationary_density(&solved.density)];
+    if solved.asked.1 {
+        figures.push(crate::figures::exact::densities(&solved.densities));
+    }
+    for f in &figures {
+        crate::figures::render::save(f, staged.path()).map_err(|e| werr(&format!("{}.png", f.name), &e))?;
+    }
+    staged.commit()?;
+    Ok(solved)
 }

@@ -295,7 +295,7 @@ fn table_agrees(sets: &[&str]) {
     let sc = scenario(sets);
     let times = [0.05, 0.2, 0.5, 1.0];
     let opts = stickslip::law::Options { finest: 20, tail_times: times.to_vec(), counts: None, densities: None };
-    let (_, rows, _, _, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap();
+    let rows = stickslip::stage::exact_law::solve_into(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap().rows;
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
         &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')],
@@ -344,7 +344,8 @@ fn count_laws_agree_with_monte_carlo() {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["run.duration=4"]);
     let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: Some(8), densities: None };
-    let (_, rows, counts, _, _) = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap();
+    let solved = stickslip::stage::exact_law::solve_into(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap();
+    let (rows, counts) = (solved.rows, solved.counts);
     let runs = outcomes(&sc, 20_000);
     let n = runs.len() as f64;
     let variables: [(&str, fn(&Outcome) -> usize); 2] = [("S_T", |o| o.record.n_stick()), ("S_L", |o| o.record.n_slip())];
@@ -402,7 +403,7 @@ fn count_laws_agree_with_monte_carlo() {
     assert!(judged.iter().filter(|r| r.contains('✗')).count() <= 3, "{judged:?}");
     // 3 s: λ t_a = 15
     let short = scenario(&["run.duration=3"]);
-    let err = stickslip::law::run(&short, &opts, &tmp.path().join("f"), stickslip::progress::Control::silent()).unwrap_err().to_string();
+    let err = stickslip::stage::exact_law::solve_into(&short, &opts, &tmp.path().join("f"), stickslip::progress::Control::silent()).unwrap_err().to_string();
     assert!(err.contains("--counts") && err.contains("run.duration"), "{err}");
     assert!(!tmp.path().join("f").exists());
 }
@@ -487,7 +488,7 @@ fn densities_refuse_a_point_start() {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["initial_conditions.position=[0.5, 0.5]", "initial_conditions.velocity=[0.0, 0.0]"]);
     let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: None, densities: Some(8) };
-    let err = stickslip::law::run(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap_err().to_string();
+    let err = stickslip::stage::exact_law::solve_into(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap_err().to_string();
     assert!(err.contains("--densities") && err.contains("point"), "{err}");
     assert!(!tmp.path().join("e").exists());
 }
