@@ -24,6 +24,86 @@ const NON_NEGATIVE: [&str; 12] = [
     "variance_error",
 ];
 
+/// The type of a column in a table's definition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Type {
+    /// text
+    Str,
+    /// 64-bit integers (null allowed)
+    Int,
+    /// 64-bit floats (null allowed; never NaN or ±∞)
+    Float,
+}
+
+/// One column of a table's definition: its name, type and meaning (unit included).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Column {
+    /// the column's name
+    pub name: &'static str,
+    /// its type
+    pub ty: Type,
+    /// one line of meaning, with the unit
+    pub meaning: &'static str,
+}
+
+/// A table's one definition: the file it is written as and its columns in order. The writer is
+/// checked against it before writing ([`Def::check`]), every reader reads through it
+/// ([`Def::read`]), and the documentation is generated from it.
+#[derive(Debug, Clone, Copy)]
+pub struct Def {
+    /// the file's name in its directory (`moments.parquet`)
+    pub file: &'static str,
+    /// one line of meaning
+    pub meaning: &'static str,
+    /// the columns, in order
+    pub columns: &'static [Column],
+}
+
+impl Def {
+    /// The table's name (its file without `.parquet`).
+    pub fn name(&self) -> &'static str {
+        self.file.trim_end_matches(".parquet")
+    }
+
+    /// Whether `t` has exactly these columns, in order, of these types; else the first
+    /// difference.
+    pub fn check(&self, t: &Table) -> Result<(), String> {
+        let ty = |c: &Col| match c {
+            Col::Str(_) => Type::Str,
+            Col::Int(_) => Type::Int,
+            Col::Float(_) => Type::Float,
+        };
+        let names: Vec<&str> = t.columns.iter().map(|(n, _)| n.as_str()).collect();
+        for (i, c) in self.columns.iter().enumerate() {
+            match t.columns.get(i) {
+                Some((n, col)) if n == c.name && ty(col) == c.ty => {}
+                Some((n, col)) if n == c.name => return Err(format!("{}: column `{n}` is {:?}, its definition says {:?}", self.file, ty(col), c.ty)),
+                _ if names.contains(&c.name) => return Err(format!("{}: column `{}` is out of its place ({})", self.file, c.name, names.join(", "))),
+                _ => return Err(format!("{}: column `{}` is missing", self.file, c.name)),
+            }
+        }
+        match names.get(self.columns.len()) {
+            Some(extra) => Err(format!("{}: column `{extra}` is not in its definition", self.file)),
+            None => Ok(()),
+        }
+    }
+
+    /// Read `dir`'s file of this table and check it against the definition: a table of another
+    /// shape (an older stickslip's, or an edited file) is refused with the difference named.
+    pub fn read(&self, dir: &Path) -> Result<Table, String> {
+        let path = dir.join(self.file);
+        let t = Table::read_parquet(&path).map_err(|e| e.to_string())?;
+        self.check(&t)
+            .map_err(|e| format!("{e}: not the table this version of stickslip writes (written by another version, or edited); run the stage again"))?;
+        Ok(t)
+    }
+
+    /// The column named `name` (tests and generated documentation).
+    pub fn column(&self, name: &str) -> Option<&'static Column> {
+        self.columns.iter().find(|c| c.name == name)
+    }
+}
+
 /// A small tidy table, column by column.
 #[derive(Debug, Clone, Default)]
 pub struct Table {
@@ -154,6 +234,27 @@ impl Table {
         }
     }
 
+    /// The values of a string column of the table's definition (empty if absent: a table read
+    /// through [`Def::read`] has every column).
+    pub fn str(&self, c: &Column) -> &[String] {
+        self.strings(c.name).unwrap_or_default()
+    }
+
+    /// The values of an integer column of the table's definition (empty if absent).
+    pub fn int(&self, c: &Column) -> &[Option<i64>] {
+        self.ints(c.name).unwrap_or_default()
+    }
+
+    /// The values of a float column of the table's definition (empty if absent).
+    pub fn float(&self, c: &Column) -> &[Option<f64>] {
+        self.floats(c.name).unwrap_or_default()
+    }
+
+    /// Append the column `c` of the table's definition.
+    pub fn put(&mut self, c: &Column, col: Col) -> &mut Self {
+        self.push(c.name, col)
+    }
+
     /// Append the column `name`.
     pub fn push(&mut self, name: &str, col: Col) -> &mut Self {
         self.columns.push((name.to_string(), col));
@@ -185,13 +286,13 @@ impl Table {
         if let Some(problem) = self.first_impossible() {
             polars_bail!(ComputeError: "{}: refused to write {problem}", path.display());
         }
-        let columns: Vec<Column> = self
+        let columns: Vec<polars::prelude::Column> = self
             .columns
             .iter()
             .map(|(name, c)| match c {
-                Col::Str(v) => Column::new(name.as_str().into(), v),
-                Col::Int(v) => Column::new(name.as_str().into(), v),
-                Col::Float(v) => Column::new(name.as_str().into(), v),
+                Col::Str(v) => polars::prelude::Column::new(name.as_str().into(), v),
+                Col::Int(v) => polars::prelude::Column::new(name.as_str().into(), v),
+                Col::Float(v) => polars::prelude::Column::new(name.as_str().into(), v),
             })
             .collect();
         let mut df = DataFrame::new_infer_height(columns)?;

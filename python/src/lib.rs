@@ -248,14 +248,12 @@ fn analyze(
     let request = stage::analyze::Request { dataset, out, options };
     staged(py, progress, |ctl| {
         let done = stage::analyze::run(&request, ctl)?;
-        let cells = done
-            .cells
-            .iter()
-            .map(|(path, a)| {
-                let tables = stickslip::analysis::output::tables(a).into_iter().map(|(n, t)| (n.to_string(), Table::from_batch(t.to_arrow()))).collect();
-                (path.clone(), tables, stickslip::analysis::output::summary(a).to_json())
-            })
-            .collect();
+        let mut cells = Vec::with_capacity(done.cells.len());
+        for (path, a) in &done.cells {
+            let tables =
+                stickslip::analysis::output::tables(a)?.into_iter().map(|(def, t)| (def.name().to_string(), Table::from_batch(t.to_arrow()))).collect();
+            cells.push((path.clone(), tables, stickslip::analysis::output::summary(a).to_json()));
+        }
         let sweep = done.sweep_table().map(|t| Table::from_batch(t.to_arrow()));
         Ok((cells, sweep))
     })

@@ -28,6 +28,7 @@ mod rules;
 pub(crate) mod sketch;
 pub(crate) mod summary;
 pub(crate) mod sweep;
+pub mod tables;
 mod tail_counts;
 pub mod tails;
 

@@ -33,9 +33,10 @@ use std::path::Path;
 
 use super::paper;
 use super::summary::{Bins, CountSummary, DatasetSummary, GrowthSummary, OptionsSummary, Policies, RenewalSummary, Summary, TestSummary};
+use super::tables::{convergence, growth, histograms, independence, joint_histograms, moments, survival, tails};
 use super::{Analysis, AnalysisError};
 use crate::outdir::{Kind, StagedDir};
-use crate::table::{Col, Table};
+use crate::table::{Col, Column, Def, Table};
 
 /// Significance level of the reported verdicts.
 pub const ALPHA: f64 = 0.05;
@@ -48,34 +49,36 @@ fn moments_table(a: &Analysis) -> Table {
     let mut t = Table::default();
     let s = &a.stats;
     let float = |g: &dyn Fn(&super::SeriesStats) -> Option<f64>| Col::Float(s.iter().map(|x| f(g(x))).collect());
-    t.push("variable", Col::Str(s.iter().map(|x| x.series.variable().to_string()).collect()))
-        .push("index", Col::Int(s.iter().map(|x| x.series.index().map(i64::from)).collect()))
-        .push("n", Col::Int(s.iter().map(|x| Some(x.moments.n as i64)).collect()))
-        .push("n_truncated_excluded", Col::Int(s.iter().map(|x| Some(x.truncated as i64)).collect()))
-        .push("mean", float(&|x| (x.moments.n > 0).then_some(x.moments.mean)))
-        .push("variance", float(&|x| x.moments.variance()))
-        .push("mode", float(&|x| x.mode))
-        .push("skewness", float(&|x| x.moments.skewness()))
-        .push("kurtosis", float(&|x| x.moments.kurtosis()))
-        .push("mean_se", float(&|x| x.moments.mean_se()))
-        .push("variance_se", float(&|x| x.moments.variance_se()))
-        .push("min", float(&|x| (x.moments.n > 0).then_some(x.moments.min)))
-        .push("max", float(&|x| (x.moments.n > 0).then_some(x.moments.max)));
+    t.put(&moments::VARIABLE, Col::Str(s.iter().map(|x| x.series.variable().to_string()).collect()))
+        .put(&moments::INDEX, Col::Int(s.iter().map(|x| x.series.index().map(i64::from)).collect()))
+        .put(&moments::N, Col::Int(s.iter().map(|x| Some(x.moments.n as i64)).collect()))
+        .put(&moments::N_TRUNCATED_EXCLUDED, Col::Int(s.iter().map(|x| Some(x.truncated as i64)).collect()))
+        .put(&moments::MEAN, float(&|x| (x.moments.n > 0).then_some(x.moments.mean)))
+        .put(&moments::VARIANCE, float(&|x| x.moments.variance()))
+        .put(&moments::MODE, float(&|x| x.mode))
+        .put(&moments::SKEWNESS, float(&|x| x.moments.skewness()))
+        .put(&moments::KURTOSIS, float(&|x| x.moments.kurtosis()))
+        .put(&moments::MEAN_SE, float(&|x| x.moments.mean_se()))
+        .put(&moments::VARIANCE_SE, float(&|x| x.moments.variance_se()))
+        .put(&moments::MIN, float(&|x| (x.moments.n > 0).then_some(x.moments.min)))
+        .put(&moments::MAX, float(&|x| (x.moments.n > 0).then_some(x.moments.max)));
     let mean = |m: &super::Moments| (m.n > 0).then_some(m.mean);
     let rows = a.dataset.rows.max(1) as f64;
-    let intervals: [(&str, Box<dyn Fn(&super::SeriesStats) -> Option<(f64, f64)>>); 5] = [
-        ("mean", Box::new(move |x| x.interval(mean))),
-        ("variance", Box::new(|x| x.interval(super::Moments::variance))),
-        ("mode", Box::new(|x| x.mode_interval())),
-        ("skewness", Box::new(|x| x.interval(super::Moments::skewness))),
-        ("kurtosis", Box::new(|x| x.kurtosis_interval())),
+    use moments::{KURTOSIS_HI, KURTOSIS_LO, MEAN_HI, MEAN_LO, MODE_HI, MODE_LO, SKEWNESS_HI, SKEWNESS_LO, VARIANCE_HI, VARIANCE_LO};
+    let intervals: [(Column, Column, Box<dyn Fn(&super::SeriesStats) -> Option<(f64, f64)>>); 5] = [
+        (MEAN_LO, MEAN_HI, Box::new(move |x| x.interval(mean))),
+        (VARIANCE_LO, VARIANCE_HI, Box::new(|x| x.interval(super::Moments::variance))),
+        (MODE_LO, MODE_HI, Box::new(|x| x.mode_interval())),
+        (SKEWNESS_LO, SKEWNESS_HI, Box::new(|x| x.interval(super::Moments::skewness))),
+        (KURTOSIS_LO, KURTOSIS_HI, Box::new(|x| x.kurtosis_interval())),
     ];
-    for (name, iv) in &intervals {
-        t.push(&format!("{name}_lo"), float(&|x| iv(x).map(|i| i.0)));
-        t.push(&format!("{name}_hi"), float(&|x| iv(x).map(|i| i.1)));
+    for (lo, hi, iv) in &intervals {
+        t.put(lo, float(&|x| iv(x).map(|i| i.0)));
+        t.put(hi, float(&|x| iv(x).map(|i| i.1)));
     }
     // no silent survivorship: how many realizations the statistics of each row describe
-    t.push("reached", Col::Int(s.iter().map(|x| Some(x.reached as i64)).collect())).push("reached_fraction", float(&|x| Some(x.reached as f64 / rows)));
+    t.put(&moments::REACHED, Col::Int(s.iter().map(|x| Some(x.reached as i64)).collect()))
+        .put(&moments::REACHED_FRACTION, float(&|x| Some(x.reached as f64 / rows)));
     t
 }
 
@@ -97,13 +100,13 @@ fn histogram_table(a: &Analysis) -> Table {
         }
     }
     let mut t = Table::default();
-    t.push("variable", Col::Str(var))
-        .push("index", Col::Int(idx))
-        .push("bin", Col::Int(bin))
-        .push("lo", Col::Float(lo))
-        .push("hi", Col::Float(hi))
-        .push("count", Col::Int(count))
-        .push("density", Col::Float(dens));
+    t.put(&histograms::VARIABLE, Col::Str(var))
+        .put(&histograms::INDEX, Col::Int(idx))
+        .put(&histograms::BIN, Col::Int(bin))
+        .put(&histograms::LO, Col::Float(lo))
+        .put(&histograms::HI, Col::Float(hi))
+        .put(&histograms::COUNT, Col::Int(count))
+        .put(&histograms::DENSITY, Col::Float(dens));
     t
 }
 
@@ -138,17 +141,17 @@ fn joint_table(a: &Analysis) -> Table {
         }
     }
     let mut t = Table::default();
-    t.push("x", Col::Str(x))
-        .push("y", Col::Str(y))
-        .push("x_bin", Col::Int(xb))
-        .push("y_bin", Col::Int(yb))
-        .push("x_lo", Col::Float(xlo))
-        .push("x_hi", Col::Float(xhi))
-        .push("y_lo", Col::Float(ylo))
-        .push("y_hi", Col::Float(yhi))
-        .push("count", Col::Int(count))
-        .push("density", Col::Float(dens))
-        .push("product_density", Col::Float(prod));
+    t.put(&joint_histograms::X, Col::Str(x))
+        .put(&joint_histograms::Y, Col::Str(y))
+        .put(&joint_histograms::X_BIN, Col::Int(xb))
+        .put(&joint_histograms::Y_BIN, Col::Int(yb))
+        .put(&joint_histograms::X_LO, Col::Float(xlo))
+        .put(&joint_histograms::X_HI, Col::Float(xhi))
+        .put(&joint_histograms::Y_LO, Col::Float(ylo))
+        .put(&joint_histograms::Y_HI, Col::Float(yhi))
+        .put(&joint_histograms::COUNT, Col::Int(count))
+        .put(&joint_histograms::DENSITY, Col::Float(dens))
+        .put(&joint_histograms::PRODUCT_DENSITY, Col::Float(prod));
     t
 }
 
@@ -166,65 +169,65 @@ fn independence_table(a: &Analysis) -> Table {
     let float = |g: &dyn Fn(&super::independence::Independence) -> Option<f64>| Col::Float(tests.iter().map(|(_, t)| f(g(t))).collect());
     let int = |g: &dyn Fn(&super::independence::Independence) -> i64| Col::Int(tests.iter().map(|(_, t)| Some(g(t))).collect());
     let mut t = Table::default();
-    t.push("x", Col::Str(tests.iter().map(|(p, _)| p.0.to_string()).collect()))
-        .push("y", Col::Str(tests.iter().map(|(p, _)| p.1.to_string()).collect()))
-        .push("n", int(&|t| t.n as i64))
-        .push("rows", int(&|t| t.rows as i64))
-        .push("cols", int(&|t| t.cols as i64))
-        .push("chi2", float(&|t| Some(t.chi2)))
-        .push("df", float(&|t| Some(t.df)))
-        .push("chi2_p_value", float(&|t| Some(t.chi2_p_value)))
-        .push("g", float(&|t| Some(t.g)))
-        .push("g_p_value", float(&|t| Some(t.g_p_value)))
-        .push("mutual_information", float(&|t| Some(t.mutual_information)))
-        .push("mi_null_mean", float(&|t| t.mi_null_mean))
-        .push("mi_p_value", float(&|t| Some(t.mi_p_value)))
-        .push("permutations", int(&|t| t.permutations as i64))
-        .push("verdict", Col::Str(tests.iter().map(|(_, t)| verdict(t.chi2_p_value).to_string()).collect()));
+    t.put(&independence::X, Col::Str(tests.iter().map(|(p, _)| p.0.to_string()).collect()))
+        .put(&independence::Y, Col::Str(tests.iter().map(|(p, _)| p.1.to_string()).collect()))
+        .put(&independence::N, int(&|t| t.n as i64))
+        .put(&independence::ROWS, int(&|t| t.rows as i64))
+        .put(&independence::COLS, int(&|t| t.cols as i64))
+        .put(&independence::CHI2, float(&|t| Some(t.chi2)))
+        .put(&independence::DF, float(&|t| Some(t.df)))
+        .put(&independence::CHI2_P_VALUE, float(&|t| Some(t.chi2_p_value)))
+        .put(&independence::G, float(&|t| Some(t.g)))
+        .put(&independence::G_P_VALUE, float(&|t| Some(t.g_p_value)))
+        .put(&independence::MUTUAL_INFORMATION, float(&|t| Some(t.mutual_information)))
+        .put(&independence::MI_NULL_MEAN, float(&|t| t.mi_null_mean))
+        .put(&independence::MI_P_VALUE, float(&|t| Some(t.mi_p_value)))
+        .put(&independence::PERMUTATIONS, int(&|t| t.permutations as i64))
+        .put(&independence::VERDICT, Col::Str(tests.iter().map(|(_, t)| verdict(t.chi2_p_value).to_string()).collect()));
     t
 }
 
 fn survival_table(t: &super::tails::Tails) -> Table {
     let rows: Vec<(&super::tails::Curve, &(f64, f64, Option<(f64, f64)>))> = t.curves.iter().flat_map(|c| c.points.iter().map(move |p| (c, p))).collect();
     let mut out = Table::default();
-    out.push("variable", Col::Str(rows.iter().map(|r| r.0.variable.to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|r| r.0.index.map(i64::from)).collect()))
-        .push("method", Col::Str(rows.iter().map(|r| r.0.method.to_string()).collect()))
-        .push("n", Col::Int(rows.iter().map(|r| Some(r.0.n as i64)).collect()))
-        .push("n_censored", Col::Int(rows.iter().map(|r| Some(r.0.censored as i64)).collect()))
-        .push("t", Col::Float(rows.iter().map(|r| f(Some(r.1 .0))).collect()))
-        .push("survival", Col::Float(rows.iter().map(|r| f(Some(r.1 .1))).collect()))
-        .push("lo", Col::Float(rows.iter().map(|r| f(r.1 .2.map(|i| i.0))).collect()))
-        .push("hi", Col::Float(rows.iter().map(|r| f(r.1 .2.map(|i| i.1))).collect()));
+    out.put(&survival::VARIABLE, Col::Str(rows.iter().map(|r| r.0.variable.to_string()).collect()))
+        .put(&survival::INDEX, Col::Int(rows.iter().map(|r| r.0.index.map(i64::from)).collect()))
+        .put(&survival::METHOD, Col::Str(rows.iter().map(|r| r.0.method.to_string()).collect()))
+        .put(&survival::N, Col::Int(rows.iter().map(|r| Some(r.0.n as i64)).collect()))
+        .put(&survival::N_CENSORED, Col::Int(rows.iter().map(|r| Some(r.0.censored as i64)).collect()))
+        .put(&survival::T, Col::Float(rows.iter().map(|r| f(Some(r.1 .0))).collect()))
+        .put(&survival::SURVIVAL, Col::Float(rows.iter().map(|r| f(Some(r.1 .1))).collect()))
+        .put(&survival::LO, Col::Float(rows.iter().map(|r| f(r.1 .2.map(|i| i.0))).collect()))
+        .put(&survival::HI, Col::Float(rows.iter().map(|r| f(r.1 .2.map(|i| i.1))).collect()));
     out
 }
 
 fn tails_table(t: &super::tails::Tails) -> Table {
     let e = &t.exceedances;
     let mut out = Table::default();
-    out.push("statistic", Col::Str(e.iter().map(|x| x.statistic.to_string()).collect()))
-        .push("threshold", Col::Float(e.iter().map(|x| f(x.threshold)).collect()))
-        .push("value", Col::Float(e.iter().map(|x| f(Some(x.value))).collect()))
-        .push("lo", Col::Float(e.iter().map(|x| f(x.interval.map(|i| i.0))).collect()))
-        .push("hi", Col::Float(e.iter().map(|x| f(x.interval.map(|i| i.1))).collect()))
-        .push("n", Col::Int(e.iter().map(|x| Some(x.n as i64)).collect()));
+    out.put(&tails::STATISTIC, Col::Str(e.iter().map(|x| x.statistic.to_string()).collect()))
+        .put(&tails::THRESHOLD, Col::Float(e.iter().map(|x| f(x.threshold)).collect()))
+        .put(&tails::VALUE, Col::Float(e.iter().map(|x| f(Some(x.value))).collect()))
+        .put(&tails::LO, Col::Float(e.iter().map(|x| f(x.interval.map(|i| i.0))).collect()))
+        .put(&tails::HI, Col::Float(e.iter().map(|x| f(x.interval.map(|i| i.1))).collect()))
+        .put(&tails::N, Col::Int(e.iter().map(|x| Some(x.n as i64)).collect()));
     out
 }
 
 fn growth_table(a: &Analysis) -> Table {
     let g = &a.growth;
     let mut t = Table::default();
-    t.push("variable", Col::Str(g.iter().map(|x| x.family.variable().to_string()).collect()))
-        .push("statistic", Col::Str(g.iter().map(|x| x.statistic.to_string()).collect()))
-        .push("slope", Col::Float(g.iter().map(|x| f(Some(x.line.slope))).collect()))
-        .push("intercept", Col::Float(g.iter().map(|x| f(Some(x.line.intercept))).collect()))
-        .push("r2", Col::Float(g.iter().map(|x| f(Some(x.line.r2))).collect()))
-        .push("slope_se", Col::Float(g.iter().map(|x| f(x.line.slope_se)).collect()))
-        .push("points", Col::Int(g.iter().map(|x| Some(x.line.points as i64)).collect()))
-        .push("slope_lo", Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.0))).collect()))
-        .push("slope_hi", Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.1))).collect()))
-        .push("k_max", Col::Int(g.iter().map(|x| Some(x.k_max as i64)).collect()))
-        .push("min_reached_fraction", Col::Float(g.iter().map(|_| Some(super::GROWTH_MIN_REACHED)).collect()));
+    t.put(&growth::VARIABLE, Col::Str(g.iter().map(|x| x.family.variable().to_string()).collect()))
+        .put(&growth::STATISTIC, Col::Str(g.iter().map(|x| x.statistic.to_string()).collect()))
+        .put(&growth::SLOPE, Col::Float(g.iter().map(|x| f(Some(x.line.slope))).collect()))
+        .put(&growth::INTERCEPT, Col::Float(g.iter().map(|x| f(Some(x.line.intercept))).collect()))
+        .put(&growth::R2, Col::Float(g.iter().map(|x| f(Some(x.line.r2))).collect()))
+        .put(&growth::SLOPE_SE, Col::Float(g.iter().map(|x| f(x.line.slope_se)).collect()))
+        .put(&growth::POINTS, Col::Int(g.iter().map(|x| Some(x.line.points as i64)).collect()))
+        .put(&growth::SLOPE_LO, Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.0))).collect()))
+        .put(&growth::SLOPE_HI, Col::Float(g.iter().map(|x| f(x.slope_interval.map(|i| i.1))).collect()))
+        .put(&growth::K_MAX, Col::Int(g.iter().map(|x| Some(x.k_max as i64)).collect()))
+        .put(&growth::MIN_REACHED_FRACTION, Col::Float(g.iter().map(|_| Some(super::GROWTH_MIN_REACHED)).collect()));
     t
 }
 
@@ -232,13 +235,13 @@ fn convergence_table(a: &Analysis) -> Table {
     let rows: Vec<(&super::Convergence, &(u64, u64, f64, Option<f64>))> = a.convergence.iter().flat_map(|c| c.points.iter().map(move |p| (c, p))).collect();
     let half = |p: &(u64, u64, f64, Option<f64>)| p.3.map(|se| 1.96 * se);
     let mut t = Table::default();
-    t.push("variable", Col::Str(rows.iter().map(|(c, _)| c.series.variable().to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|(c, _)| c.series.index().map(i64::from)).collect()))
-        .push("realizations", Col::Int(rows.iter().map(|(_, p)| Some(p.0 as i64)).collect()))
-        .push("n", Col::Int(rows.iter().map(|(_, p)| Some(p.1 as i64)).collect()))
-        .push("mean", Col::Float(rows.iter().map(|(_, p)| f((p.1 > 0).then_some(p.2))).collect()))
-        .push("mean_lo", Col::Float(rows.iter().map(|(_, p)| f(half(p).map(|h| p.2 - h))).collect()))
-        .push("mean_hi", Col::Float(rows.iter().map(|(_, p)| f(half(p).map(|h| p.2 + h))).collect()));
+    t.put(&convergence::VARIABLE, Col::Str(rows.iter().map(|(c, _)| c.series.variable().to_string()).collect()))
+        .put(&convergence::INDEX, Col::Int(rows.iter().map(|(c, _)| c.series.index().map(i64::from)).collect()))
+        .put(&convergence::REALIZATIONS, Col::Int(rows.iter().map(|(_, p)| Some(p.0 as i64)).collect()))
+        .put(&convergence::N, Col::Int(rows.iter().map(|(_, p)| Some(p.1 as i64)).collect()))
+        .put(&convergence::MEAN, Col::Float(rows.iter().map(|(_, p)| f((p.1 > 0).then_some(p.2))).collect()))
+        .put(&convergence::MEAN_LO, Col::Float(rows.iter().map(|(_, p)| f(half(p).map(|h| p.2 - h))).collect()))
+        .put(&convergence::MEAN_HI, Col::Float(rows.iter().map(|(_, p)| f(half(p).map(|h| p.2 + h))).collect()));
     t
 }
 
@@ -380,28 +383,31 @@ fn werr(path: &Path, e: &dyn std::fmt::Display) -> AnalysisError {
     AnalysisError::Write { path: path.to_owned(), message: e.to_string() }
 }
 
-/// The tables of an analysis by name (each written as NAME.parquet): moments, histograms,
-/// joint_histograms, independence, growth, convergence, and with the tails survival and tails.
-pub fn tables(a: &Analysis) -> Vec<(&'static str, Table)> {
+/// The tables of an analysis with their definitions: moments, histograms, joint_histograms,
+/// independence, growth, convergence, and with the tails survival and tails.
+/// Each is checked against its definition ([`super::tables`]) first.
+pub fn tables(a: &Analysis) -> Result<Vec<(&'static Def, Table)>, AnalysisError> {
     let mut tables = vec![
-        ("moments", moments_table(a)),
-        ("histograms", histogram_table(a)),
-        ("joint_histograms", joint_table(a)),
-        ("independence", independence_table(a)),
-        ("growth", growth_table(a)),
-        ("convergence", convergence_table(a)),
+        (&moments::DEF, moments_table(a)),
+        (&histograms::DEF, histogram_table(a)),
+        (&joint_histograms::DEF, joint_table(a)),
+        (&independence::DEF, independence_table(a)),
+        (&growth::DEF, growth_table(a)),
+        (&convergence::DEF, convergence_table(a)),
     ];
     if let Some(t) = &a.tails {
-        tables.extend([("survival", survival_table(t)), ("tails", tails_table(t))]);
+        tables.extend([(&survival::DEF, survival_table(t)), (&tails::DEF, tails_table(t))]);
     }
-    tables
+    for (def, t) in &tables {
+        def.check(t).map_err(|message| AnalysisError::Write { path: def.file.into(), message })?;
+    }
+    Ok(tables)
 }
 
 /// Write the files of an analysis into the existing directory `dir` (named `shown` in errors).
 pub fn write_into(a: &Analysis, dir: &Path, shown: &Path) -> Result<(), AnalysisError> {
-    for (name, table) in tables(a) {
-        let file = format!("{name}.parquet");
-        table.write_parquet(&dir.join(&file)).map_err(|e| werr(&shown.join(&file), &e))?;
+    for (def, table) in tables(a)? {
+        table.write_parquet(&dir.join(def.file)).map_err(|e| werr(&shown.join(def.file), &e))?;
     }
     std::fs::write(dir.join("summary.json"), summary(a).to_json()).map_err(|e| werr(&shown.join("summary.json"), &e))?;
     std::fs::write(dir.join("table1.md"), table1_markdown(a)).map_err(|e| werr(&shown.join("table1.md"), &e))?;

@@ -18,10 +18,11 @@ pub use trajectory::{trajectory_figure, Trajectory};
 
 use std::path::{Path, PathBuf};
 
+use crate::analysis::tables::{convergence, growth, histograms, independence, joint_histograms, moments};
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::Scenario;
 use crate::special::ln_gamma;
-use crate::table::Table;
+use crate::table::{Column, Def, Table};
 
 pub use chart::{Figure, Panel, Series};
 
@@ -86,67 +87,48 @@ pub struct Inputs {
 }
 
 impl Inputs {
-    /// Read the tables of an analysis directory.
+    /// Read the tables of an analysis directory, each through its definition
+    /// ([`crate::analysis::tables`]): a table of another shape is refused, naming the column.
     pub fn load(adir: &Path) -> Result<Inputs, FigureError> {
-        let read = |name: &str, columns: &[(&str, char)]| {
-            let path = adir.join(name);
-            Table::read_checked(&path, columns).map_err(|e| FigureError::Read { path, message: e.to_string() })
-        };
-        let keyed = |more: &[(&'static str, char)]| -> Vec<(&'static str, char)> {
-            [("variable", 's'), ("index", 'i')].into_iter().chain(more.iter().copied()).collect()
-        };
+        use crate::analysis::tables as t;
+        let read = |def: &Def| def.read(adir).map_err(|message| FigureError::Read { path: adir.join(def.file), message });
+        // (the convergence table and the tails came later: an analysis without them is read)
+        let optional = |def: &Def| if adir.join(def.file).exists() { read(def).map(Some) } else { Ok(None) };
         let summary_path = adir.join("summary.json");
         let bad = |message: String| FigureError::Read { path: summary_path.clone(), message };
         let toml = crate::analysis::summary::Summary::read_scenario(&summary_path).map_err(bad)?;
         let scenario = Scenario::recorded(&toml, &summary_path).map_err(|e| bad(e.to_string()))?;
-        let trajectory = Trajectory::load(adir)?;
-        let convergence_path = adir.join("convergence.parquet");
-        let convergence = if convergence_path.exists() {
-            Some(read("convergence.parquet", &keyed(&[("realizations", 'i'), ("mean", 'f'), ("mean_lo", 'f'), ("mean_hi", 'f')]))?)
-        } else {
-            None
-        };
-        let optional = |name: &str, columns: &[(&str, char)]| if adir.join(name).exists() { read(name, columns).map(Some) } else { Ok(None) };
-        let survival =
-            optional("survival.parquet", &[("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')])?;
-        let tails = optional("tails.parquet", &[("statistic", 's'), ("threshold", 'f'), ("value", 'f'), ("lo", 'f'), ("hi", 'f'), ("n", 'i')])?;
         Ok(Inputs {
-            survival,
-            tails,
-            moments: read("moments.parquet", &keyed(&[("mean", 'f'), ("variance", 'f')]))?,
-            histograms: read("histograms.parquet", &keyed(&[("lo", 'f'), ("hi", 'f'), ("density", 'f')]))?,
-            joints: read(
-                "joint_histograms.parquet",
-                &[("x", 's'), ("y", 's'), ("x_lo", 'f'), ("x_hi", 'f'), ("y_lo", 'f'), ("y_hi", 'f'), ("density", 'f'), ("product_density", 'f')],
-            )?,
-            independence: read(
-                "independence.parquet",
-                &[("x", 's'), ("y", 's'), ("chi2_p_value", 'f'), ("g_p_value", 'f'), ("mi_p_value", 'f'), ("verdict", 's')],
-            )?,
-            growth: read("growth.parquet", &[("variable", 's'), ("statistic", 's'), ("slope", 'f'), ("intercept", 'f'), ("r2", 'f')])?,
+            moments: read(&t::moments::DEF)?,
+            histograms: read(&t::histograms::DEF)?,
+            joints: read(&t::joint_histograms::DEF)?,
+            independence: read(&t::independence::DEF)?,
+            growth: read(&t::growth::DEF)?,
             scenario,
-            trajectory,
-            convergence,
+            trajectory: Trajectory::load(adir)?,
+            convergence: optional(&t::convergence::DEF)?,
+            survival: optional(&t::survival::DEF)?,
+            tails: optional(&t::tails::DEF)?,
         })
     }
 
     /// Rows of `table` whose `variable` / `index` columns match.
     fn rows<'a>(table: &'a Table, var: &'a str, index: Option<i64>) -> impl Iterator<Item = usize> + 'a {
-        let vars = table.strings("variable").unwrap_or_default();
-        let idx = table.ints("index").unwrap_or_default();
+        // (moments and histograms share the keys' columns)
+        let (vars, idx) = (table.str(&moments::VARIABLE), table.int(&moments::INDEX));
         (0..table.height()).filter(move |&r| vars.get(r).map(String::as_str) == Some(var) && idx.get(r).copied().flatten() == index)
     }
 
     /// (lo, hi, density) bins of one series' histogram.
     pub fn histogram(&self, var: &str, index: Option<i64>) -> Vec<(f64, f64, f64)> {
         let h = &self.histograms;
-        let (lo, hi, d) = (h.floats("lo").unwrap_or_default(), h.floats("hi").unwrap_or_default(), h.floats("density").unwrap_or_default());
+        let (lo, hi, d) = (h.float(&histograms::LO), h.float(&histograms::HI), h.float(&histograms::DENSITY));
         Self::rows(h, var, index).filter_map(|r| Some((lo[r]?, hi[r]?, d[r]?))).collect()
     }
 
-    fn moment(&self, var: &str, index: Option<i64>, column: &str) -> Option<f64> {
-        let col = self.moments.floats(column)?;
-        Self::rows(&self.moments, var, index).next().and_then(|r| col[r])
+    fn moment(&self, var: &str, index: Option<i64>, column: &Column) -> Option<f64> {
+        let col = self.moments.float(column);
+        Self::rows(&self.moments, var, index).next().and_then(|r| col.get(r).copied().flatten())
     }
 }
 
@@ -237,17 +219,17 @@ pub fn q_figure(inp: &Inputs) -> Option<Figure> {
 /// Fig 7: the variance of T_k and L_k against k, with the OLS line.
 pub fn growth_figure(inp: &Inputs) -> Option<Figure> {
     let g = &inp.growth;
-    let (vars, stats) = (g.strings("variable")?, g.strings("statistic")?);
-    let (slope, icpt, r2) = (g.floats("slope")?, g.floats("intercept")?, g.floats("r2")?);
+    let (vars, stats) = (g.str(&growth::VARIABLE), g.str(&growth::STATISTIC));
+    let (slope, icpt, r2) = (g.float(&growth::SLOPE), g.float(&growth::INTERCEPT), g.float(&growth::R2));
     let panels: Vec<Panel> = ["T", "L"]
         .iter()
         .filter_map(|&var| {
             let r = (0..g.height()).find(|&r| vars[r] == var && stats[r] == "variance")?;
-            let pts: Vec<(f64, f64)> = (1..=64).filter_map(|k| Some((k as f64, inp.moment(var, Some(k), "variance")?))).collect();
+            let pts: Vec<(f64, f64)> = (1..=64).filter_map(|k| Some((k as f64, inp.moment(var, Some(k), &moments::VARIANCE)?))).collect();
             let (a, b) = (icpt[r]?, slope[r]?);
             // the line over the indices it was fitted on (those most realizations reach); older
             // tables without `k_max` were fitted on every index shown
-            let fitted = g.ints("k_max").and_then(|k| k[r]).map(|k| k as f64);
+            let fitted = g.int(&growth::K_MAX)[r].map(|k| k as f64);
             let kmax = fitted.unwrap_or(pts.last()?.0);
             let reach = fitted.filter(|&k| k < pts.last().map_or(0.0, |p| p.0)).map_or(String::new(), |k| format!(", fitted on k ≤ {k}"));
             Some(Panel {
@@ -275,8 +257,8 @@ pub fn counts_figure(inp: &Inputs) -> Figure {
     let panel = |var: &str, what: &str| Panel {
         title: format!(
             "{var}: mean {:.2}, variance {:.2}",
-            inp.moment(var, None, "mean").unwrap_or(f64::NAN),
-            inp.moment(var, None, "variance").unwrap_or(f64::NAN)
+            inp.moment(var, None, &moments::MEAN).unwrap_or(f64::NAN),
+            inp.moment(var, None, &moments::VARIANCE).unwrap_or(f64::NAN)
         ),
         x_label: what.into(),
         y_label: "probability".into(),
@@ -296,7 +278,7 @@ pub fn counts_figure(inp: &Inputs) -> Figure {
 /// Figs 11 and 13: joint density of a pair beside the product of its marginals.
 pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure> {
     let j = &inp.joints;
-    let (xs, ys) = (j.strings("x")?, j.strings("y")?);
+    let (xs, ys) = (j.str(&joint_histograms::X), j.str(&joint_histograms::Y));
     let col = |c: &str| j.floats(c);
     let (x0, x1, y0, y1) = (col("x_lo")?, col("x_hi")?, col("y_lo")?, col("y_hi")?);
     let (dens, prod) = (col("density")?, col("product_density")?);
@@ -309,10 +291,10 @@ pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure
     };
     let it = &inp.independence;
     let test = (0..it.height())
-        .find(|&r| it.strings("x").is_some_and(|v| v[r] == x) && it.strings("y").is_some_and(|v| v[r] == y))
+        .find(|&r| it.str(&independence::X)[r] == x && it.str(&independence::Y)[r] == y)
         .map(|r| {
             let p = |c: &str| format::p_relation(it.floats(c).and_then(|v| v[r]).unwrap_or(f64::NAN));
-            let verdict = it.strings("verdict").map_or("", |v| v[r].as_str()).to_string();
+            let verdict = it.str(&independence::VERDICT)[r].clone();
             format!(": χ² p {}, G p {}, MI permutation p {} → {verdict}", p("chi2_p_value"), p("g_p_value"), p("mi_p_value"))
         })
         .unwrap_or_default();
@@ -390,8 +372,8 @@ pub fn all(inp: &Inputs) -> Vec<Figure> {
 /// its 95 % interval: how many realizations a precision needs.
 pub fn convergence_figure(inp: &Inputs) -> Option<Figure> {
     let t = inp.convergence.as_ref()?;
-    let (vars, idx, n) = (t.strings("variable")?, t.ints("index")?, t.ints("realizations")?);
-    let (mean, lo, hi) = (t.floats("mean")?, t.floats("mean_lo")?, t.floats("mean_hi")?);
+    let (vars, idx, n) = (t.str(&convergence::VARIABLE), t.int(&convergence::INDEX), t.int(&convergence::REALIZATIONS));
+    let (mean, lo, hi) = (t.float(&convergence::MEAN), t.float(&convergence::MEAN_LO), t.float(&convergence::MEAN_HI));
     let panels: Vec<Panel> = crate::analysis::CONVERGENCE
         .iter()
         .map(|o| {

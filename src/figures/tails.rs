@@ -4,14 +4,15 @@
 
 use super::chart::{Figure, Panel, Series};
 use super::{format, Inputs};
+use crate::analysis::tables::{survival, tails};
 
 /// The tails: P(D > t) and P(H > t) pooled over every stick (slip) on a log axis — product limit
 /// with its 95 % band, the naive curve that drops the censored intervals, and for sticks the
 /// conditional estimator — and the laws of the longest stick and of the severity.
 pub fn tails_figure(inp: &Inputs) -> Option<Figure> {
     let s = inp.survival.as_ref()?;
-    let (vars, idx, method) = (s.strings("variable")?, s.ints("index")?, s.strings("method")?);
-    let (t, surv, lo, hi) = (s.floats("t")?, s.floats("survival")?, s.floats("lo")?, s.floats("hi")?);
+    let (vars, idx, method) = (s.str(&survival::VARIABLE), s.int(&survival::INDEX), s.str(&survival::METHOD));
+    let (t, surv, lo, hi) = (s.float(&survival::T), s.float(&survival::SURVIVAL), s.float(&survival::LO), s.float(&survival::HI));
     let curve = |var: &str, m: &str, col: &[Option<f64>]| -> Vec<(f64, f64)> {
         (0..s.height())
             .filter(|&r| vars[r] == var && idx[r].is_none() && method[r] == m)
@@ -38,7 +39,7 @@ pub fn tails_figure(inp: &Inputs) -> Option<Figure> {
     };
     let exceed = |stat: &str| -> Option<String> {
         let e = inp.tails.as_ref()?;
-        let (names, value, lo, hi) = (e.strings("statistic")?, e.floats("value")?, e.floats("lo")?, e.floats("hi")?);
+        let (names, value, lo, hi) = (e.str(&tails::STATISTIC), e.float(&tails::VALUE), e.float(&tails::LO), e.float(&tails::HI));
         let r = (0..e.height()).find(|&r| names[r] == stat)?;
         let band = lo[r].zip(hi[r]).map_or(String::new(), |(a, b)| format!(" [{} – {}]", format::significant(a, 3), format::significant(b, 3)));
         Some(format!("{}{band}", format::significant(value[r]?, 3)))
@@ -62,9 +63,9 @@ pub fn tails_figure(inp: &Inputs) -> Option<Figure> {
         let marks: Vec<(f64, f64)> = inp
             .tails
             .as_ref()
-            .and_then(|e| {
-                let (names, threshold, value) = (e.strings("statistic")?, e.floats("threshold")?, e.floats("value")?);
-                Some((0..e.height()).filter(|&r| names[r] == "severity").filter_map(|r| Some((threshold[r]?, value[r]?))).filter(|p| p.1 > 0.0).collect())
+            .map(|e| {
+                let (names, threshold, value) = (e.str(&tails::STATISTIC), e.float(&tails::THRESHOLD), e.float(&tails::VALUE));
+                (0..e.height()).filter(|&r| names[r] == "severity").filter_map(|r| Some((threshold[r]?, value[r]?))).filter(|p| p.1 > 0.0).collect()
             })
             .unwrap_or_default();
         panels.push(Panel {

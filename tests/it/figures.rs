@@ -8,6 +8,26 @@ use stickslip::table::{Col, Table};
 
 use crate::common::stickslip;
 
+/// `t` written as the table of `def`: the columns it lacks added as nulls, in the definition's
+/// order (the figures read every table through its definition).
+fn write_as(mut t: Table, def: &stickslip::table::Def, dir: &Path) {
+    let height = t.height();
+    let mut full = Table::default();
+    for c in def.columns {
+        let col = match t.columns.iter().position(|(n, _)| n == c.name) {
+            Some(i) => t.columns.remove(i).1,
+            None => match c.ty {
+                stickslip::table::Type::Str => Col::Str(vec![String::new(); height]),
+                stickslip::table::Type::Int => Col::Int(vec![None; height]),
+                stickslip::table::Type::Float => Col::Float(vec![None; height]),
+            },
+        };
+        full.push(c.name, col);
+    }
+    assert!(t.columns.is_empty(), "columns outside {}: {:?}", def.file, t.columns.iter().map(|c| &c.0).collect::<Vec<_>>());
+    full.write_parquet(&dir.join(def.file)).unwrap();
+}
+
 fn float(v: &[f64]) -> Col {
     Col::Float(v.iter().map(|&x| Some(x)).collect())
 }
@@ -24,14 +44,14 @@ fn hand_made(dir: &Path) {
         .push("index", Col::Int(vec![Some(1), Some(2), Some(3), None, None]))
         .push("mean", float(&[0.4, 1.0, 1.6, 16.0, 15.5]))
         .push("variance", float(&[0.1, 0.3, 0.5, 7.0, 6.9]));
-    m.write_parquet(&dir.join("moments.parquet")).unwrap();
+    write_as(m, &stickslip::analysis::tables::moments::DEF, dir);
     let mut h = Table::default();
     h.push("variable", strs(&["T", "T", "Q", "Q"]))
         .push("index", Col::Int(vec![Some(1), Some(1), None, None]))
         .push("lo", float(&[0.0, 0.5, 49.5, 50.5]))
         .push("hi", float(&[0.5, 1.0, 50.5, 51.5]))
         .push("density", float(&[1.2, 0.8, 0.6, 0.4]));
-    h.write_parquet(&dir.join("histograms.parquet")).unwrap();
+    write_as(h, &stickslip::analysis::tables::histograms::DEF, dir);
     let mut j = Table::default();
     // two pairs whose densities differ 20-fold (as (T_1, T_2) and (D_1, D_2) do about 7-fold)
     j.push("x", strs(&["T_1", "T_1", "D_1", "D_1"]))
@@ -42,7 +62,7 @@ fn hand_made(dir: &Path) {
         .push("y_hi", float(&[2.0, 2.0, 0.1, 0.1]))
         .push("density", float(&[1.5, 0.5, 30.0, 20.0]))
         .push("product_density", float(&[1.0, 1.0, 25.0, 25.0]));
-    j.write_parquet(&dir.join("joint_histograms.parquet")).unwrap();
+    write_as(j, &stickslip::analysis::tables::joint_histograms::DEF, dir);
     let mut i = Table::default();
     i.push("x", strs(&["T_1"]))
         .push("y", strs(&["T_2"]))
@@ -50,14 +70,14 @@ fn hand_made(dir: &Path) {
         .push("g_p_value", float(&[0.0]))
         .push("mi_p_value", float(&[0.0004]))
         .push("verdict", strs(&["dependent"]));
-    i.write_parquet(&dir.join("independence.parquet")).unwrap();
+    write_as(i, &stickslip::analysis::tables::independence::DEF, dir);
     let mut g = Table::default();
     g.push("variable", strs(&["T"]))
         .push("statistic", strs(&["variance"]))
         .push("slope", float(&[0.2]))
         .push("intercept", float(&[-0.1]))
         .push("r2", float(&[1.0]));
-    g.write_parquet(&dir.join("growth.parquet")).unwrap();
+    write_as(g, &stickslip::analysis::tables::growth::DEF, dir);
     let summary = serde_json::json!({"dataset": {"scenario": PAPER_TOML}});
     std::fs::write(dir.join("summary.json"), summary.to_string()).unwrap();
 }
@@ -409,4 +429,18 @@ fn a_panel_with_its_own_ticks_is_drawn_with_their_labels() {
     for n in names {
         assert_eq!(svg.lines().filter(|l| l.trim() == n).count(), 1, "{n}");
     }
+}
+
+/// A table of another shape than its definition (an older analysis, an edited file) is refused
+/// with its file and the column named, not drawn from defaults.
+#[test]
+fn a_table_of_another_shape_is_refused_naming_the_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let path = tmp.path().join("moments.parquet");
+    let mut t = Table::read_parquet(&path).unwrap();
+    t.columns.retain(|(n, _)| n != "reached");
+    t.write_parquet(&path).unwrap();
+    let e = Inputs::load(tmp.path()).unwrap_err().to_string();
+    assert!(e.contains("moments.parquet") && e.contains("`reached` is missing") && e.contains("run the stage again"), "{e}");
 }
