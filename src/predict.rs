@@ -18,7 +18,7 @@ use crate::simulation::belt::{InitialSign, Process};
 use crate::simulation::ensemble::Outcome;
 use crate::simulation::events::StickEnd;
 use crate::stats::Moments;
-use crate::table::{Col, Table};
+use crate::table::{table, Col, Table};
 
 /// The state a prediction starts from, in the lab frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -219,7 +219,9 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
     }
     if let Some(staged) = staged {
         let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: staged.path().join(name), message: e.to_string() };
-        table(&rows).write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
+        let t = table(&rows);
+        prediction::DEF.check(&t).map_err(|e| werr("prediction.parquet", &e))?;
+        t.write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
         if let Some(s) = &survival {
             crate::law::tables::survival(s).write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
         }
@@ -424,17 +426,30 @@ fn future(out: &Outcome, stuck: bool) -> Result<Future, LawError> {
     Ok(f)
 }
 
+table! {
+    /// `prediction.parquet`: one row per (variable, method).
+    prediction = "prediction.parquet", "the next stick from a state: mean and variance of each variable, exact and by conditional Monte Carlo" {
+        VARIABLE: "variable", Str, "time_to_stick, stick_duration, slip_duration or breakaway";
+        METHOD: "method", Str, "exact or monte_carlo";
+        MEAN: "mean", Float, "the mean [s; a probability for breakaway]";
+        VARIANCE: "variance", Float, "the variance [s²]";
+        ERROR: "error", Float, "error of the mean (the extrapolation's, or the standard error)";
+        VARIANCE_ERROR: "variance_error", Float, "error of the variance (null where undefined)";
+        FUTURES: "futures", Int, "Monte Carlo futures (null for exact)";
+    }
+}
+
 /// `prediction.parquet`: variable, method, mean, variance, error, variance_error (null where
 /// undefined), futures.
 fn table(rows: &[Row]) -> Table {
     let mut t = Table::default();
-    t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
-        .push("method", Col::Str(rows.iter().map(|r| r.method.to_string()).collect()))
-        .push("mean", Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
-        .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
-        .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
-        .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error).filter(|e| e.is_finite())).collect()))
-        .push("futures", Col::Int(rows.iter().map(|r| r.futures.map(|n| n as i64)).collect()));
+    t.put(&prediction::VARIABLE, Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
+        .put(&prediction::METHOD, Col::Str(rows.iter().map(|r| r.method.to_string()).collect()))
+        .put(&prediction::MEAN, Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
+        .put(&prediction::VARIANCE, Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
+        .put(&prediction::ERROR, Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
+        .put(&prediction::VARIANCE_ERROR, Col::Float(rows.iter().map(|r| Some(r.variance_error).filter(|e| e.is_finite())).collect()))
+        .put(&prediction::FUTURES, Col::Int(rows.iter().map(|r| r.futures.map(|n| n as i64)).collect()));
     t
 }
 

@@ -34,7 +34,7 @@ use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::ensemble::{Outcome, RunError};
-use crate::table::{Col, Table};
+use crate::table::{table, Col, Table};
 
 /// The per-realization outputs whose variance is apportioned.
 pub const OUTPUTS: [Observable; 4] = [Observable::Sticks, Observable::StickFraction, Observable::MeanStickDuration, Observable::MeanSlipDuration];
@@ -213,19 +213,34 @@ pub fn compute(scenario: &Scenario, n: u64) -> Result<Vec<Index>, SensitivityErr
     Ok(rows)
 }
 
+table! {
+    /// `sobol.parquet`: one row per (input, output).
+    sobol = "sobol.parquet", "first-order and total Sobol indices with bootstrap 95 % intervals" {
+        PARAMETER: "parameter", Str, "the random scenario key (or the intrinsic noise)";
+        OUTPUT: "output", Str, "the per-realization output (an observable)";
+        SAMPLES: "samples", Int, "pick-freeze samples used";
+        FIRST_ORDER: "first_order", Float, "first-order index (Saltelli 2010)";
+        FIRST_ORDER_LO: "first_order_lo", Float, "its 95 % interval, lower end";
+        FIRST_ORDER_HI: "first_order_hi", Float, "its 95 % interval, upper end";
+        TOTAL: "total", Float, "total index (Jansen 1999)";
+        TOTAL_LO: "total_lo", Float, "its 95 % interval, lower end";
+        TOTAL_HI: "total_hi", Float, "its 95 % interval, upper end";
+    }
+}
+
 /// The indices as `sobol.parquet`.
 pub fn table(rows: &[Index]) -> Table {
     let f = |g: &dyn Fn(&Index) -> f64| Col::Float(rows.iter().map(|r| Some(g(r)).filter(|x| x.is_finite())).collect());
     let mut t = Table::default();
-    t.push("parameter", Col::Str(rows.iter().map(|r| r.parameter.clone()).collect()))
-        .push("output", Col::Str(rows.iter().map(|r| r.output.to_string()).collect()))
-        .push("samples", Col::Int(rows.iter().map(|r| Some(r.samples as i64)).collect()))
-        .push("first_order", f(&|r| r.first_order))
-        .push("first_order_lo", f(&|r| r.first_order_ci.0))
-        .push("first_order_hi", f(&|r| r.first_order_ci.1))
-        .push("total", f(&|r| r.total))
-        .push("total_lo", f(&|r| r.total_ci.0))
-        .push("total_hi", f(&|r| r.total_ci.1));
+    t.put(&sobol::PARAMETER, Col::Str(rows.iter().map(|r| r.parameter.clone()).collect()))
+        .put(&sobol::OUTPUT, Col::Str(rows.iter().map(|r| r.output.to_string()).collect()))
+        .put(&sobol::SAMPLES, Col::Int(rows.iter().map(|r| Some(r.samples as i64)).collect()))
+        .put(&sobol::FIRST_ORDER, f(&|r| r.first_order))
+        .put(&sobol::FIRST_ORDER_LO, f(&|r| r.first_order_ci.0))
+        .put(&sobol::FIRST_ORDER_HI, f(&|r| r.first_order_ci.1))
+        .put(&sobol::TOTAL, f(&|r| r.total))
+        .put(&sobol::TOTAL_LO, f(&|r| r.total_ci.0))
+        .put(&sobol::TOTAL_HI, f(&|r| r.total_ci.1));
     t
 }
 
@@ -274,7 +289,9 @@ pub fn run(scenario: &Scenario, n: u64, out: &Path, ctl: crate::progress::Contro
     ctl.check()?;
     let rows = compute(scenario, n)?;
     let werr = |name: &str, e: &dyn std::fmt::Display| SensitivityError::Write { path: out.join(name), message: e.to_string() };
-    table(&rows).write_parquet(&staged.path().join("sobol.parquet")).map_err(|e| werr("sobol.parquet", &e))?;
+    let t = table(&rows);
+    sobol::DEF.check(&t).map_err(|e| werr("sobol.parquet", &e))?;
+    t.write_parquet(&staged.path().join("sobol.parquet")).map_err(|e| werr("sobol.parquet", &e))?;
     render::save(&figure(&rows), staged.path()).map_err(|e| werr("sobol.png", &e))?;
     std::fs::write(staged.path().join("sobol.md"), markdown(&rows, n)).map_err(|e| werr("sobol.md", &e))?;
     staged.commit()?;

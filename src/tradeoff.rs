@@ -45,7 +45,7 @@ use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Numerics, Scenario, ScenarioError};
 use crate::simulation::ensemble::{Outcome, RunError};
 use crate::solver::SolverKind;
-use crate::table::{Col, Table};
+use crate::table::{table, Col, Table};
 
 /// Largest time difference [s] at which a numerical event is matched to an exact one.
 pub const MATCH_WINDOW: f64 = 0.05;
@@ -393,28 +393,51 @@ pub fn measure(base: &Scenario, n: u64, bias_fraction: f64, ctl: crate::progress
     Ok(rows)
 }
 
+table! {
+    /// `tradeoff.parquet`: one row per solver setting.
+    tradeoff_table = "tradeoff.parquet", "each solver setting's cost and accuracy against the exact solver on the same realizations" {
+        SOLVER: "solver", Str, "the solver (exact, rk45, dop853, rk4, moreau, smooth)";
+        SETTING: "setting", Str, "its setting, as words";
+        PARAMETER: "parameter", Float, "the setting's number (tolerance, step [s] or regularization [m/s]; 0 for exact)";
+        REALIZATIONS: "realizations", Int, "realizations per setting";
+        CPU_SECONDS_PER_REALIZATION: "cpu_seconds_per_realization", Float, "CPU time per realization [s]";
+        EVALUATIONS_PER_REALIZATION: "evaluations_per_realization", Float, "right-hand-side evaluations per realization";
+        EVENT_TIME_ERROR_MAX: "event_time_error_max", Float, "largest event-time error [s]";
+        EVENT_TIME_ERROR_RMS: "event_time_error_rms", Float, "RMS event-time error [s]";
+        MATCHED_EVENTS: "matched_events", Int, "events matched to the exact ones";
+        MISSED_STICKS: "missed_sticks", Int, "exact sticks the setting missed";
+        SPURIOUS_STICKS: "spurious_sticks", Int, "sticks the setting found that are not there";
+        BIAS_MEAN_T_K_MAX: "bias_mean_T_k_max", Float, "largest bias of E[T_k] [s]";
+        BIAS_MEAN_D: "bias_mean_D", Float, "bias of the mean stick duration [s]";
+        BIAS_MEAN_H: "bias_mean_H", Float, "bias of the mean slip duration [s]";
+        BIAS_MEAN_S_T: "bias_mean_S_T", Float, "bias of E[S_T]";
+        MAX_BIAS_OVER_SE: "max_bias_over_se", Float, "the largest Table 1 bias over its standard error at run.realizations";
+        RECOMMENDED: "recommended", Int, "1 for the cheapest setting accurate enough, else 0";
+    }
+}
+
 /// The rows as a table.
 pub fn table(rows: &[Row], n: u64) -> Table {
     let f = |g: &dyn Fn(&Row) -> f64| Col::Float(rows.iter().map(|r| Some(g(r)).filter(|x| x.is_finite())).collect());
     let i = |g: &dyn Fn(&Row) -> u64| Col::Int(rows.iter().map(|r| Some(g(r) as i64)).collect());
     let mut t = Table::default();
-    t.push("solver", Col::Str(rows.iter().map(|r| r.solver.to_string()).collect()))
-        .push("setting", Col::Str(rows.iter().map(|r| r.setting.clone()).collect()))
-        .push("parameter", f(&|r| r.parameter))
-        .push("realizations", i(&|_| n))
-        .push("cpu_seconds_per_realization", f(&|r| r.seconds_per_realization))
-        .push("evaluations_per_realization", f(&|r| r.evaluations_per_realization))
-        .push("event_time_error_max", f(&|r| r.error_max))
-        .push("event_time_error_rms", f(&|r| r.error_rms))
-        .push("matched_events", i(&|r| r.matched))
-        .push("missed_sticks", i(&|r| r.missed_sticks))
-        .push("spurious_sticks", i(&|r| r.spurious_sticks))
-        .push("bias_mean_T_k_max", f(&|r| r.bias_t))
-        .push("bias_mean_D", f(&|r| r.bias_d))
-        .push("bias_mean_H", f(&|r| r.bias_h))
-        .push("bias_mean_S_T", f(&|r| r.bias_st))
-        .push("max_bias_over_se", f(&|r| r.max_bias_over_se.unwrap_or(f64::NAN)))
-        .push("recommended", i(&|r| r.recommended as u64));
+    t.put(&tradeoff_table::SOLVER, Col::Str(rows.iter().map(|r| r.solver.to_string()).collect()))
+        .put(&tradeoff_table::SETTING, Col::Str(rows.iter().map(|r| r.setting.clone()).collect()))
+        .put(&tradeoff_table::PARAMETER, f(&|r| r.parameter))
+        .put(&tradeoff_table::REALIZATIONS, i(&|_| n))
+        .put(&tradeoff_table::CPU_SECONDS_PER_REALIZATION, f(&|r| r.seconds_per_realization))
+        .put(&tradeoff_table::EVALUATIONS_PER_REALIZATION, f(&|r| r.evaluations_per_realization))
+        .put(&tradeoff_table::EVENT_TIME_ERROR_MAX, f(&|r| r.error_max))
+        .put(&tradeoff_table::EVENT_TIME_ERROR_RMS, f(&|r| r.error_rms))
+        .put(&tradeoff_table::MATCHED_EVENTS, i(&|r| r.matched))
+        .put(&tradeoff_table::MISSED_STICKS, i(&|r| r.missed_sticks))
+        .put(&tradeoff_table::SPURIOUS_STICKS, i(&|r| r.spurious_sticks))
+        .put(&tradeoff_table::BIAS_MEAN_T_K_MAX, f(&|r| r.bias_t))
+        .put(&tradeoff_table::BIAS_MEAN_D, f(&|r| r.bias_d))
+        .put(&tradeoff_table::BIAS_MEAN_H, f(&|r| r.bias_h))
+        .put(&tradeoff_table::BIAS_MEAN_S_T, f(&|r| r.bias_st))
+        .put(&tradeoff_table::MAX_BIAS_OVER_SE, f(&|r| r.max_bias_over_se.unwrap_or(f64::NAN)))
+        .put(&tradeoff_table::RECOMMENDED, i(&|r| r.recommended as u64));
     t
 }
 
@@ -477,7 +500,9 @@ pub fn run(base: &Scenario, n: u64, bias_fraction: f64, out: &Path, ctl: crate::
     let staged = StagedDir::new(out, Kind::Tradeoff, "--out", &[])?;
     let rows = measure(base, n, bias_fraction, ctl)?;
     let werr = |path: &Path, e: &dyn std::fmt::Display| TradeoffError::Write { path: path.to_owned(), message: e.to_string() };
-    table(&rows, n).write_parquet(&staged.path().join("tradeoff.parquet")).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
+    let t = table(&rows, n);
+    tradeoff_table::DEF.check(&t).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
+    t.write_parquet(&staged.path().join("tradeoff.parquet")).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
     render::save(&figure(&rows), staged.path()).map_err(|e| werr(&out.join("work_precision.png"), &e))?;
     staged.commit()?;
     Ok(rows)

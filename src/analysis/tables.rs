@@ -4,21 +4,7 @@
 //! documentation is generated from them. A column is named in code by its constant here
 //! (`moments::MEAN`), never by a string.
 
-/// Define a table: a module holding one constant per column and `DEF`, the definition.
-macro_rules! table {
-    ($(#[$doc:meta])* $module:ident = $file:literal, $meaning:literal { $($konst:ident: $name:literal, $ty:ident, $m:literal;)* }) => {
-        $(#[$doc])*
-        pub mod $module {
-            use crate::table::{Column, Def, Type};
-            $(
-                #[doc = $m]
-                pub const $konst: Column = Column { name: $name, ty: Type::$ty, meaning: $m };
-            )*
-            /// The table's definition.
-            pub const DEF: Def = Def { file: $file, meaning: $meaning, columns: &[$($konst),*] };
-        }
-    };
-}
+use crate::table::table;
 
 table! {
     /// `moments.parquet`: one row per observable.

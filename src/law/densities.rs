@@ -310,16 +310,16 @@ pub(crate) fn characteristic_table(levels: &[(f64, Transforms)], half_period: f6
     }
     let f = |g: &dyn Fn(&Row) -> Option<f64>| Col::Float(rows.iter().map(g).collect());
     let mut t = crate::table::Table::default();
-    t.push("h", f(&|r| Some(r.0)))
-        .push("variable", Col::Str(rows.iter().map(|r| r.1.to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|r| Some(i64::from(r.2))).collect()))
-        .push("j", Col::Int(rows.iter().map(|r| r.3.map(|j| j as i64)).collect()))
-        .push("omega", f(&|r| r.3.map(|j| std::f64::consts::PI * j as f64 / half_period)))
-        .push("re", f(&|r| r.3.map(|_| r.4.re)))
-        .push("im", f(&|r| r.3.map(|_| r.4.im)))
-        .push("half_period", f(&|_| Some(half_period)))
-        .push("point_at", f(&|r| r.5.map(|p| p.0)))
-        .push("point_mass", f(&|r| r.5.map(|p| p.1)));
+    t.put(&super::defs::characteristic::H, f(&|r| Some(r.0)))
+        .put(&super::defs::characteristic::VARIABLE, Col::Str(rows.iter().map(|r| r.1.to_string()).collect()))
+        .put(&super::defs::characteristic::INDEX, Col::Int(rows.iter().map(|r| Some(i64::from(r.2))).collect()))
+        .put(&super::defs::characteristic::J, Col::Int(rows.iter().map(|r| r.3.map(|j| j as i64)).collect()))
+        .put(&super::defs::characteristic::OMEGA, f(&|r| r.3.map(|j| std::f64::consts::PI * j as f64 / half_period)))
+        .put(&super::defs::characteristic::RE, f(&|r| r.3.map(|_| r.4.re)))
+        .put(&super::defs::characteristic::IM, f(&|r| r.3.map(|_| r.4.im)))
+        .put(&super::defs::characteristic::HALF_PERIOD, f(&|_| Some(half_period)))
+        .put(&super::defs::characteristic::POINT_AT, f(&|r| r.5.map(|p| p.0)))
+        .put(&super::defs::characteristic::POINT_MASS, f(&|r| r.5.map(|p| p.1)));
     t
 }
 

@@ -89,6 +89,7 @@ mod anderson;
 pub(crate) mod chain;
 pub(crate) mod clock;
 pub mod counts;
+pub mod defs;
 pub mod densities;
 pub mod density;
 pub(crate) mod flow;

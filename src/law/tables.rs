@@ -1,40 +1,46 @@
-//! The exact law's tables, one builder each — what `exact-law` writes into its directory (and
+//! The exact law's tables, each defined once ([`super::defs`]: file, columns with type and meaning) and
+//! built by one builder — what `exact-law` writes into its directory (and
 //! `predict` the ones it shares) — and the Markdown table the command prints.
 
 use super::counts::CountRow;
+use super::defs;
 use super::densities::DensityRow;
 use super::density::Density;
 use super::passage::Sequence;
 use super::run::Solved;
 use super::stationary::{estimates, Level, Rung, QUANTITIES};
 use super::sticks::{self, SurvivalRow};
-use crate::table::{Col, Table};
+use crate::table::{Col, Def, Table};
 
-/// Every table of a solved law by name (each written as NAME.parquet), in the order written.
-pub fn all(s: &Solved) -> Vec<(&'static str, Table)> {
+/// Every table of a solved law with its definition, in the order written; each is checked
+/// against its definition first.
+pub fn all(s: &Solved) -> Result<Vec<(&'static Def, Table)>, String> {
     let mut t = vec![
-        ("stationary", stationary(&s.levels)),
-        ("convergence", convergence(&s.levels, &s.ladder, &s.sticks)),
-        ("density", density(&s.density)),
-        ("stick_survival", stick_survival(&s.density)),
-        ("moments", moments(&s.rows)),
-        ("survival", survival(&s.survival)),
+        (&defs::stationary::DEF, stationary(&s.levels)),
+        (&defs::convergence::DEF, convergence(&s.levels, &s.ladder, &s.sticks)),
+        (&defs::density::DEF, density(&s.density)),
+        (&defs::stick_survival::DEF, stick_survival(&s.density)),
+        (&defs::moments::DEF, moments(&s.rows)),
+        (&defs::survival::DEF, survival(&s.survival)),
     ];
     if s.asked.0 {
-        t.push(("counts", counts(&s.counts)));
+        t.push((&defs::counts::DEF, counts(&s.counts)));
     }
     if s.asked.1 {
-        t.push(("densities", densities(&s.densities)));
-        t.push(("characteristic", s.characteristic.clone()));
+        t.push((&defs::densities::DEF, densities(&s.densities)));
+        t.push((&defs::characteristic::DEF, s.characteristic.clone()));
     }
-    t
+    for (d, table) in &t {
+        d.check(table)?;
+    }
+    Ok(t)
 }
 
 /// `stick_survival.parquet`: t, survival (P(D > t) of a stick of the long run).
 pub fn stick_survival(d: &Density) -> Table {
     let mut t = Table::default();
-    t.push("t", Col::Float(d.stick_survival.iter().map(|p| Some(p.0)).collect()))
-        .push("survival", Col::Float(d.stick_survival.iter().map(|p| Some(p.1)).collect()));
+    t.put(&defs::stick_survival::T, Col::Float(d.stick_survival.iter().map(|p| Some(p.0)).collect()))
+        .put(&defs::stick_survival::SURVIVAL, Col::Float(d.stick_survival.iter().map(|p| Some(p.1)).collect()));
     t
 }
 
@@ -45,27 +51,27 @@ pub fn stick_survival(d: &Density) -> Table {
 /// (S_T and S_L, whose rows have index 0, have a null index, as in analyze's.)
 pub fn moments(rows: &[sticks::Row]) -> Table {
     let mut t = Table::default();
-    t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|r| (r.index > 0).then_some(i64::from(r.index))).collect()))
-        .push("mean", Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
-        .push("variance", Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
-        .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
-        .push("variance_error", Col::Float(rows.iter().map(|r| Some(r.variance_error)).collect()))
-        .push("reached_fraction", Col::Float(rows.iter().map(|r| r.reached.map(|x| x.0)).collect()))
-        .push("windowed_mean", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[0])).collect()))
-        .push("windowed_error", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[1])).collect()))
-        .push("windowed_variance", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[2])).collect()))
-        .push("windowed_variance_error", Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[3])).collect()));
+    t.put(&defs::moments::VARIABLE, Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
+        .put(&defs::moments::INDEX, Col::Int(rows.iter().map(|r| (r.index > 0).then_some(i64::from(r.index))).collect()))
+        .put(&defs::moments::MEAN, Col::Float(rows.iter().map(|r| Some(r.mean)).collect()))
+        .put(&defs::moments::VARIANCE, Col::Float(rows.iter().map(|r| Some(r.variance)).collect()))
+        .put(&defs::moments::ERROR, Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
+        .put(&defs::moments::VARIANCE_ERROR, Col::Float(rows.iter().map(|r| Some(r.variance_error)).collect()))
+        .put(&defs::moments::REACHED_FRACTION, Col::Float(rows.iter().map(|r| r.reached.map(|x| x.0)).collect()))
+        .put(&defs::moments::WINDOWED_MEAN, Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[0])).collect()))
+        .put(&defs::moments::WINDOWED_ERROR, Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[1])).collect()))
+        .put(&defs::moments::WINDOWED_VARIANCE, Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[2])).collect()))
+        .put(&defs::moments::WINDOWED_VARIANCE_ERROR, Col::Float(rows.iter().map(|r| r.windowed.map(|w| w[3])).collect()));
     t
 }
 
 /// `counts.parquet`: variable (S_T, S_L), value n, probability P(S = n), error.
 pub fn counts(rows: &[CountRow]) -> Table {
     let mut t = Table::default();
-    t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
-        .push("value", Col::Int(rows.iter().map(|r| Some(i64::from(r.value))).collect()))
-        .push("probability", Col::Float(rows.iter().map(|r| Some(r.probability)).collect()))
-        .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()));
+    t.put(&defs::counts::VARIABLE, Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
+        .put(&defs::counts::VALUE, Col::Int(rows.iter().map(|r| Some(i64::from(r.value))).collect()))
+        .put(&defs::counts::PROBABILITY, Col::Float(rows.iter().map(|r| Some(r.probability)).collect()))
+        .put(&defs::counts::ERROR, Col::Float(rows.iter().map(|r| Some(r.error)).collect()));
     t
 }
 
@@ -74,14 +80,14 @@ pub fn counts(rows: &[CountRow]) -> Table {
 /// in it, not part of the density).
 pub fn densities(rows: &[DensityRow]) -> Table {
     let mut t = Table::default();
-    t.push("variable", Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
-        .push("t", Col::Float(rows.iter().map(|r| Some(0.5 * (r.t_lo + r.t_hi))).collect()))
-        .push("t_lo", Col::Float(rows.iter().map(|r| Some(r.t_lo)).collect()))
-        .push("t_hi", Col::Float(rows.iter().map(|r| Some(r.t_hi)).collect()))
-        .push("density", Col::Float(rows.iter().map(|r| Some(r.density)).collect()))
-        .push("error", Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
-        .push("point_mass", Col::Float(rows.iter().map(|r| Some(r.point_mass)).collect()));
+    t.put(&defs::densities::VARIABLE, Col::Str(rows.iter().map(|r| r.variable.to_string()).collect()))
+        .put(&defs::densities::INDEX, Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
+        .put(&defs::densities::T, Col::Float(rows.iter().map(|r| Some(0.5 * (r.t_lo + r.t_hi))).collect()))
+        .put(&defs::densities::T_LO, Col::Float(rows.iter().map(|r| Some(r.t_lo)).collect()))
+        .put(&defs::densities::T_HI, Col::Float(rows.iter().map(|r| Some(r.t_hi)).collect()))
+        .put(&defs::densities::DENSITY, Col::Float(rows.iter().map(|r| Some(r.density)).collect()))
+        .put(&defs::densities::ERROR, Col::Float(rows.iter().map(|r| Some(r.error)).collect()))
+        .put(&defs::densities::POINT_MASS, Col::Float(rows.iter().map(|r| Some(r.point_mass)).collect()));
     t
 }
 
@@ -91,16 +97,16 @@ pub fn densities(rows: &[DensityRow]) -> Table {
 pub fn survival(rows: &[SurvivalRow]) -> Table {
     let f = |g: &dyn Fn(&sticks::SurvivalRow) -> f64| Col::Float(rows.iter().map(|r| Some(g(r))).collect());
     let mut t = Table::default();
-    t.push("variable", Col::Str(rows.iter().map(|_| "D".to_string()).collect()))
-        .push("index", Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
-        .push("method", Col::Str(rows.iter().map(|_| "exact".to_string()).collect()))
-        .push("t", f(&|r| r.t))
-        .push("survival", f(&|r| r.survival))
-        .push("lo", f(&|r| (r.survival - r.error).max(0.0)))
-        .push("hi", f(&|r| (r.survival + r.error).min(1.0)))
-        .push("error", f(&|r| r.error))
-        .push("density", f(&|r| r.density))
-        .push("density_error", f(&|r| r.density_error));
+    t.put(&defs::survival::VARIABLE, Col::Str(rows.iter().map(|_| "D".to_string()).collect()))
+        .put(&defs::survival::INDEX, Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
+        .put(&defs::survival::METHOD, Col::Str(rows.iter().map(|_| "exact".to_string()).collect()))
+        .put(&defs::survival::T, f(&|r| r.t))
+        .put(&defs::survival::SURVIVAL, f(&|r| r.survival))
+        .put(&defs::survival::LO, f(&|r| (r.survival - r.error).max(0.0)))
+        .put(&defs::survival::HI, f(&|r| (r.survival + r.error).min(1.0)))
+        .put(&defs::survival::ERROR, f(&|r| r.error))
+        .put(&defs::survival::DENSITY, f(&|r| r.density))
+        .put(&defs::survival::DENSITY_ERROR, f(&|r| r.density_error));
     t
 }
 
@@ -108,9 +114,9 @@ pub fn survival(rows: &[SurvivalRow]) -> Table {
 pub fn stationary(levels: &[Level]) -> Table {
     let est = estimates(levels);
     let mut t = Table::default();
-    t.push("quantity", Col::Str(QUANTITIES.iter().map(|q| q.to_string()).collect()))
-        .push("value", Col::Float(est.iter().map(|e| Some(e.0)).collect()))
-        .push("error", Col::Float(est.iter().map(|e| Some(e.1)).collect()));
+    t.put(&defs::stationary::QUANTITY, Col::Str(QUANTITIES.iter().map(|q| q.to_string()).collect()))
+        .put(&defs::stationary::VALUE, Col::Float(est.iter().map(|e| Some(e.0)).collect()))
+        .put(&defs::stationary::ERROR, Col::Float(est.iter().map(|e| Some(e.1)).collect()));
     t
 }
 
@@ -130,12 +136,12 @@ pub(crate) fn convergence(levels: &[Level], ladder: &[Rung], sticks: &[(f64, Seq
         }
     }
     let mut t = Table::default();
-    t.push("resolution", Col::Int(rows.iter().map(|r| Some(i64::from(r.0))).collect()))
-        .push("h", Col::Float(rows.iter().map(|r| Some(r.1)).collect()))
-        .push("quantity", Col::Str(rows.iter().map(|r| r.2.clone()).collect()))
-        .push("value", Col::Float(rows.iter().map(|r| Some(r.3)).collect()))
-        .push("iterations", Col::Int(rows.iter().map(|r| r.4).collect()))
-        .push("lost", Col::Float(rows.iter().map(|r| Some(r.5)).collect()));
+    t.put(&defs::convergence::RESOLUTION, Col::Int(rows.iter().map(|r| Some(i64::from(r.0))).collect()))
+        .put(&defs::convergence::H, Col::Float(rows.iter().map(|r| Some(r.1)).collect()))
+        .put(&defs::convergence::QUANTITY, Col::Str(rows.iter().map(|r| r.2.clone()).collect()))
+        .put(&defs::convergence::VALUE, Col::Float(rows.iter().map(|r| Some(r.3)).collect()))
+        .put(&defs::convergence::ITERATIONS, Col::Int(rows.iter().map(|r| r.4).collect()))
+        .put(&defs::convergence::LOST, Col::Float(rows.iter().map(|r| Some(r.5)).collect()));
     t
 }
 
@@ -154,10 +160,10 @@ pub fn density(d: &Density) -> Table {
         rows.extend(d.stick_centres(k).into_iter().zip(line).map(|(x, &p)| ("stick", x, v, p)));
     }
     let mut t = Table::default();
-    t.push("kind", Col::Str(rows.iter().map(|r| r.0.to_string()).collect()))
-        .push("x", Col::Float(rows.iter().map(|r| Some(r.1)).collect()))
-        .push("velocity", Col::Float(rows.iter().map(|r| Some(r.2)).collect()))
-        .push("density", Col::Float(rows.iter().map(|r| Some(r.3)).collect()));
+    t.put(&defs::density::KIND, Col::Str(rows.iter().map(|r| r.0.to_string()).collect()))
+        .put(&defs::density::X, Col::Float(rows.iter().map(|r| Some(r.1)).collect()))
+        .put(&defs::density::VELOCITY, Col::Float(rows.iter().map(|r| Some(r.2)).collect()))
+        .put(&defs::density::DENSITY, Col::Float(rows.iter().map(|r| Some(r.3)).collect()));
     t
 }
 

@@ -6,7 +6,6 @@ use std::path::Path;
 
 use super::{survival_points, ReportError};
 use crate::analysis::paper::Row;
-use crate::table::Table;
 
 pub(super) const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];
 pub(super) const EXACT_TAILS_HEAD: [&str; 4] = ["quantity", "exact", "ours [95 %]", ""];
@@ -37,14 +36,12 @@ pub(super) fn same_scene_as_law(law: &Path, sc: &crate::scenario::Scenario) -> R
 /// that both have.
 /// A cell is inside when the exact value's error bar meets our 95 % interval.
 pub(super) fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>, ReportError> {
-    let path = law.join("moments.parquet");
-    let t = Table::read_checked(&path, &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')])
-        .map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
-    let (vars, idx) = (t.strings("variable").unwrap_or_default(), t.ints("index").unwrap_or_default());
-    let col = |c: &str| t.floats(c).unwrap_or_default();
-    let (mean, var, me, ve) = (col("mean"), col("variance"), col("error"), col("variance_error"));
-    // T_k and L_k within the window, where exact-law ran with --densities (absent: none)
-    let windowed = |c: &str, k: usize| t.floats(c).and_then(|v| v.get(k).copied().flatten());
+    use crate::law::defs::moments as m;
+    let t = m::DEF.read(law).map_err(|message| ReportError::Read { path: law.join(m::DEF.file), message })?;
+    let (vars, idx) = (t.str(&m::VARIABLE), t.int(&m::INDEX));
+    let (mean, var, me, ve) = (t.float(&m::MEAN), t.float(&m::VARIANCE), t.float(&m::ERROR), t.float(&m::VARIANCE_ERROR));
+    // T_k and L_k within the window, where exact-law ran with --densities (null: none)
+    let windowed = |c: &crate::table::Column, k: usize| t.float(c).get(k).copied().flatten();
     let mut out = Vec::new();
     for r in table1 {
         // (T_k, L_k, D_k, H_k by their index; S_T, S_L without one)
@@ -56,12 +53,13 @@ pub(super) fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>,
             let inside = c.interval.map(|(lo, hi)| x + e >= lo && x - e <= hi);
             [format!("{x:.5} ± {e:.1e}"), c.text(4), inside.map_or(String::new(), |i| if i { "✓".into() } else { "✗".into() })]
         };
-        let pair = |plain: (Option<f64>, Option<f64>), value: &str, error: &str| match (windowed(value, k), windowed(error, k)) {
-            (Some(x), Some(e)) => (Some(x), Some(e)),
-            _ => plain,
-        };
-        let (m, e1) = pair((mean[k], me[k]), "windowed_mean", "windowed_error");
-        let (v, e2) = pair((var[k], ve[k]), "windowed_variance", "windowed_variance_error");
+        let pair =
+            |plain: (Option<f64>, Option<f64>), value: &crate::table::Column, error: &crate::table::Column| match (windowed(value, k), windowed(error, k)) {
+                (Some(x), Some(e)) => (Some(x), Some(e)),
+                _ => plain,
+            };
+        let (m, e1) = pair((mean[k], me[k]), &m::WINDOWED_MEAN, &m::WINDOWED_ERROR);
+        let (v, e2) = pair((var[k], ve[k]), &m::WINDOWED_VARIANCE, &m::WINDOWED_VARIANCE_ERROR);
         let [a, b, c] = side(m, e1, 0);
         let [d, e, f] = side(v, e2, 1);
         out.push([r.label.clone(), a, b, c, d, e, f]);
@@ -74,7 +72,7 @@ pub(super) fn exact_rows(law: &Path, table1: &[Row]) -> Result<Vec<[String; 7]>,
 /// point (the asked times, `--tail-times`, which both add to their grids). A row is inside when
 /// the exact value's error bar meets our 95 % band.
 pub(super) fn exact_tail_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> {
-    let (Some(ours), Some(exact)) = (survival_points(&adir.join("survival.parquet"), &[])?, survival_points(&law.join("survival.parquet"), &[("error", 'f')])?)
+    let (Some(ours), Some(exact)) = (survival_points(adir, &crate::analysis::tables::survival::DEF)?, survival_points(law, &crate::law::defs::survival::DEF)?)
     else {
         return Ok(Vec::new());
     };
@@ -147,16 +145,9 @@ type Bin = (String, Option<i64>, f64, f64, i64);
 
 /// Every complete bin of the analysis' `histograms.parquet`.
 fn our_bins(adir: &Path) -> Result<Vec<Bin>, ReportError> {
-    let path = adir.join("histograms.parquet");
-    let t = Table::read_checked(&path, &[("variable", 's'), ("index", 'i'), ("lo", 'f'), ("hi", 'f'), ("count", 'i')])
-        .map_err(|e| ReportError::Read { path: path.clone(), message: e.to_string() })?;
-    let (v, i, lo, hi, count) = (
-        t.strings("variable").unwrap_or_default(),
-        t.ints("index").unwrap_or_default(),
-        t.floats("lo").unwrap_or_default(),
-        t.floats("hi").unwrap_or_default(),
-        t.ints("count").unwrap_or_default(),
-    );
+    use crate::analysis::tables::histograms as h;
+    let t = h::DEF.read(adir).map_err(|message| ReportError::Read { path: adir.join(h::DEF.file), message })?;
+    let (v, i, lo, hi, count) = (t.str(&h::VARIABLE), t.int(&h::INDEX), t.float(&h::LO), t.float(&h::HI), t.int(&h::COUNT));
     Ok((0..t.height()).filter_map(|r| Some((v[r].clone(), i[r], lo[r]?, hi[r]?, count[r]?))).collect())
 }
 
@@ -178,17 +169,10 @@ fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> 
     if !path.exists() {
         return Ok(Vec::new());
     }
-    let read = |path: &Path, cols: &[(&str, char)]| {
-        Table::read_checked(path, cols).map_err(|e| ReportError::Read { path: path.to_path_buf(), message: e.to_string() })
-    };
-    let exact = read(&path, &[("variable", 's'), ("value", 'i'), ("probability", 'f'), ("error", 'f')])?;
+    use crate::law::defs::counts as c;
+    let exact = c::DEF.read(law).map_err(|message| ReportError::Read { path, message })?;
     let ours = our_bins(adir)?;
-    let (ev, evalue, ep, ee) = (
-        exact.strings("variable").unwrap_or_default(),
-        exact.ints("value").unwrap_or_default(),
-        exact.floats("probability").unwrap_or_default(),
-        exact.floats("error").unwrap_or_default(),
-    );
+    let (ev, evalue, ep, ee) = (exact.str(&c::VARIABLE), exact.int(&c::VALUE), exact.float(&c::PROBABILITY), exact.float(&c::ERROR));
     let sig = |x: f64| crate::figures::format::significant(x, 4);
     let mut out = Vec::new();
     for variable in crate::law::counts::VARIABLES {
@@ -224,7 +208,7 @@ mod tests {
     use super::*;
     use crate::law::clock::{Points, C64};
     use crate::law::densities::{characteristic_table, Transform, N};
-    use crate::table::Col;
+    use crate::table::{Col, Table};
 
     /// The report's density rows on a law whose histogram is known: T_1 ~ Exp(2) (φ = 2/(2 + iω))
     /// against a histogram of 10^5 values with the expected count in every bin of 0.1 s up to
@@ -247,11 +231,14 @@ mod tests {
             let n = 100_000.0;
             let counts: Vec<i64> = bins.iter().map(|(a, b)| (n * ((-rate * a).exp() - (-rate * b).exp())).round() as i64).collect();
             let mut t = Table::default();
+            let density = counts.iter().map(|&c| Some(c as f64 / (n * 0.1))).collect();
             t.push("variable", Col::Str(vec!["T".into(); bins.len()]))
                 .push("index", Col::Int(vec![Some(1); bins.len()]))
+                .push("bin", Col::Int((0..bins.len() as i64).map(Some).collect()))
                 .push("lo", Col::Float(bins.iter().map(|b| Some(b.0)).collect()))
                 .push("hi", Col::Float(bins.iter().map(|b| Some(b.1)).collect()))
-                .push("count", Col::Int(counts.into_iter().map(Some).collect()));
+                .push("count", Col::Int(counts.into_iter().map(Some).collect()))
+                .push("density", Col::Float(density));
             t.write_parquet(&ours.join("histograms.parquet")).unwrap();
             let rows = density_rows(&law, &ours).unwrap();
             assert_eq!(rows.len(), 1);

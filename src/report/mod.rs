@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use crate::analysis::input;
 use crate::analysis::paper::{table1, Row};
 use crate::analysis::summary::Summary;
-use crate::table::Table;
+use crate::table::{Def, Table};
 
 mod exact;
 mod write;
@@ -144,24 +144,18 @@ struct SurvivalPoint {
     error: Option<f64>,
 }
 
-/// The points of the `survival.parquet` at `path`, its columns checked (with `extra` ones);
-/// None when there is no such file.
-fn survival_points(path: &Path, extra: &[(&str, char)]) -> Result<Option<Vec<SurvivalPoint>>, ReportError> {
-    if !path.exists() {
+/// The points of `dir`'s `survival.parquet`, read through `def` (analyze's, or exact-law's
+/// with `error` and no `n`: the shared columns have the same names); None when there is no such
+/// file.
+fn survival_points(dir: &Path, def: &Def) -> Result<Option<Vec<SurvivalPoint>>, ReportError> {
+    use crate::analysis::tables::survival as a;
+    if !dir.join(def.file).exists() {
         return Ok(None);
     }
-    let columns = [("variable", 's'), ("index", 'i'), ("method", 's'), ("t", 'f'), ("survival", 'f'), ("lo", 'f'), ("hi", 'f')];
-    let s = Table::read_checked(path, &[&columns[..], extra].concat()).map_err(|e| ReportError::Read { path: path.to_owned(), message: e.to_string() })?;
-    let (var, idx, method, t, sv, lo, hi) = (
-        s.strings("variable").unwrap_or_default(),
-        s.ints("index").unwrap_or_default(),
-        s.strings("method").unwrap_or_default(),
-        s.floats("t").unwrap_or_default(),
-        s.floats("survival").unwrap_or_default(),
-        s.floats("lo").unwrap_or_default(),
-        s.floats("hi").unwrap_or_default(),
-    );
-    let (n, error) = (s.ints("n").unwrap_or_default(), s.floats("error").unwrap_or_default());
+    let s = def.read(dir).map_err(|message| ReportError::Read { path: dir.join(def.file), message })?;
+    let (var, idx, method, t, sv, lo, hi) =
+        (s.str(&a::VARIABLE), s.int(&a::INDEX), s.str(&a::METHOD), s.float(&a::T), s.float(&a::SURVIVAL), s.float(&a::LO), s.float(&a::HI));
+    let (n, error) = (s.int(&a::N), s.float(&crate::law::defs::survival::ERROR));
     Ok(Some(
         (0..s.height())
             .map(|r| SurvivalPoint {
@@ -183,31 +177,20 @@ fn survival_points(path: &Path, extra: &[(&str, char)]) -> Result<Option<Vec<Sur
 /// (`survival.parquet`, pooled), then the breakaway fraction and the exceedances
 /// (`tails.parquet`); empty when the analysis has no tails.
 fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>, ReportError> {
-    let read = |name: &str, columns: &[(&str, char)]| -> Result<Option<Table>, ReportError> {
-        let path = adir.join(name);
-        if !path.exists() {
-            return Ok(None);
-        }
-        Table::read_checked(&path, columns).map(Some).map_err(|e| ReportError::Read { path, message: e.to_string() })
-    };
-    let Some(e) = read("tails.parquet", &[("statistic", 's'), ("threshold", 'f'), ("value", 'f'), ("lo", 'f'), ("hi", 'f'), ("n", 'i')])? else {
+    use crate::analysis::tables::{moments as m, tails};
+    if !adir.join(tails::DEF.file).exists() {
         return Ok(Vec::new());
-    };
-    let s = survival_points(&adir.join("survival.parquet"), &[("n", 'i')])?;
+    }
+    let e = tails::DEF.read(adir).map_err(|message| ReportError::Read { path: adir.join(tails::DEF.file), message })?;
+    let s = survival_points(adir, &crate::analysis::tables::survival::DEF)?;
     let sig = |x: f64| crate::figures::format::significant(x, 4);
     let shown = |v: Option<f64>, lo: Option<f64>, hi: Option<f64>| match (v, lo, hi) {
         (Some(v), Some(lo), Some(hi)) => format!("{} [{} – {}]", sig(v), sig(lo), sig(hi)),
         (v, _, _) => format!("{} (no band)", v.map_or("–".into(), sig)),
     };
     let short = crate::scenario::short;
-    let (stat, threshold, value, lo, hi, n) = (
-        e.strings("statistic").unwrap_or_default(),
-        e.floats("threshold").unwrap_or_default(),
-        e.floats("value").unwrap_or_default(),
-        e.floats("lo").unwrap_or_default(),
-        e.floats("hi").unwrap_or_default(),
-        e.ints("n").unwrap_or_default(),
-    );
+    let (stat, threshold, value, lo, hi, n) =
+        (e.str(&tails::STATISTIC), e.float(&tails::THRESHOLD), e.float(&tails::VALUE), e.float(&tails::LO), e.float(&tails::HI), e.int(&tails::N));
     let mut out = Vec::new();
     // P(D > t) at the asked times (the longest stick's thresholds are those times)
     if let Some(s) = &s {
@@ -221,13 +204,8 @@ fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[String; 3]>
         }
     }
     // stick cycles per unit time: E[S_T]/t_a, with the mean's interval
-    let (var, mean, mlo, mhi, mn) = (
-        moments.strings("variable").unwrap_or_default(),
-        moments.floats("mean").unwrap_or_default(),
-        moments.floats("mean_lo").unwrap_or_default(),
-        moments.floats("mean_hi").unwrap_or_default(),
-        moments.ints("n").unwrap_or_default(),
-    );
+    let (var, mean, mlo, mhi, mn) =
+        (moments.str(&m::VARIABLE), moments.float(&m::MEAN), moments.float(&m::MEAN_LO), moments.float(&m::MEAN_HI), moments.int(&m::N));
     if let Some(r) = (0..moments.height()).find(|&r| var[r] == "S_T") {
         // (columns an older analysis may lack read as missing, not as a panic)
         let per = |c: &[Option<f64>]| c.get(r).copied().flatten().map(|x| x / t_a);
@@ -253,23 +231,8 @@ fn content(dataset: &Path, adir: &Path, figdir: &Path, exact: Option<&Path>) -> 
     let read_err = |path: &Path, e: &dyn std::fmt::Display| ReportError::Read { path: path.to_owned(), message: e.to_string() };
     let summary_path = adir.join("summary.json");
     let summary = Summary::read(&summary_path).map_err(|e| read_err(&summary_path, &e))?;
-    let moments_path = adir.join("moments.parquet");
-    let moments = Table::read_checked(
-        &moments_path,
-        &[
-            ("variable", 's'),
-            ("index", 'i'),
-            ("n", 'i'),
-            ("mean", 'f'),
-            ("variance", 'f'),
-            ("mode", 'f'),
-            ("skewness", 'f'),
-            ("kurtosis", 'f'),
-            ("mean_se", 'f'),
-            ("variance_se", 'f'),
-        ],
-    )
-    .map_err(|e| read_err(&moments_path, &e))?;
+    let moments_def = &crate::analysis::tables::moments::DEF;
+    let moments = moments_def.read(adir).map_err(|e| read_err(&adir.join(moments_def.file), &e))?;
     let sc = &data.scenario;
     if let Some(law) = exact {
         same_scene_as_law(law, sc)?;

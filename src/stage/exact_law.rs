@@ -90,9 +90,8 @@ pub fn solve_into(
     let solved = crate::law::solve(scenario, &plan, ctl)?;
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
     std::fs::write(staged.path().join(SCENARIO_FILE), scenario.to_toml()).map_err(|e| werr(SCENARIO_FILE, &e))?;
-    for (name, table) in crate::law::tables::all(&solved) {
-        let file = format!("{name}.parquet");
-        table.write_parquet(&staged.path().join(&file)).map_err(|e| werr(&file, &e))?;
+    for (def, table) in crate::law::tables::all(&solved).map_err(|message| LawError::Write { path: out.to_owned(), message })? {
+        table.write_parquet(&staged.path().join(def.file)).map_err(|e| werr(def.file, &e))?;
     }
     let mut figures = vec![crate::figures::exact::stationary_density(&solved.density)];
     if solved.asked.1 {
