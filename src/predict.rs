@@ -99,16 +99,13 @@ fn same(a: f64, b: f64) -> bool {
 /// The belt state of velocity `v` (+1 forward, −1 reverse) and that state's exact velocity
 /// ([`same`]), or why there is none.
 fn belt_state(process: &Process, v: f64) -> Result<(i32, f64), String> {
-    let (forward, reverse) = match process {
-        Process::Symmetric(s) => (s.speed, s.speed),
-        Process::Telegraph(t) => (t.forward_speed, t.reverse_speed),
-        other => {
-            return Err(format!(
-                "the belt is \"{}\": predict needs a two-state belt (symmetric or telegraph), whose state the belt velocity names",
-                other.name()
-            ))
-        }
+    let Some(t) = process.two_state() else {
+        return Err(format!(
+            "the belt is \"{}\": predict needs a two-state belt (symmetric or telegraph), whose state the belt velocity names",
+            process.name()
+        ));
     };
+    let (forward, reverse) = (t.forward_speed, t.reverse_speed);
     if same(v, forward) {
         Ok((1, forward))
     } else if same(v, -reverse) {
@@ -124,11 +121,7 @@ pub fn default_horizon(scenario: &Scenario) -> Result<f64, ScenarioError> {
     let scene = scenario.scene()?;
     let u = scene.params.per_unit_mass();
     let period = if u.omega2 > 0.0 { std::f64::consts::TAU / u.omega2.sqrt() } else { f64::INFINITY };
-    let rate = match &scene.belt.process {
-        Process::Symmetric(s) => s.switch_rate,
-        Process::Telegraph(t) => t.forward_rate.min(t.reverse_rate),
-        _ => 0.0,
-    };
+    let rate = scene.belt.process.two_state().map_or(0.0, |t| t.forward_rate.min(t.reverse_rate));
     let flips = if rate > 0.0 { 100.0 / rate } else { f64::INFINITY };
     Ok(if period.is_finite() {
         flips.clamp(10.0 * period, 1e4 * period)

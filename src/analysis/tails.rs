@@ -62,7 +62,6 @@ use super::jackknife::{self, Interval, GROUPS};
 pub use super::tail_counts::TailOptions;
 pub(crate) use super::tail_counts::{BeltRates, Counts, TailPlan, CELLS_PER_WINDOW, COARSE};
 use crate::scenario::ProcessName;
-use crate::simulation::belt::Process;
 use crate::simulation::dataset::columns as name;
 
 /// The times `reproduce` asks of the paper scene's tails [s]: up to its longest sticks (≈ 2.4 s,
@@ -168,11 +167,10 @@ fn conditional_scene(data: &Dataset) -> Result<(crate::simulation::keys::Scene, 
     if !scene.random.is_empty() {
         return Err("parameters are drawn per realization, so the holding time d_s(x) differs between realizations".into());
     }
-    let rates = match &scene.belt.process {
-        Process::Symmetric(s) => ((s.switch_rate, s.switch_rate), (s.speed, s.speed)),
-        Process::Telegraph(t) => ((t.forward_rate, t.reverse_rate), (t.forward_speed, t.reverse_speed)),
-        other => return Err(format!("the belt is \"{}\", not a two-state flip process", other.name())),
+    let Some(t) = scene.belt.process.two_state() else {
+        return Err(format!("the belt is \"{}\", not a two-state flip process", scene.belt.process.name()));
     };
+    let rates = ((t.forward_rate, t.reverse_rate), (t.forward_speed, t.reverse_speed));
     Ok((scene, rates))
 }
 

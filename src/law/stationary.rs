@@ -2,8 +2,6 @@
 //! the chain of post-flip states at one resolution ([`solve`]) and the long-run quantities
 //! ([`QUANTITIES`]) with their extrapolated values ([`estimates`]).
 
-use crate::physics::Law;
-use crate::simulation::belt::Process;
 use crate::simulation::keys::Scene;
 
 use super::anderson;
@@ -34,8 +32,8 @@ pub(crate) fn frames(scene: &Scene) -> Result<Vec<Frame>, String> {
     if p.viscous != 0.0 {
         return Err("model.viscous_friction is not 0: the viscous term's closed forms are not implemented here (the dashpot model.damping is)".into());
     }
-    if p.static_ != p.kinetic && matches!(p.law, Law::Stribeck(_)) {
-        return Err("Stribeck friction with mu_s > mu_k has no closed-form slip".into());
+    if !p.law.name().has_closed_forms(p.static_ == p.kinetic) {
+        return Err(format!("{} friction with mu_s > mu_k has no closed-form slip", p.law.name().title()));
     }
     if p.stiffness <= 0.0 {
         return Err("model.stiffness is 0: without a spring there is no stick region to return to (the stick ends only by a flip)".into());
@@ -53,13 +51,11 @@ pub(crate) fn frames(scene: &Scene) -> Result<Vec<Frame>, String> {
         ));
     }
     // (speed, rate, the key of the rate) per belt state
-    let states = match &scene.belt.process {
-        Process::Symmetric(s) => vec![(s.speed, s.switch_rate, "belt.switch_rate")],
-        Process::Telegraph(t) if t.forward_speed == t.reverse_speed && t.forward_rate == t.reverse_rate => {
-            vec![(t.forward_speed, t.forward_rate, "belt.switch_rate")]
-        }
-        Process::Telegraph(t) => vec![(t.forward_speed, t.forward_rate, "belt.switch_rate"), (t.reverse_speed, t.reverse_rate, "belt.reverse_switch_rate")],
-        other => return Err(format!("the belt is \"{}\", not a two-state flip process", other.name())),
+    let states = match scene.belt.process.two_state() {
+        // (one frame holds both signs when the states are alike)
+        Some(t) if t.forward_speed == t.reverse_speed && t.forward_rate == t.reverse_rate => vec![(t.forward_speed, t.forward_rate, "belt.switch_rate")],
+        Some(t) => vec![(t.forward_speed, t.forward_rate, "belt.switch_rate"), (t.reverse_speed, t.reverse_rate, "belt.reverse_switch_rate")],
+        None => return Err(format!("the belt is \"{}\", not a two-state flip process", scene.belt.process.name())),
     };
     if let Some((_, _, key)) = states.iter().find(|s| !(s.1 > 0.0)) {
         return Err(format!("{key} is 0: without flips the motion is deterministic and has no stationary law"));

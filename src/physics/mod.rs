@@ -80,6 +80,14 @@ impl FrictionLaw {
             FrictionLaw::Stribeck => static_is_kinetic,
         }
     }
+
+    /// Its name in prose (`Stribeck`).
+    pub fn title(self) -> &'static str {
+        match self {
+            FrictionLaw::Coulomb => "Coulomb",
+            FrictionLaw::Stribeck => "Stribeck",
+        }
+    }
 }
 
 /// The friction law with its parameters, as data: every solver asks the law (through

@@ -161,7 +161,36 @@ pub enum Process {
     Recorded(Arc<Recorded>),
 }
 
+/// A two-state flip belt (the symmetric and the telegraph belt): each state's velocity and
+/// the rate at which the belt leaves it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TwoState {
+    /// the forward state's speed v_f [m/s] (velocity +v_f)
+    pub forward_speed: f64,
+    /// the reverse state's speed v_r [m/s] (velocity −v_r)
+    pub reverse_speed: f64,
+    /// the rate of leaving the forward state λ_f [1/s]
+    pub forward_rate: f64,
+    /// the rate of leaving the reverse state λ_r [1/s]
+    pub reverse_rate: f64,
+}
+
 impl Process {
+    /// The two states of a two-state flip belt — the symmetric belt is the telegraph with equal
+    /// states — or None for a belt of another kind (Markov, recorded). The one answer every
+    /// caller asks (the exact law, the conditional estimator of the tails, predict).
+    pub fn two_state(&self) -> Option<TwoState> {
+        match self {
+            Process::Symmetric(s) => {
+                Some(TwoState { forward_speed: s.speed, reverse_speed: s.speed, forward_rate: s.switch_rate, reverse_rate: s.switch_rate })
+            }
+            Process::Telegraph(t) => {
+                Some(TwoState { forward_speed: t.forward_speed, reverse_speed: t.reverse_speed, forward_rate: t.forward_rate, reverse_rate: t.reverse_rate })
+            }
+            Process::Markov(_) | Process::Recorded(_) => None,
+        }
+    }
+
     /// Its name in a scenario (`belt.process`).
     pub fn name(&self) -> &'static str {
         match self {
