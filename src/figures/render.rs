@@ -12,7 +12,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{Figure, Panel};
+use super::chart::{Figure, Panel};
 
 static FONT: Once = Once::new();
 

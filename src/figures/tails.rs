@@ -3,7 +3,8 @@
 //! exceedance, from `survival.parquet`, `tails.parquet` and the histograms.
 
 use super::chart::{Figure, Panel, Series};
-use super::{format, Inputs};
+use super::format;
+use super::inputs::Inputs;
 use crate::analysis::tables::{survival, tails};
 
 /// The tails: P(D > t) and P(H > t) pooled over every stick (slip) on a log axis — product limit

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use super::{Figure, FigureError, Inputs, Panel, Series};
+use super::error::FigureError;
 use crate::table::Table;
 
 /// One sampled realization (Fig. 4): its grid samples and its events, in time order.
@@ -55,82 +55,4 @@ impl Trajectory {
         }
         Ok(Some(out))
     }
-}
-
-/// Fig 4: mass and belt velocity of the first sampled realization, whole window and first 2 s,
-/// with belt velocity changes (grey), stick starts (black) and stick ends (green).
-pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
-    let tr = inp.trajectory.as_ref()?;
-    let mass: Vec<(f64, f64)> = tr.samples.iter().map(|s| (s[0], s[1])).collect();
-    let belt: Vec<(f64, f64)> = tr.samples.iter().map(|s| (s[0], s[2])).collect();
-    let flips: Vec<f64> = tr.belt_switches.iter().map(|s| s.0).collect();
-    let (starts, ends) = (&tr.stick_starts, &tr.stick_ends);
-    // the window ends at t_a, which the last sample may fall short of (samples at 0, dt, …)
-    let last = mass.last()?.0;
-    let t_a = inp.scenario.run.duration;
-    let t_end = if t_a.is_finite() && t_a >= last { t_a } else { last };
-    // The belt as an exact step function through its changes (few, truly vertical segments), at
-    // the velocity each change records; an older analysis without them alternates between the
-    // two velocities sampled (+v_f and −v_r on an asymmetric belt; −v0 when no sample shows the
-    // other state).
-    let v0 = belt.first()?.1;
-    let v1 = belt.iter().map(|b| b.1).find(|v| v.signum() != v0.signum()).unwrap_or(-v0);
-    let level = |i: usize| match i.checked_sub(1).map(|j| tr.belt_switches[j].1) {
-        None => v0,
-        Some(v) if !v.is_nan() => v,
-        Some(_) => {
-            if i.is_multiple_of(2) {
-                v0
-            } else {
-                v1
-            }
-        }
-    };
-    let mut step = vec![(0.0, v0)];
-    for (i, &t) in flips.iter().enumerate() {
-        step.extend([(t, level(i)), (t, level(i + 1))]);
-    }
-    step.push((t_end, level(flips.len())));
-    // belt velocity just after t (stick starts) or just before t (stick ends, which a flip may cause)
-    let after = |t: f64| step.iter().rev().find(|p| p.0 <= t).map_or(v0, |p| p.1);
-    let before = |t: f64| step.iter().rev().find(|p| p.0 < t).map_or(v0, |p| p.1);
-    fn mark(ts: &[f64], at: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
-        ts.iter().map(|&t| (t, at(t))).collect()
-    }
-    let panel = |title: &str, until: f64| {
-        let keep = |v: &[(f64, f64)]| v.iter().copied().filter(|p| p.0 <= until).collect::<Vec<_>>();
-        // the belt up to the window's end: its corners inside, then its level on to `until`
-        // (dropping the corners beyond would end the line at the last flip inside)
-        let mut belt_shown = keep(&step);
-        if belt_shown.last().is_some_and(|p| p.0 < until) {
-            belt_shown.push((until, after(until)));
-        }
-        // about one sample per pixel column of a 1200-pixel figure
-        let shown = keep(&mass);
-        let stride = shown.len().div_ceil(1000).max(1);
-        Panel {
-            title: title.into(),
-            x_label: "t [s]".into(),
-            y_label: "velocity [m/s]".into(),
-            lines: vec![
-                Series { label: "mass".into(), color: 0, points: shown.iter().copied().step_by(stride).collect(), ..Default::default() },
-                Series { label: "belt".into(), color: 1, points: belt_shown, ..Default::default() },
-            ],
-            points: vec![
-                Series { label: "stick starts".into(), color: 6, points: keep(&mark(starts, after)), ..Default::default() },
-                Series { label: "stick ends".into(), color: 2, points: keep(&mark(ends, before)), ..Default::default() },
-            ],
-            vlines: flips.iter().copied().filter(|&t| t <= until).collect(),
-            x_range: Some((0.0, until)),
-            ..Default::default()
-        }
-    };
-    Some(Figure {
-        name: "fig04_trajectories".into(),
-        title: "A realization of the mass velocity (realization 0)".into(),
-        rows: 2,
-        cols: 1,
-        size: (1200, 900),
-        panels: vec![panel("(a) whole window", t_end), panel("(b) first 2 s", t_end.min(2.0))],
-    })
 }

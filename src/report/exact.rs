@@ -4,7 +4,8 @@
 
 use std::path::Path;
 
-use super::{survival_points, ReportError};
+use super::error::ReportError;
+use super::tails::survival_points;
 use crate::analysis::paper::Row;
 
 pub(super) const EXACT_HEAD: [&str; 7] = ["variable", "mean, exact", "mean, ours [95 %]", "", "variance, exact", "variance, ours [95 %]", ""];

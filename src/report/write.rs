@@ -3,7 +3,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{content, html, markdown, ReportError, HTML_MARK, MD_MARK};
+use super::error::{ReportError, HTML_MARK, MD_MARK};
+use super::page::{content, html, markdown};
 
 /// Whether the report `out` (HTML) and its Markdown twin may be written: absent, or the tool's own
 /// (checked by `reproduce` before its first stage, and by [`run`] before it writes).
