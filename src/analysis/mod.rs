@@ -33,65 +33,22 @@ mod tail_counts;
 pub mod tails;
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use accum::{Histogram, Moments};
 use growth::{Line, Renewal};
 use independence::Independence;
-use input::{Dataset, InputError};
+use input::Dataset;
 use rayon::prelude::*;
 use sketch::{Sketch, Sketch2};
 
 use crate::observables::Observable;
 use crate::progress::{Cancelled, Control};
 
+mod error;
 mod options;
+pub use error::AnalysisError;
 pub use options::{Options, Pair, DEFAULT_MAX_INDEX, DEFAULT_PERMUTATIONS, DEFAULT_SEVERITY, GROWTH_MIN_REACHED, MAX_BINS, MAX_INDEX};
-
-/// Why `analyze` failed.
-#[derive(Debug, thiserror::Error)]
-pub enum AnalysisError {
-    /// The dataset could not be found or failed its checks.
-    #[error(transparent)]
-    Input(#[from] InputError),
-    /// Reading the part files failed (in the polars scan, or the rows read disagree with the
-    /// footers).
-    #[error("reading {}: {message}", path.display())]
-    Read {
-        /// the file (the dataset's first when the error names none)
-        path: PathBuf,
-        /// what went wrong
-        message: String,
-    },
-    /// Writing an output file into ADIR failed.
-    #[error("writing {}: {message}", path.display())]
-    Write {
-        /// the file written
-        path: PathBuf,
-        /// what went wrong
-        message: String,
-    },
-    /// The options cannot work (`Options::check`, or a pair the dataset lacks the columns for).
-    #[error("{0}")]
-    Options(String),
-    /// The output directory could not be staged or replaced.
-    #[error(transparent)]
-    Out(#[from] crate::outdir::OutDirError),
-    /// The caller cancelled the run (Ctrl-C in a Python session).
-    #[error("interrupted")]
-    Cancelled(#[from] Cancelled),
-}
-
-impl crate::blame::Blame for AnalysisError {
-    fn blame(&self) -> Option<crate::blame::Culprit> {
-        match self {
-            AnalysisError::Input(_) | AnalysisError::Read { .. } => Some(crate::blame::Culprit::Dataset),
-            AnalysisError::Options(_) => Some(crate::blame::Culprit::Usage),
-            AnalysisError::Out(o) => o.blame(),
-            AnalysisError::Write { .. } | AnalysisError::Cancelled(_) => None,
-        }
-    }
-}
 
 /// Statistics of one observable.
 #[derive(Debug, Clone)]

@@ -3,7 +3,8 @@
 
 use std::str::FromStr;
 
-use super::{tails, AnalysisError};
+use super::error::AnalysisError;
+use super::tails;
 use crate::observables::Observable;
 
 /// A pair of observables for a joint histogram, written `A,B` (e.g. `T_1,T_2` or `D1,D2`).

@@ -42,7 +42,7 @@
 //! velocity shrink by `e^{−aπ/√q}` per half period, so once one lies inside ±|v| no later crossing
 //! exists and the search stops.
 
-use super::{PerUnitMass, SlipForm};
+use super::model::{PerUnitMass, SlipForm};
 
 /// The damped closed forms.
 #[derive(Debug, Clone, Copy, PartialEq)]

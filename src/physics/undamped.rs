@@ -31,7 +31,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use super::{PerUnitMass, SlipForm};
+use super::model::{PerUnitMass, SlipForm};
 
 /// The undamped closed forms: `ω² = k/m`, `ω`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -24,7 +24,7 @@
 //! cross. On a symmetric belt σ always changes at a flip of a grazing orbit (ẋ ∈ [−v, v]), so
 //! nothing is carried there.
 
-use super::{Event, Method, Stop};
+use super::method::{Event, Method, Stop};
 use crate::physics::{Arrival, PerUnitMass, SlipForm};
 
 #[derive(Debug, Clone, Copy)]

@@ -35,9 +35,9 @@
 //! this method never asks which law it runs. `numerics.peak_guard = false` turns it off, only to
 //! see what an unguarded controller does.
 
+use super::method::Numerics;
+use super::method::{step_end, Event, Method, Stop};
 use super::rk::{rk4, Dopri, Pair, State, Step};
-use super::Numerics;
-use super::{step_end, Event, Method, Stop};
 use crate::physics::{Arrival, PerUnitMass};
 
 /// Which Runge–Kutta scheme.

@@ -23,7 +23,7 @@
 //! located between grid points, so event times carry an O(h) error — the price of never locating
 //! an event.
 
-use super::{Event, Method, Numerics, Stop};
+use super::method::{Event, Method, Numerics, Stop};
 use crate::physics::PerUnitMass;
 
 const THETA: f64 = 0.5;

@@ -18,9 +18,9 @@
 //! exactly with the belt: it creeps at a relative speed of about ε·|F|/a_k, so stick durations
 //! and breakaway depend on ε and δ.
 
+use super::method::Numerics;
+use super::method::{step_end, Event, Method, Stop};
 use super::rk::{Dopri, State, Step};
-use super::Numerics;
-use super::{step_end, Event, Method, Stop};
 use crate::physics::PerUnitMass;
 
 /// One realization's regularized integration.

@@ -5,9 +5,9 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use super::Control;
 use crate::analysis::{self, Analysis};
 use crate::blame::usage;
+use crate::progress::Control;
 use crate::table::Table;
 
 /// What to analyse, how, and where the tables go.

@@ -5,10 +5,12 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use super::{check_resolution, inputs, Control, Input};
+use super::request::{check_resolution, inputs};
 use crate::blame::usage;
 use crate::law::{counts::CountRow, densities::DensityRow, sticks, LawError, Level, SCENARIO_FILE};
 use crate::outdir::{check_separate, Kind, StagedDir};
+use crate::progress::Control;
+use crate::scenario::Input;
 
 /// The finest resolution by default.
 pub const DEFAULT_RESOLUTION: u32 = 80;

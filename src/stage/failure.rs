@@ -37,7 +37,7 @@ fn link_culprit(e: &(dyn std::error::Error + 'static)) -> Option<Culprit> {
 
 /// Whether the run was cancelled (Ctrl-C in a Python session).
 pub fn cancelled(e: &anyhow::Error) -> bool {
-    e.chain().any(|c| c.is::<super::Cancelled>())
+    e.chain().any(|c| c.is::<crate::progress::Cancelled>())
 }
 
 /// Exit code of a failed run: 2 when an input (a flag, key, value, file or output directory)

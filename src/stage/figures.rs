@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use super::Control;
+use crate::progress::Control;
 
 /// Which analysis to draw, and where.
 #[derive(Debug, Clone)]

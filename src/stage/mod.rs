@@ -24,27 +24,12 @@ pub mod figures;
 pub mod predict;
 pub mod report;
 pub mod reproduce;
+mod request;
 pub mod sensitivity;
 pub mod simulate;
 pub mod tradeoff;
-
-use std::path::Path;
 
 pub use crate::blame::{Culprit, Usage};
 pub use crate::progress::{Cancelled, Control, Progress, Silent};
 pub use crate::scenario::{Input, Source};
 pub use failure::{cancelled, culprit, exit_code, message};
-
-/// The scenario file as an input an output must stay apart from.
-fn inputs(input: &Input) -> Vec<&Path> {
-    input.file().into_iter().collect()
-}
-
-/// A finer resolution of the exact methods: 8 to 320.
-fn check_resolution(flag: &str, n: u32) -> anyhow::Result<()> {
-    if (8..=320).contains(&n) {
-        Ok(())
-    } else {
-        Err(crate::blame::usage(format!("{flag} {n}: must be between 8 and 320")))
-    }
-}

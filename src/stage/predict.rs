@@ -6,10 +6,12 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use super::{check_resolution, inputs, Control, Input};
+use super::request::{check_resolution, inputs};
 use crate::blame::usage;
 use crate::outdir::check_separate;
 use crate::predict::{Prediction, State};
+use crate::progress::Control;
+use crate::scenario::Input;
 use crate::scenario::Overrides;
 
 /// The exact method's finest resolution by default.

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use super::Control;
+use crate::progress::Control;
 
 /// What to report on, and where.
 #[derive(Debug, Clone)]

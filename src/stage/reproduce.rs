@@ -3,9 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{analyze, figures, report, simulate, Control, Input};
+use super::{analyze, figures, report, simulate};
 use crate::analysis::{self, tails};
 use crate::observables::Target;
+use crate::progress::Control;
+use crate::scenario::Input;
 use crate::simulation::simulate::Shard;
 
 /// Scenario overrides `reproduce` applies first (the user's sets come after and win).
@@ -70,7 +72,7 @@ pub enum Done<'a> {
 /// inside the output directory.
 pub fn run(req: &Request, ctl: Control, done: &mut dyn FnMut(Done)) -> anyhow::Result<()> {
     let dir = req.out.clone();
-    let top = crate::outdir::prepare_reproduce(&dir, &super::inputs(&req.input))?;
+    let top = crate::outdir::prepare_reproduce(&dir, &super::request::inputs(&req.input))?;
     let layout = Layout::new(&dir);
     // every later stage's output checked before the first runs (a file of the user's in an
     // earlier run's figures stopped it only after a new dataset and analysis had replaced theirs)

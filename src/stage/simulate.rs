@@ -5,10 +5,12 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
-use super::{inputs, Control, Input};
+use super::request::inputs;
 use crate::blame::usage;
 use crate::observables::Target;
 use crate::outdir::DatasetDir;
+use crate::progress::Control;
+use crate::scenario::Input;
 use crate::scenario::{Cell, Overrides, Scenario};
 use crate::simulation::simulate::{self, Shard, Summary};
 

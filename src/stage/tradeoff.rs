@@ -5,9 +5,11 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 
-use super::{inputs, Control, Input};
+use super::request::inputs;
 use crate::blame::usage;
 use crate::outdir::check_separate;
+use crate::progress::Control;
+use crate::scenario::Input;
 use crate::tradeoff::Row;
 
 /// Realizations per setting by default.
