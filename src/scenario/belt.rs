@@ -16,7 +16,9 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::{invalid, short, Param, ProcessName, Scenario, ScenarioError, MAX_EXPECTED_SWITCHES};
+use super::spec::{Param, ProcessName};
+use super::types::{invalid, Scenario, ScenarioError, MAX_EXPECTED_SWITCHES};
+use crate::shown::short;
 use crate::simulation::belt::{Markov, Process, Recorded, Symmetric, Telegraph, MAX_SPEED, MIN_SPEED};
 use crate::simulation::keys::Key;
 
@@ -52,9 +54,10 @@ impl Scenario {
         }
         let (two_state, chain, record) = ([ProcessName::Symmetric, ProcessName::Telegraph], [ProcessName::Markov], [ProcessName::Recorded]);
         // (typed, not checked: checking builds this very process; parsed once)
-        static PAPER: std::sync::OnceLock<super::BeltSpec> = std::sync::OnceLock::new();
-        let paper =
-            PAPER.get_or_init(|| Scenario::recorded(super::PAPER_TOML, Path::new("pipelines/paper.toml")).expect("the embedded paper scenario is valid").belt);
+        static PAPER: std::sync::OnceLock<super::spec::BeltSpec> = std::sync::OnceLock::new();
+        let paper = PAPER.get_or_init(|| {
+            Scenario::recorded(super::types::PAPER_TOML, Path::new("pipelines/paper.toml")).expect("the embedded paper scenario is valid").belt
+        });
         for (key, set) in [
             ("belt.speed", b.speed != paper.speed),
             ("belt.switch_rate", b.switch_rate != paper.switch_rate),

@@ -1,12 +1,14 @@
 //! Validation of a typed scenario — every key in its range, every distribution's support inside
 //! its key's, the combinations — and the scene it describes.
 
-use super::{
-    invalid, short, shown_list, shown_param, Param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS,
-    MAX_NATURAL_RADIANS_NUMERICAL, MAX_POSITION, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES,
+use super::spec::Param;
+use super::types::{
+    invalid, shown_list, shown_param, Scenario, ScenarioError, DURATION_RANGE, MAX_EXPECTED_SWITCHES, MAX_NATURAL_RADIANS, MAX_NATURAL_RADIANS_NUMERICAL,
+    MAX_POSITION, MAX_REALIZATIONS, MAX_TRAJECTORY_SAMPLES,
 };
 use crate::observables::SEVERITY_BOUND;
 use crate::physics::{FrictionLaw, Law, Params, Stribeck};
+use crate::shown::short;
 use crate::simulation::belt::{Belt, Process, MAX_SPEED};
 use crate::simulation::keys::{Key, Scene};
 use crate::simulation::plan::fastest_rate;
@@ -32,7 +34,7 @@ impl Scenario {
     /// conditions and window — whatever the seed, size, solver or output; keys spelled out at
     /// their defaults (a zero dashpot, μ_s = μ_k, the Coulomb law) are the same as absent.
     pub fn same_scene(&self, other: &Scenario) -> bool {
-        fn canonical(m: &super::ModelSpec) -> super::ModelSpec {
+        fn canonical(m: &super::spec::ModelSpec) -> super::spec::ModelSpec {
             let mut m = m.clone();
             for zero_is_absent in [&mut m.damping, &mut m.viscous_friction] {
                 if *zero_is_absent == Some(Param::Value(0.0)) {
@@ -51,7 +53,7 @@ impl Scenario {
             m
         }
         // (the process as inferred: `process = "symmetric"` spelled out is the default belt)
-        let belt = |s: &Scenario| super::BeltSpec { process: Some(s.process_name()), ..s.belt.clone() };
+        let belt = |s: &Scenario| super::spec::BeltSpec { process: Some(s.process_name()), ..s.belt.clone() };
         canonical(&self.model) == canonical(&other.model)
             && belt(self) == belt(other)
             && self.initial_conditions == other.initial_conditions
@@ -109,7 +111,7 @@ impl Scenario {
     /// The mean λ t_a of the Poisson number of belt switches: the paper's symmetric belt at a
     /// fixed rate only (None otherwise).
     pub fn poisson_mean(&self) -> Option<f64> {
-        if self.process_name() != super::ProcessName::Symmetric {
+        if self.process_name() != super::spec::ProcessName::Symmetric {
             return None;
         }
         let scene = self.scene().ok()?;

@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{merged, typed, Cell, Overrides, Scenario, ScenarioError};
+use super::resolve::{merged, typed};
+use super::types::{Cell, Overrides, Scenario, ScenarioError};
 
 /// The base a scenario's keys are laid on.
 #[derive(Debug, Clone, PartialEq, Default)]

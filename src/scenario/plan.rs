@@ -1,7 +1,7 @@
 //! The scenario resolved into the run plan the simulate path takes
 //! ([`crate::simulation::plan::Plan`]).
 
-use super::{Scenario, ScenarioError};
+use super::types::{Scenario, ScenarioError};
 use crate::simulation::ensemble::Ensemble;
 use crate::simulation::plan::Plan;
 

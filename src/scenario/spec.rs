@@ -4,10 +4,9 @@
 use serde::{Deserialize, Serialize};
 use toml::Value;
 
-use super::Scenario;
 use crate::physics::FrictionLaw;
 use crate::simulation::belt::InitialSign;
-use crate::simulation::keys::{Dist, Key};
+use crate::simulation::keys::Dist;
 use crate::solver::SolverKind;
 
 /// A numeric scene key as written: a number, a sweep or a distribution.
@@ -182,48 +181,6 @@ pub struct Output {
     pub trajectories: u64,
     /// s
     pub trajectory_step: f64,
-}
-
-impl Scenario {
-    /// The [`Param`] of a scene key (None: absent).
-    pub fn param(&self, key: Key) -> Option<&Param> {
-        let (m, b) = (&self.model, &self.belt);
-        match key {
-            Key::Mass => Some(&m.mass),
-            Key::Stiffness => Some(&m.stiffness),
-            Key::Damping => m.damping.as_ref(),
-            Key::NormalForce => Some(&m.normal_force),
-            Key::Kinetic => Some(&m.friction_coefficient),
-            Key::Static => m.static_friction_coefficient.as_ref(),
-            Key::Speed => Some(&b.speed),
-            Key::SwitchRate => Some(&b.switch_rate),
-            Key::ReverseSpeed => b.reverse_speed.as_ref(),
-            Key::ReverseSwitchRate => b.reverse_switch_rate.as_ref(),
-            Key::StribeckVelocity => m.stribeck_velocity.as_ref(),
-            Key::StribeckExponent => m.stribeck_exponent.as_ref(),
-            Key::Viscous => m.viscous_friction.as_ref(),
-        }
-    }
-
-    /// The slot of a scene key, to set it.
-    pub fn param_mut(&mut self, key: Key) -> ParamSlot<'_> {
-        let (m, b) = (&mut self.model, &mut self.belt);
-        match key {
-            Key::Mass => ParamSlot::Required(&mut m.mass),
-            Key::Stiffness => ParamSlot::Required(&mut m.stiffness),
-            Key::Damping => ParamSlot::Optional(&mut m.damping),
-            Key::NormalForce => ParamSlot::Required(&mut m.normal_force),
-            Key::Kinetic => ParamSlot::Required(&mut m.friction_coefficient),
-            Key::Static => ParamSlot::Optional(&mut m.static_friction_coefficient),
-            Key::Speed => ParamSlot::Required(&mut b.speed),
-            Key::SwitchRate => ParamSlot::Required(&mut b.switch_rate),
-            Key::ReverseSpeed => ParamSlot::Optional(&mut b.reverse_speed),
-            Key::ReverseSwitchRate => ParamSlot::Optional(&mut b.reverse_switch_rate),
-            Key::StribeckVelocity => ParamSlot::Optional(&mut m.stribeck_velocity),
-            Key::StribeckExponent => ParamSlot::Optional(&mut m.stribeck_exponent),
-            Key::Viscous => ParamSlot::Optional(&mut m.viscous_friction),
-        }
-    }
 }
 
 /// A [`Param`] slot: required keys always hold one, optional ones may be absent.
