@@ -2,7 +2,15 @@
 //! a dataset directory added to part by part, a staged directory swapped in whole, and the top
 //! directory of `reproduce`.
 
-use super::*;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::error::*;
+use super::files::{Lock, TempFile};
+use super::marker::*;
+use super::names::*;
+use super::rules::*;
+use crate::interrupt;
 
 /// The directories a run created for an output (its missing ancestors, created one by one):
 /// removed again, innermost first and only while empty, when the guard is dropped without
@@ -255,4 +263,28 @@ pub fn prepare_reproduce(dir: &Path, inputs: &[&Path]) -> Result<ReproduceDir, O
     let marker = dir.join(MARKER);
     interrupt::register_marker(&marker);
     Ok(ReproduceDir { created, marker: Some(marker), kept: false })
+}
+
+/// Write a new file at `path`: refused if anything is there (a file the user asked for, never a
+/// replacement); written atomically (a temporary renamed into place), its missing directories
+/// created.
+pub fn write_new_file(path: &Path, bytes: &[u8], flag: &str) -> Result<(), OutDirError> {
+    let created = match path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(dir) => Created::dir_all(dir)?,
+        None => Created::default(),
+    };
+    let _lock = Lock::acquire(path)?;
+    if std::fs::symlink_metadata(path).is_ok() {
+        return Err(refuse(path, format!("{flag} exists; refusing to replace it: choose another {flag}")));
+    }
+    let (tmp, mut file) = TempFile::create(path)?;
+    file.write_all(bytes).and_then(|()| file.sync_all()).map_err(|e| fail(path, e))?;
+    drop(file);
+    // a hard link fails if a file appeared meanwhile: never replace one
+    let final_path = tmp.path().to_owned();
+    std::fs::hard_link(&tmp.tmp, &final_path).map_err(|e| fail(path, e))?;
+    drop(tmp);
+    sync_dir(parent_of(path));
+    created.keep();
+    Ok(())
 }

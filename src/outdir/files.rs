@@ -1,7 +1,14 @@
 //! Files an output is written through: the per-output lock, the temporary renamed into place,
 //! and whole files the tool writes or creates.
 
-use super::*;
+use std::fs::{File, OpenOptions};
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+
+use super::error::*;
+use super::names::*;
+use super::rules::*;
+use crate::interrupt;
 
 /// An advisory lock on `.NAME.stickslip-lock` beside an output, released (and the lock file removed) on
 /// drop or on SIGINT/SIGTERM; the lock file of a killed writer is simply taken over.
@@ -83,7 +90,7 @@ impl Drop for Lock {
 /// [`TempFile::commit`]; removed if dropped before (or on SIGINT/SIGTERM).
 #[derive(Debug)]
 pub struct TempFile {
-    tmp: PathBuf,
+    pub(super) tmp: PathBuf,
     path: PathBuf,
     committed: bool,
 }
@@ -152,29 +159,5 @@ pub fn check_file_replaceable(path: &Path, ours: &impl Fn(&[u8]) -> bool, flag: 
             }
         }
     }
-    Ok(())
-}
-
-/// Write a new file at `path`: refused if anything is there (a file the user asked for, never a
-/// replacement); written atomically (a temporary renamed into place), its missing directories
-/// created.
-pub fn write_new_file(path: &Path, bytes: &[u8], flag: &str) -> Result<(), OutDirError> {
-    let created = match path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        Some(dir) => Created::dir_all(dir)?,
-        None => Created::default(),
-    };
-    let _lock = Lock::acquire(path)?;
-    if std::fs::symlink_metadata(path).is_ok() {
-        return Err(refuse(path, format!("{flag} exists; refusing to replace it: choose another {flag}")));
-    }
-    let (tmp, mut file) = TempFile::create(path)?;
-    file.write_all(bytes).and_then(|()| file.sync_all()).map_err(|e| fail(path, e))?;
-    drop(file);
-    // a hard link fails if a file appeared meanwhile: never replace one
-    let final_path = tmp.path().to_owned();
-    std::fs::hard_link(&tmp.tmp, &final_path).map_err(|e| fail(path, e))?;
-    drop(tmp);
-    sync_dir(parent_of(path));
-    created.keep();
     Ok(())
 }

@@ -2,7 +2,10 @@
 //! output, and the one rule by which stale ones are removed: only names of exactly the tool's
 //! form (and, for a directory, holding its staging tag or marker) — never by prefix.
 
-use super::*;
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::marker::*;
 
 /// A unique token for temporary names: process id, a per-process counter and the clock's
 /// nanoseconds (`PID-N-HEX`, at most 40 bytes).
@@ -54,7 +57,7 @@ pub(super) const STAGING: &str = ".stickslip-staging";
 /// `name`'s lock (a live writer would hold it). Only entries the tool can prove it wrote go: a
 /// Whether `dir` holds our marker and the marker lists every entry in it.
 fn all_listed(dir: &Path) -> bool {
-    match (super::read_marker(dir), super::files_below(dir)) {
+    match (read_marker(dir), files_below(dir)) {
         (Some(marker), Ok(present)) => present.iter().all(|f| marker.files.contains(f)),
         _ => false,
     }
