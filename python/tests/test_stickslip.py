@@ -183,6 +183,9 @@ def test_ctrl_c_ends_a_stage_that_writes_files_and_leaves_nothing(tmp_path: Path
     stickslip.simulate(realizations=400_000, out=data)
     assert interrupt_after(f"stickslip.analyze({str(data)!r}, out={str(tmp_path / 'a')!r})", 1.0) < 5
     assert not (tmp_path / "a").exists() and [p.name for p in tmp_path.iterdir()] == ["d"]
+    # and the exact law, within an iteration of its solve (resolution 80 takes about a minute)
+    assert interrupt_after(f"stickslip.exact_law(out={str(tmp_path / 'law')!r}, resolution=80)", 2.0) < 5
+    assert not (tmp_path / "law").exists()
 
 
 def test_tradeoff_and_sensitivity_return_the_cli_tables(tmp_path: Path) -> None:

@@ -143,7 +143,17 @@ pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, L
     for rung in ladder {
         let (n, start) = (rung.0, std::time::Instant::now());
         ctl.check()?;
-        let (level, d) = super::stationary::solve(frames, rung, n == plan.finest, &mut |i, change| step(n, i, change)).map_err(LawError::Failed)?;
+        let go_on = &mut |i, change| {
+            step(n, i, change);
+            !(ctl.cancel)()
+        };
+        let (level, d) = super::stationary::solve(frames, rung, n == plan.finest, go_on).map_err(|e| {
+            if ctl.check().is_err() {
+                Cancelled.into()
+            } else {
+                LawError::Failed(e)
+            }
+        })?;
         ctl.progress.note(&format!("resolution {:>3}: {} iterations, {:.1} s", level.n, level.iterations, start.elapsed().as_secs_f64()));
         levels.push(level);
         density = d.or(density);

@@ -190,9 +190,18 @@ pub(crate) fn ladder(frames: &[Frame], finest: u32, count: u32) -> Result<Vec<Ru
     Ok(out)
 }
 
+/// What [`solve`] returns when its `step` asks it to stop.
+pub(crate) const STOPPED: &str = "stopped";
+
 /// Solve for the stationary law at resolution n, grid spacings h ([`ladder`]); `step` hears
-/// each iteration's number and change.
-pub(crate) fn solve(frames: &[Frame], (n, h): &Rung, with_density: bool, step: &mut dyn FnMut(u32, f64)) -> Result<(Level, Option<density::Density>), String> {
+/// each iteration's number and change, and answers whether to go on (false: the solve stops
+/// with [`STOPPED`], how a cancelled stage ends within an iteration of about a second).
+pub(crate) fn solve(
+    frames: &[Frame],
+    (n, h): &Rung,
+    with_density: bool,
+    step: &mut dyn FnMut(u32, f64) -> bool,
+) -> Result<(Level, Option<density::Density>), String> {
     let chain = chain::Chain::new(frames.iter().zip(h).map(|(f, &h)| Mesh::new(*f, h, f.box_half())).collect());
     let mut nu = chain.zero();
     for m in nu.iter_mut() {
@@ -213,7 +222,9 @@ pub(crate) fn solve(frames: &[Frame], (n, h): &Rung, with_density: bool, step: &
         next.iter_mut().for_each(|m| m.scale(1.0 / m.total()));
         change = next.iter().zip(&nu).map(|(a, b)| a.distance(b)).sum();
         iterations += 1;
-        step(iterations, change);
+        if !step(iterations, change) {
+            return Err(STOPPED.into());
+        }
         let mixed = anderson.mix(flat(&nu), flat(&next));
         let mut rest = &mixed[..];
         for m in nu.iter_mut() {
@@ -253,7 +264,7 @@ fn quantities(tallies: &[Tally], frames: &[Frame]) -> ([f64; 8], f64, f64) {
 /// cannot be computed (module docs).
 pub fn stationary(scene: &Scene, finest: u32, count: u32) -> Result<Vec<Level>, String> {
     let frames = frames(scene)?;
-    ladder(&frames, finest, count)?.iter().map(|r| Ok(solve(&frames, r, false, &mut |_, _| {})?.0)).collect()
+    ladder(&frames, finest, count)?.iter().map(|r| Ok(solve(&frames, r, false, &mut |_, _| true)?.0)).collect()
 }
 
 /// (value, error) of each quantity from solves at resolutions n/4, n/2, n (or fewer): the
@@ -278,8 +289,8 @@ mod tests {
         let sc = crate::scenario::Scenario::resolve(None, &[]).unwrap();
         let one = frames(&sc.scene().unwrap()).unwrap();
         let two = [one[0], one[0]];
-        let a = solve(&one, &ladder(&one, 16, 1).unwrap()[0], false, &mut |_, _| {}).unwrap().0;
-        let b = solve(&two, &ladder(&two, 16, 1).unwrap()[0], false, &mut |_, _| {}).unwrap().0;
+        let a = solve(&one, &ladder(&one, 16, 1).unwrap()[0], false, &mut |_, _| true).unwrap().0;
+        let b = solve(&two, &ladder(&two, 16, 1).unwrap()[0], false, &mut |_, _| true).unwrap().0;
         for (q, (x, y)) in QUANTITIES.iter().zip(a.values.iter().zip(b.values)) {
             assert!((x - y).abs() <= 1e-9 * x.abs(), "{q}: one state {x}, two states {y}");
         }

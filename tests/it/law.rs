@@ -492,3 +492,20 @@ fn densities_refuse_a_point_start() {
     assert!(err.contains("--densities") && err.contains("point"), "{err}");
     assert!(!tmp.path().join("e").exists());
 }
+
+/// A cancelled exact law stops within the first iteration of the solve, as cancelled (not as a
+/// failure), and leaves no output directory.
+#[test]
+fn a_cancelled_exact_law_stops_in_its_first_iteration_and_leaves_nothing() {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let tmp = tempfile::tempdir().unwrap();
+    let asked = AtomicU32::new(0);
+    let cancel = || asked.fetch_add(1, Ordering::Relaxed) >= 1; // the check before the solve passes
+    let ctl = stickslip::progress::Control { progress: &stickslip::progress::Silent, cancel: &cancel };
+    let opts = stickslip::law::Options { finest: 80, tail_times: vec![], counts: None, densities: None };
+    let e = stickslip::stage::exact_law::solve_into(&scenario(&[]), &opts, &tmp.path().join("e"), ctl).unwrap_err();
+    assert!(matches!(e, stickslip::law::LawError::Cancelled(_)), "{e}");
+    // asked before the solve, after its first iteration, and once more to tell the stop from a failure
+    assert_eq!(asked.load(Ordering::Relaxed), 3);
+    assert!(!tmp.path().join("e").exists());
+}
