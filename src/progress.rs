@@ -50,7 +50,8 @@ pub struct Cancelled;
 pub struct Control<'a> {
     /// where the stage reports
     pub progress: &'a dyn Progress,
-    /// asked between chunks of work: true stops the stage with [`Cancelled`]
+    /// asked between chunks of work: true stops the stage with [`Cancelled`]; once it answers
+    /// true it keeps answering true (a stage may ask again to tell a stop from a failure)
     pub cancel: &'a (dyn Fn() -> bool + Sync),
 }
 

@@ -136,9 +136,20 @@ fn interrupted() -> bool {
 }
 
 /// Run `f` (a stage) with the GIL released, `progress` as its sink and Ctrl-C as its cancel.
+/// The token stays cancelled once it is (Python's check consumes the signal, and a stage may
+/// ask again to tell a stop from a failure).
 fn staged<T: Send>(py: Python<'_>, progress: Option<Py<PyAny>>, f: impl FnOnce(Control) -> anyhow::Result<T> + Send) -> PyResult<T> {
     let sink = Sink(progress);
-    py.detach(|| f(Control { progress: &sink, cancel: &interrupted })).map_err(to_py)
+    let stopped = std::sync::atomic::AtomicBool::new(false);
+    let cancel = || {
+        use std::sync::atomic::Ordering::Relaxed;
+        stopped.load(Relaxed) || {
+            let now = interrupted();
+            stopped.fetch_or(now, Relaxed);
+            now
+        }
+    };
+    py.detach(|| f(Control { progress: &sink, cancel: &cancel })).map_err(to_py)
 }
 
 /// A scenario as the package passes it: `("paper", None)`, `("file", path)` or `("text", toml)`,
