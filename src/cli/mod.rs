@@ -213,12 +213,6 @@ fn predict_command(args: PredictArgs, quiet: bool, ctl: Control) -> anyhow::Resu
     Ok(())
 }
 
-/// Scenario overrides `reproduce` applies first (the user's --set come after and win).
-pub const REPRODUCE_SETS: [&str; 2] = stage::reproduce::SETS;
-
-/// Where `reproduce --out DIR` puts each stage's output.
-pub use stage::reproduce::Layout as ReproduceLayout;
-
 fn reproduce_command(args: ReproduceArgs, quiet: bool, ctl: Control) -> anyhow::Result<()> {
     let run = args.run;
     let request = stage::reproduce::Request {

