@@ -15,7 +15,6 @@ use parquet::file::reader::{FileReader, SerializedFileReader};
 
 use crate::metadata as meta;
 use crate::scenario::Scenario;
-use crate::simulation::dataset::READABLE_VERSIONS;
 use crate::simulation::schema::{required, Kind};
 
 /// A checked dataset.
@@ -40,7 +39,7 @@ pub struct Dataset {
     pub scenario: Scenario,
     /// Whether the parts store the `switch_times` column (`output.switch_times`).
     pub switch_times: bool,
-    /// whether the parts have the tails' state of schema v3 (`columns::TAILS_STATE`)
+    /// whether the parts have the tails' state of schema v3 (`stick_end` and the other columns schema v3 added)
     pub tails_state: bool,
     /// the belt's velocity levels where the scenario fixes them (a symmetric, telegraph or
     /// Markov belt whose speeds are not drawn): every stick starts at one of them
@@ -197,23 +196,27 @@ fn check(path: &Path) -> Result<Part, InputError> {
     let meta = reader.metadata().file_metadata();
     let kv = meta.key_value_metadata();
     let get = |key: &str| kv.and_then(|kv| kv.iter().find(|e| e.key == key)).and_then(|e| e.value.clone());
-    let version = match get(meta::SCHEMA_VERSION) {
-        Some(v) if READABLE_VERSIONS.contains(&v.as_str()) => v,
-        Some(v) => return Err(bad(path, format!("dataset schema version {v}, this stickslip reads {READABLE_VERSIONS:?}"))),
+    let (version, number) = match get(meta::SCHEMA_VERSION) {
+        Some(v) => match crate::simulation::schema::readable(&v) {
+            Some(number) => (v, number),
+            None => {
+                let readable: Vec<String> = (1..=crate::simulation::schema::VERSION).map(|v| v.to_string()).collect();
+                return Err(bad(path, format!("dataset schema version {v}, this stickslip reads {readable:?}")));
+            }
+        },
         None => return Err(bad(path, "not a stickslip dataset (no stickslip.schema_version in its metadata)")),
     };
     let schema = parquet_to_arrow_schema(meta.schema_descr(), kv).map_err(|e| bad(path, e.to_string()))?;
     // every column of the part's version and earlier, in its type (v1 had int32 counts; schema
     // v3's tails' columns are read from a v3 part only, and a v3 part lacking one is refused,
     // never analysed as v2)
-    let number: u8 = version.parse().unwrap_or(0);
     for column in required(number) {
         let field =
             schema.field_with_name(column.name).map_err(|_| bad(path, format!("missing column `{}` (schema version {version} has it)", column.name)))?;
         let got = type_name(field.data_type());
-        let v1_count = version == "1" && got == "int32" && column.kind == Kind::Int64;
-        if got != column.kind.name() && !v1_count {
-            return Err(bad(path, format!("column `{}` is {got}, expected {}", column.name, column.kind.name())));
+        let v1_count = version == "1" && got == "int32" && column.kind() == Kind::Int64;
+        if got != column.kind().name() && !v1_count {
+            return Err(bad(path, format!("column `{}` is {got}, expected {}", column.name, column.kind().name())));
         }
     }
     let tails_state = number >= 3;
@@ -526,7 +529,7 @@ mod tests {
         let schema = crate::simulation::dataset::schema(&crate::simulation::dataset::Layout::default());
         for column in required(3) {
             let field = schema.field_with_name(column.name).unwrap_or_else(|_| panic!("the writer has no {}", column.name));
-            assert_eq!(type_name(field.data_type()), column.kind.name(), "{}", column.name);
+            assert_eq!(type_name(field.data_type()), column.kind().name(), "{}", column.name);
         }
     }
 }

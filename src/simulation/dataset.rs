@@ -1,30 +1,20 @@
 //! The dataset `simulate` writes: one Parquet row per realization, ragged event lists.
 //!
 //! Layout: `DIR/part-IIIII-of-NNNNN.parquet`, one file per shard, rows sorted by the global
-//! `realization` index. Columns (see `CONTRACT.md`): `realization` int64, `x0`, `xdot0` float64,
-//! `initial_sign` int32 (belt sign at t = 0⁺: ±1, 0 for a belt at rest), `initial_velocity`
-//! float64 (m/s, the belt velocity at t = 0⁺; added in v3 with the belt processes),
-//! `n_switches` int64 (Q, the belt's velocity changes), `n_stick`, `n_slip` int64
-//! (S_T, S_L; schema v2 — v1 had int32 counts), `stick_start`, `stick_duration`, `slip_start`, `slip_duration` list<float64>
-//! (T, D, L, H; non-null lists, `[]` when empty), `last_truncated` bool; schema v3 adds the tails'
-//! state: `stick_end` list<utf8> (`flip`, `breakaway`, `horizon` per stick),
-//! `stick_entry_position`, `stick_entry_velocity` list<float64> (x [m] and belt velocity [m/s] at
-//! each stick's start), `longest_stick`, `stick_fraction`, `min_velocity`, `max_velocity`,
-//! `max_slip_speed`, `severity` float64 (s, 1, m/s, 1; [`crate::simulation::events::Record`]); then
-//! `switch_times`
-//! list<float64> (Y) and `switch_velocities` list<float64> (m/s, the velocity after each change)
-//! only when the scenario asks for them, then one float64 column per random scene
-//! key, named after the key's last component (e.g. `friction_coefficient`), with the value drawn
-//! for the realization.
+//! `realization` index. The columns are declared once, in [`schema::COLUMNS`] (name, the value a
+//! realization writes, type, schema version, presence, storage, rule, unit, meaning): the
+//! schema, the rows ([`Rows`]) and the Parquet settings here are read off it. After them, one
+//! float64 column per random scene key, named after the key's last component (e.g.
+//! `friction_coefficient`), with the value drawn for the realization.
 //!
 //! Rows are sorted by `realization`, declared as the sorting column of every row group. Files are
 //! written under a unique hidden temporary name and renamed when complete (see [`crate::outdir`]),
 //! so a reader never sees a partial file and a failed run leaves nothing behind. Parquet settings
-//! follow what polars and DuckDB both read well: zstd for the integer and boolean columns; PLAIN,
-//! uncompressed, without statistics for the floats (initial conditions and event times are
-//! near-incompressible: zstd saved 8 % of the size for 12 % of the run time, and
-//! BYTE_STREAM_SPLIT saved 11 % of size but made polars' reads 25 % slower); no dictionaries;
-//! spec-compliant list element name `element`; provenance in the file key-value metadata.
+//! follow what polars and DuckDB both read well ([`schema::Store`]: zstd for the integer and boolean
+//! columns; PLAIN, uncompressed, without statistics for the floats — BYTE_STREAM_SPLIT saved 11 %
+//! of size but made polars' reads 25 % slower; dictionaries only for the per-stick words and belt
+//! velocities); spec-compliant list element name `element`; provenance in the file key-value
+//! metadata.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -38,16 +28,13 @@ use parquet::file::metadata::{KeyValue, SortingColumn};
 use parquet::file::properties::{EnabledStatistics, WriterProperties};
 use parquet::schema::types::ColumnPath;
 
+use super::schema::{self, Kind, Row, Store, Value};
 use super::writeback::WriteBehind;
 use crate::outdir::{Created, Lock, OutDirError, TempFile};
 use crate::simulation::ensemble::Outcome;
-use crate::simulation::events::StickEnd;
 
-/// Version of the column layout, recorded in every file.
-pub const SCHEMA_VERSION: &str = "3";
-
-/// The schema versions `analyze` reads (v1 had int32 counts; v3 added the tails' columns).
-pub const READABLE_VERSIONS: [&str; 3] = ["1", "2", "3"];
+/// Version of the column layout, recorded in every file ([`schema::VERSION`]).
+pub use super::schema::VERSION as SCHEMA_VERSION;
 
 /// Rows per Parquet row group (a row group is also flushed early past [`ROW_GROUP_BYTES`]).
 const ROW_GROUP_ROWS: usize = 131_072;
@@ -55,9 +42,6 @@ const ROW_GROUP_BYTES: usize = 128 << 20;
 
 /// The names of the columns (declared in [`super::schema`]).
 pub use super::schema::columns;
-
-/// List columns, in schema order.
-pub const LIST_COLUMNS: [&str; 4] = [columns::STICK_START, columns::STICK_DURATION, columns::SLIP_START, columns::SLIP_DURATION];
 
 /// The optional columns of a dataset: `switch_times`, and the drawn scene keys.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -68,78 +52,105 @@ pub struct Layout {
     pub drawn: Vec<&'static str>,
 }
 
-/// The Arrow schema of a dataset file: the declared columns ([`super::schema::COLUMNS`]) present
+/// The Arrow schema of a dataset file: the declared columns ([`schema::COLUMNS`]) present
 /// in this layout, then one float64 per drawn scene key.
 pub fn schema(layout: &Layout) -> SchemaRef {
-    use super::schema::{Presence, COLUMNS};
-    let present = |c: &&super::schema::Column| c.presence == Presence::Always || layout.switch_times;
-    let mut fields: Vec<Field> = COLUMNS.iter().filter(present).map(|c| Field::new(c.name, c.kind.arrow(), false)).collect();
+    let mut fields: Vec<Field> = schema::present(layout.switch_times).map(|c| Field::new(c.name, c.kind().arrow(), false)).collect();
     fields.extend(layout.drawn.iter().map(|name| Field::new(*name, DataType::Float64, false)));
     Arc::new(Schema::new(fields))
 }
 
-/// A ragged float column being filled realization by realization.
+/// A ragged column being filled realization by realization: its values and the offsets after
+/// each row.
 #[derive(Debug, Clone)]
-struct ListColumn {
+struct Ragged<T> {
     offsets: Vec<i32>,
-    values: Vec<f64>,
+    values: Vec<T>,
 }
 
-impl ListColumn {
+impl<T> Ragged<T> {
     /// Room for `rows` lists of `values` values in all.
     fn with_capacity(rows: usize, values: usize) -> Self {
-        ListColumn { offsets: offsets_for(rows), values: Vec::with_capacity(values) }
+        let mut offsets = Vec::with_capacity(rows + 1);
+        offsets.push(0);
+        Ragged { offsets, values: Vec::with_capacity(values) }
     }
 
-    fn push(&mut self, row: &[f64]) {
-        self.extend(row.iter().copied());
-    }
-
-    fn extend(&mut self, row: impl Iterator<Item = f64>) {
-        self.values.extend(row);
+    /// Append a row, its values added by `fill`.
+    fn push_with(&mut self, fill: impl FnOnce(&mut Vec<T>)) {
+        fill(&mut self.values);
         self.offsets.push(i32::try_from(self.values.len()).expect("a chunk holds < 2^31 list values"));
     }
 
-    /// The column as an Arrow list array, its unused reserve given back first (the Python
-    /// package holds every batch of a run).
-    fn into_array(mut self) -> ArrayRef {
+    /// The column as an Arrow list of `values` (made of the values, their unused reserve given
+    /// back first: the Python package holds every batch of a run).
+    fn into_list(mut self, values: impl FnOnce(Vec<T>) -> ArrayRef) -> ArrayRef {
         self.values.shrink_to_fit();
-        let field = Arc::new(Field::new("element", DataType::Float64, false));
-        let offsets = OffsetBuffer::new(ScalarBuffer::from(self.offsets));
-        Arc::new(ListArray::new(field, offsets, Arc::new(Float64Array::from(self.values)), None))
+        let values = values(self.values);
+        let field = Arc::new(Field::new("element", values.data_type().clone(), false));
+        Arc::new(ListArray::new(field, OffsetBuffer::new(ScalarBuffer::from(self.offsets)), values, None))
     }
-}
-
-/// A list column's offsets before its first row (`[0]`), with room for `rows` rows.
-fn offsets_for(rows: usize) -> Vec<i32> {
-    let mut offsets = Vec::with_capacity(rows + 1);
-    offsets.push(0);
-    offsets
 }
 
 /// The most values a list column reserves up front (512 KiB of f64; [`Rows::new`]).
 const LIST_RESERVE: usize = 1 << 16;
 
-/// The rows of a contiguous run of realizations, column by column.
+/// One column being filled: the declared value ([`Value`]) with what it has gathered.
+#[derive(Debug, Clone)]
+enum Builder {
+    Int64(fn(Row) -> i64, Vec<i64>),
+    Int32(fn(Row) -> i32, Vec<i32>),
+    Float64(fn(Row) -> f64, Vec<f64>),
+    Bool(fn(Row) -> bool, Vec<bool>),
+    Floats(fn(Row, &mut Vec<f64>), Ragged<f64>),
+    Strings(fn(Row, &mut Vec<&'static str>), Ragged<&'static str>),
+}
+
+impl Builder {
+    fn new(value: Value, rows: usize, values: usize) -> Builder {
+        match value {
+            Value::Int64(f) => Builder::Int64(f, Vec::with_capacity(rows)),
+            Value::Int32(f) => Builder::Int32(f, Vec::with_capacity(rows)),
+            Value::Float64(f) => Builder::Float64(f, Vec::with_capacity(rows)),
+            Value::Bool(f) => Builder::Bool(f, Vec::with_capacity(rows)),
+            Value::Floats(f) => Builder::Floats(f, Ragged::with_capacity(rows, values)),
+            Value::Strings(f) => Builder::Strings(f, Ragged::with_capacity(rows, values)),
+        }
+    }
+
+    fn push(&mut self, row: Row) {
+        match self {
+            Builder::Int64(f, v) => v.push(f(row)),
+            Builder::Int32(f, v) => v.push(f(row)),
+            Builder::Float64(f, v) => v.push(f(row)),
+            Builder::Bool(f, v) => v.push(f(row)),
+            Builder::Floats(f, v) => v.push_with(|values| f(row, values)),
+            Builder::Strings(f, v) => v.push_with(|values| f(row, values)),
+        }
+    }
+
+    fn into_array(self) -> ArrayRef {
+        match self {
+            Builder::Int64(_, v) => Arc::new(Int64Array::from(v)),
+            Builder::Int32(_, v) => Arc::new(Int32Array::from(v)),
+            Builder::Float64(_, v) => Arc::new(Float64Array::from(v)),
+            Builder::Bool(_, v) => Arc::new(BooleanArray::from(v)),
+            Builder::Floats(_, v) => v.into_list(|values| Arc::new(Float64Array::from(values))),
+            Builder::Strings(_, v) => v.into_list(|values| Arc::new(StringArray::from(values))),
+        }
+    }
+}
+
+/// The rows of a contiguous run of realizations, column by column: one builder per declared
+/// column present ([`schema::present`]), then the drawn scene keys.
 #[derive(Debug, Clone)]
 pub struct Rows {
-    realization: Vec<i64>,
-    x0: Vec<f64>,
-    xdot0: Vec<f64>,
-    initial_sign: Vec<i32>,
-    initial_velocity: Vec<f64>,
-    n_switches: Vec<i64>,
-    n_stick: Vec<i64>,
-    n_slip: Vec<i64>,
-    lists: [ListColumn; 4],
-    last_truncated: Vec<bool>,
-    /// `stick_end` as codes ([`StickEnd::ALL`]) with its offsets
-    stick_end: (Vec<i32>, Vec<u8>),
-    stick_lists: [ListColumn; 2],
-    tail_scalars: [Vec<f64>; 6],
-    /// `switch_times` and `switch_velocities`
-    switch_times: Option<[ListColumn; 2]>,
+    columns: Vec<Builder>,
     drawn: Vec<Vec<f64>>,
+    /// rows held
+    len: usize,
+    /// Σ S_T over the rows
+    sticks: u64,
 }
 
 impl Rows {
@@ -152,100 +163,48 @@ impl Rows {
     /// its whole hint up front.
     pub fn new(with_switch_times: bool, drawn: usize, rows: usize, per_list: usize) -> Rows {
         let values = rows.saturating_mul(per_list).min(LIST_RESERVE);
-        let list = || ListColumn::with_capacity(rows, values);
         Rows {
-            realization: Vec::with_capacity(rows),
-            x0: Vec::with_capacity(rows),
-            xdot0: Vec::with_capacity(rows),
-            initial_sign: Vec::with_capacity(rows),
-            initial_velocity: Vec::with_capacity(rows),
-            n_switches: Vec::with_capacity(rows),
-            n_stick: Vec::with_capacity(rows),
-            n_slip: Vec::with_capacity(rows),
-            lists: std::array::from_fn(|_| list()),
-            last_truncated: Vec::with_capacity(rows),
-            stick_end: (offsets_for(rows), Vec::with_capacity(values)),
-            stick_lists: std::array::from_fn(|_| list()),
-            tail_scalars: std::array::from_fn(|_| Vec::with_capacity(rows)),
-            switch_times: with_switch_times.then(|| [list(), list()]),
+            columns: schema::present(with_switch_times).map(|c| Builder::new(c.value, rows, values)).collect(),
             // (not `vec![…; drawn]`: a clone of an empty Vec has no capacity)
             drawn: (0..drawn).map(|_| Vec::with_capacity(rows)).collect(),
+            len: 0,
+            sticks: 0,
         }
     }
 
     /// Rows held.
     pub fn len(&self) -> usize {
-        self.realization.len()
+        self.len
     }
 
     /// Whether no row is held.
     pub fn is_empty(&self) -> bool {
-        self.realization.is_empty()
+        self.len() == 0
     }
 
     /// Σ S_T over the rows.
     pub fn total_sticks(&self) -> u64 {
-        self.n_stick.iter().map(|&n| n as u64).sum()
+        self.sticks
     }
 
     /// Append realization `index`.
     pub fn push(&mut self, index: u64, out: &Outcome) {
-        let (x0, xdot0, belt, rec) = (out.x0, out.xdot0, &out.belt, &out.record);
-        let count = |n: usize| n as i64;
-        self.realization.push(index as i64);
-        self.x0.push(x0);
-        self.xdot0.push(xdot0);
-        self.initial_sign.push(belt.initial_sign());
-        self.initial_velocity.push(belt.initial_velocity);
-        self.n_switches.push(count(belt.switch_times.len()));
-        self.n_stick.push(count(rec.n_stick()));
-        self.n_slip.push(count(rec.n_slip()));
-        for (col, values) in self.lists.iter_mut().zip([&rec.stick_start, &rec.stick_duration, &rec.slip_start, &rec.slip_duration]) {
-            col.push(values);
-        }
-        self.last_truncated.push(rec.last_truncated);
-        self.stick_end.1.extend(rec.stick_end.iter().map(|&e| e as u8));
-        self.stick_end.0.push(i32::try_from(self.stick_end.1.len()).expect("a chunk holds < 2^31 list values"));
-        self.stick_lists[0].push(&rec.stick_entry_position);
-        self.stick_lists[1].push(&rec.stick_entry_velocity);
-        let t_a = out.t_a;
-        let tails = [rec.longest_stick(), rec.stick_fraction(t_a), rec.min_velocity, rec.max_velocity, rec.max_slip_speed, rec.severity(out.speed_scale)];
-        for (col, x) in self.tail_scalars.iter_mut().zip(tails) {
-            col.push(x);
-        }
-        if let Some([times, velocities]) = &mut self.switch_times {
-            times.push(&belt.switch_times);
-            velocities.extend((0..belt.switch_times.len()).map(|k| belt.velocity_after(k)));
+        let row = Row { index, out };
+        for column in &mut self.columns {
+            column.push(row);
         }
         for (col, &x) in self.drawn.iter_mut().zip(&out.drawn) {
             col.push(x);
         }
+        self.len += 1;
+        self.sticks += out.record.n_stick() as u64;
     }
 
     /// The rows as an Arrow record batch with [`schema`].
     pub fn into_batch(self, layout: &Layout) -> RecordBatch {
-        let schema = schema(layout);
-        let mut columns: Vec<ArrayRef> = vec![
-            Arc::new(Int64Array::from(self.realization)),
-            Arc::new(Float64Array::from(self.x0)),
-            Arc::new(Float64Array::from(self.xdot0)),
-            Arc::new(Int32Array::from(self.initial_sign)),
-            Arc::new(Float64Array::from(self.initial_velocity)),
-            Arc::new(Int64Array::from(self.n_switches)),
-            Arc::new(Int64Array::from(self.n_stick)),
-            Arc::new(Int64Array::from(self.n_slip)),
-        ];
-        columns.extend(self.lists.into_iter().map(ListColumn::into_array));
-        columns.push(Arc::new(BooleanArray::from(self.last_truncated)));
-        let (offsets, codes) = self.stick_end;
-        let names = StringArray::from_iter_values(codes.iter().map(|&c| StickEnd::ALL[c as usize].name()));
-        let field = Arc::new(Field::new("element", DataType::Utf8, false));
-        columns.push(Arc::new(ListArray::new(field, OffsetBuffer::new(ScalarBuffer::from(offsets)), Arc::new(names), None)));
-        columns.extend(self.stick_lists.into_iter().map(ListColumn::into_array));
-        columns.extend(self.tail_scalars.into_iter().map(|v| Arc::new(Float64Array::from(v)) as ArrayRef));
-        columns.extend(self.switch_times.into_iter().flatten().map(ListColumn::into_array));
+        let mut columns: Vec<ArrayRef> = self.columns.into_iter().map(Builder::into_array).collect();
         columns.extend(self.drawn.into_iter().map(|v| Arc::new(Float64Array::from(v)) as ArrayRef));
-        RecordBatch::try_new(schema, columns).expect("columns match the schema")
+        RecordBatch::try_new(schema(layout), columns).expect("columns match the schema")
     }
 }
 
@@ -394,13 +353,9 @@ impl Finished {
 }
 
 fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterProperties {
-    let mut floats = vec![ColumnPath::from("x0"), ColumnPath::from("xdot0")];
-    floats.extend(layout.drawn.iter().chain(&columns::TAIL_SCALARS).map(|c| ColumnPath::from(*c)));
-    let lists = LIST_COLUMNS.iter().copied().chain([columns::STICK_ENTRY_POSITION]).chain(layout.switch_times.then_some("switch_times"));
-    floats.extend(lists.map(|c| ColumnPath::new(vec![c.into(), "list".into(), "element".into()])));
-    // No dictionaries (the counts are small integers zstd packs anyway; interning cost 2 % of a
-    // run); min/max statistics per row group for the integer columns (realization ranges let
-    // readers skip row groups), none for the floats.
+    // zstd, no dictionaries (the counts are small integers zstd packs anyway; interning cost 2 %
+    // of a run), min/max statistics per row group (realization ranges let readers skip row
+    // groups): [`Store::Packed`], the default; the other columns as their declarations say.
     let mut builder = WriterProperties::builder()
         .set_compression(Compression::ZSTD(ZstdLevel::try_new(1).expect("valid level")))
         .set_dictionary_enabled(false)
@@ -409,22 +364,22 @@ fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterPropert
         .set_coerce_types(true)
         // rows are in realization order (column 0): declared, so readers can rely on it
         .set_sorting_columns(Some(vec![SortingColumn { column_idx: 0, descending: false, nulls_first: false }]))
-        .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()))
-        // three words, or the few belt velocities, repeated per stick: a dictionary, then zstd
-        .set_column_dictionary_enabled(ColumnPath::new(vec![columns::STICK_END.into(), "list".into(), "element".into()]), true)
-        .set_column_dictionary_enabled(ColumnPath::new(vec![columns::STICK_ENTRY_VELOCITY.into(), "list".into(), "element".into()]), true);
-    // nor statistics for them: no reader skips row groups on a stick's end word or belt velocity,
-    // and the strings' min/max cost 4 % of a run's instructions
-    for c in [columns::STICK_END, columns::STICK_ENTRY_VELOCITY] {
-        builder = builder.set_column_statistics_enabled(ColumnPath::new(vec![c.into(), "list".into(), "element".into()]), EnabledStatistics::None);
-    }
-    // Floats are near-incompressible (random initial conditions, event times): stored PLAIN and
-    // uncompressed (zstd saved 8 % of the size and cost 12 % of the run), without statistics.
-    for col in floats {
-        builder = builder
-            .set_column_encoding(col.clone(), Encoding::PLAIN)
-            .set_column_statistics_enabled(col.clone(), EnabledStatistics::None)
-            .set_column_compression(col, Compression::UNCOMPRESSED);
+        .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()));
+    let declared = schema::present(layout.switch_times).map(|c| (c.name, c.kind(), c.store));
+    let drawn = layout.drawn.iter().map(|name| (*name, Kind::Float64, Store::Plain));
+    for (name, kind, store) in declared.chain(drawn) {
+        let path = match kind {
+            Kind::Floats | Kind::Strings => ColumnPath::new(vec![name.into(), "list".into(), "element".into()]),
+            _ => ColumnPath::from(name),
+        };
+        builder = match store {
+            Store::Packed => builder,
+            Store::Plain => builder
+                .set_column_encoding(path.clone(), Encoding::PLAIN)
+                .set_column_statistics_enabled(path.clone(), EnabledStatistics::None)
+                .set_column_compression(path, Compression::UNCOMPRESSED),
+            Store::Dictionary => builder.set_column_dictionary_enabled(path.clone(), true).set_column_statistics_enabled(path, EnabledStatistics::None),
+        };
     }
     builder.build()
 }
@@ -433,23 +388,35 @@ fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterPropert
 mod tests {
     use super::*;
 
+    /// The capacity of each list column's values.
+    fn list_capacities(rows: &Rows) -> Vec<usize> {
+        let lists = rows.columns.iter().filter_map(|c| match c {
+            Builder::Floats(_, v) => Some((v.values.capacity(), v.offsets.capacity())),
+            Builder::Strings(_, v) => Some((v.values.capacity(), v.offsets.capacity())),
+            _ => None,
+        });
+        lists.map(|(values, offsets)| values.min(offsets.saturating_mul(1 << 20))).collect()
+    }
+
     #[test]
     fn rows_reserve_what_the_chunk_needs_and_no_more_than_the_cap() {
-        // a chunk of 1,000 rows of 30 values per list, two drawn keys, switch times kept
+        // a chunk of 1,000 rows of 30 values per list, two drawn keys, switch times kept: the
+        // four interval lists, stick_end, the two entry lists and the two switch lists
         let rows = Rows::new(true, 2, 1000, 30);
-        let lists = rows.lists.iter().chain(&rows.stick_lists).chain(rows.switch_times.iter().flatten());
-        for col in lists {
-            assert!(col.values.capacity() >= 30_000 && col.offsets.capacity() >= 1001);
+        assert_eq!(list_capacities(&rows).len(), 9);
+        for c in &rows.columns {
+            let (values, offsets) = match c {
+                Builder::Floats(_, v) => (v.values.capacity(), v.offsets.capacity()),
+                Builder::Strings(_, v) => (v.values.capacity(), v.offsets.capacity()),
+                _ => continue,
+            };
+            assert!(values >= 30_000 && offsets >= 1001, "{values} {offsets}");
         }
-        assert!(rows.stick_end.1.capacity() >= 30_000);
         // every drawn column, not only the last (a clone of an empty Vec has no capacity)
         assert!(rows.drawn.iter().all(|c| c.capacity() >= 1000), "{:?}", rows.drawn.iter().map(Vec::capacity).collect::<Vec<_>>());
         // a scene with 10^7 expected events per realization (one row per chunk) grows its lists
         // instead of reserving 80 MB each up front
         let huge = Rows::new(true, 0, 1, 10_000_000);
-        for col in huge.lists.iter().chain(&huge.stick_lists).chain(huge.switch_times.iter().flatten()) {
-            assert!(col.values.capacity() <= LIST_RESERVE);
-        }
-        assert!(huge.stick_end.1.capacity() <= LIST_RESERVE);
+        assert!(list_capacities(&huge).iter().all(|&c| c <= LIST_RESERVE));
     }
 }

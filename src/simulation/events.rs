@@ -147,9 +147,9 @@ impl Record {
     /// The first value of the realization's row that is not a finite number or breaks its
     /// column's rule, as (column, value, rule) — the writers' last guard: no dataset, in a file or
     /// in memory, holds NaN or ±∞, nor a severity the analysis cannot take
-    /// ([`crate::simulation::schema::SEVERITY_BOUND`]). `severity` is this record's at the run's scale.
+    /// ([`crate::simulation::columns::SEVERITY_BOUND`]). `severity` is this record's at the run's scale.
     pub fn outside(&self, t_a: f64, severity: f64) -> Option<(&'static str, f64, &'static str)> {
-        use crate::simulation::schema::columns as name;
+        use crate::simulation::columns as name;
         let finite = "a finite number";
         let lists: [(&'static str, &[f64]); 6] = [
             (name::STICK_START, &self.stick_start),
@@ -173,7 +173,7 @@ impl Record {
         if let Some((column, x)) = scalars.into_iter().find(|(_, x)| !x.is_finite()) {
             return Some((column, x, finite));
         }
-        if !(severity.is_finite() && (0.0..=crate::simulation::schema::SEVERITY_BOUND).contains(&severity)) {
+        if !(severity.is_finite() && (0.0..=crate::simulation::columns::SEVERITY_BOUND).contains(&severity)) {
             return Some((name::SEVERITY, severity, "a number in [0, 2^24], the severities the analysis takes"));
         }
         None

@@ -7,6 +7,7 @@
 //! (the Parquet rows) → [`simulate`] (the stage: threads, shards, sweeps, commit).
 
 pub mod belt;
+pub mod columns;
 pub mod dataset;
 pub mod ensemble;
 pub mod events;

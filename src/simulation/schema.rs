@@ -1,86 +1,17 @@
-//! The dataset's columns, declared once: name, type, the schema version that introduced it,
-//! when it is present, the rule its values obey, its unit and meaning. The writer's Arrow schema
-//! ([`crate::simulation::dataset::schema`]), the reader's type checks and per-value ranges
-//! (`analysis::input`, `analysis::rules`) and the README's dataset table (checked by
-//! `tests/it/readme.rs`) are read off [`COLUMNS`].
+//! The dataset's columns, declared once: name, the value a realization writes there (which fixes
+//! the Arrow type), the schema version that introduced it, when it is present, how it is stored,
+//! the rule its values obey, its unit and meaning. The writer's Arrow schema, its rows and its
+//! Parquet settings ([`crate::simulation::dataset`]), the reader's type checks and per-value
+//! ranges (`analysis::input`, `analysis::rules`) and the README's dataset table (checked by
+//! `tests/it/readme.rs`) are read off [`COLUMNS`]: a new column is one entry here.
 
 use arrow_schema::DataType;
 
+use super::ensemble::Outcome;
+
 use columns as name;
 
-/// The names of the columns the readers use (the contract's), in one place.
-pub mod columns {
-    /// `int64`: the global realization index 0..N−1
-    pub const REALIZATION: &str = "realization";
-    /// `int64`: Q, the belt velocity changes in [0, t_a]
-    pub const N_SWITCHES: &str = "n_switches";
-    /// `int64`: S_T, the number of sticks
-    pub const N_STICK: &str = "n_stick";
-    /// `int64`: S_L, the number of slips
-    pub const N_SLIP: &str = "n_slip";
-    /// `bool`: the last interval was cut at t_a (its duration is censored)
-    pub const LAST_TRUNCATED: &str = "last_truncated";
-    /// `list<float64>`: T_1..T_{S_T}, the stick start instants [s]
-    pub const STICK_START: &str = "stick_start";
-    /// `list<float64>`: D_1..D_{S_T}, the stick durations [s]
-    pub const STICK_DURATION: &str = "stick_duration";
-    /// `list<float64>`: L_1..L_{S_L}, the slip start instants [s] (from the slip after the first
-    /// stick)
-    pub const SLIP_START: &str = "slip_start";
-    /// `list<float64>`: H_1..H_{S_L}, the slip durations [s]
-    pub const SLIP_DURATION: &str = "slip_duration";
-    /// `list<float64>`: Y_1..Y_Q, the belt velocity change instants [s] (only with
-    /// `output.switch_times`)
-    pub const SWITCH_TIMES: &str = "switch_times";
-    /// `list<float64>`: the belt velocity after each change [m/s] (with `switch_times`)
-    pub const SWITCH_VELOCITIES: &str = "switch_velocities";
-    /// `float64`: the belt velocity at t = 0⁺ [m/s] (schema v3)
-    pub const INITIAL_VELOCITY: &str = "initial_velocity";
-    /// `list<utf8>`: how each stick ended, `flip`, `breakaway` or `horizon` (schema v3)
-    pub const STICK_END: &str = "stick_end";
-    /// `list<float64>`: x at each stick's start [m] (schema v3)
-    pub const STICK_ENTRY_POSITION: &str = "stick_entry_position";
-    /// `list<float64>`: the belt velocity at each stick's start [m/s] (schema v3)
-    pub const STICK_ENTRY_VELOCITY: &str = "stick_entry_velocity";
-    /// `float64`: the longest stick within [0, t_a] [s], the cut one counted for its time in the
-    /// window (schema v3)
-    pub const LONGEST_STICK: &str = "longest_stick";
-    /// `float64`: the fraction of [0, t_a] spent stuck (schema v3)
-    pub const STICK_FRACTION: &str = "stick_fraction";
-    /// `float64`: the least mass velocity ẋ over [0, t_a] [m/s] (schema v3)
-    pub const MIN_VELOCITY: &str = "min_velocity";
-    /// `float64`: the greatest mass velocity ẋ over [0, t_a] [m/s] (schema v3)
-    pub const MAX_VELOCITY: &str = "max_velocity";
-    /// `float64`: the largest slip speed |v − ẋ| over [0, t_a] [m/s] (schema v3)
-    pub const MAX_SLIP_SPEED: &str = "max_slip_speed";
-    /// `float64`: (max_velocity − min_velocity)/(2 v0), v0 the forward belt speed: the stick-slip
-    /// severity (schema v3)
-    pub const SEVERITY: &str = "severity";
-
-    /// The per-stick float lists of schema v3, one value per stick.
-    pub const STICK_LISTS: [&str; 2] = [STICK_ENTRY_POSITION, STICK_ENTRY_VELOCITY];
-    /// The columns the tails' analysis needs beyond schema v2 (`analysis::tails`).
-    pub const TAILS_STATE: [&str; 5] = [STICK_END, STICK_ENTRY_POSITION, STICK_ENTRY_VELOCITY, LONGEST_STICK, SEVERITY];
-    /// The per-realization floats of schema v3.
-    pub const TAIL_SCALARS: [&str; 6] = [LONGEST_STICK, STICK_FRACTION, MIN_VELOCITY, MAX_VELOCITY, MAX_SLIP_SPEED, SEVERITY];
-
-    /// Each list column with the count column of its length, and whether its values are start
-    /// instants (in increasing order); `switch_times` is present only when the scenario asks.
-    pub const LISTS: [(&str, &str, bool); 5] = [
-        (STICK_START, N_STICK, true),
-        (STICK_DURATION, N_STICK, false),
-        (SLIP_START, N_SLIP, true),
-        (SLIP_DURATION, N_SLIP, false),
-        (SWITCH_TIMES, N_SWITCHES, true),
-    ];
-}
-
-/// The largest severity a dataset may hold, 2^24 ≈ 1.7e7 (a rule of the dataset: `simulate`
-/// refuses at the door a scene whose initial state implies more, and its writers refuse a
-/// realization past it; `analyze` checks it). The analysis' dyadic histograms start at width
-/// 2^(24 − 40) = 2^−16 and pack bin indices below 2^42, which holds every value up to 2^26; the
-/// paper scene's severities (1 to 1.26) are binned at 2^−13, as under the earlier bound 1024.
-pub const SEVERITY_BOUND: f64 = 16_777_216.0;
+pub use super::columns::{self, SEVERITY_BOUND};
 
 /// A column's Arrow type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -126,6 +57,66 @@ impl Kind {
     }
 }
 
+/// One realization as the writer sees it: its global index and what it produced.
+#[derive(Debug, Clone, Copy)]
+pub struct Row<'a> {
+    /// the global realization index
+    pub index: u64,
+    /// the realization
+    pub out: &'a Outcome,
+}
+
+/// What a realization writes in a column; the variant is the column's [`Kind`]. A list's
+/// function appends the row's values.
+#[derive(Clone, Copy)]
+pub enum Value {
+    /// one int64
+    Int64(fn(Row) -> i64),
+    /// one int32
+    Int32(fn(Row) -> i32),
+    /// one float64
+    Float64(fn(Row) -> f64),
+    /// one bool
+    Bool(fn(Row) -> bool),
+    /// a list of float64
+    Floats(fn(Row, &mut Vec<f64>)),
+    /// a list of strings
+    Strings(fn(Row, &mut Vec<&'static str>)),
+}
+
+impl Value {
+    /// The Arrow type it makes.
+    pub fn kind(self) -> Kind {
+        match self {
+            Value::Int64(_) => Kind::Int64,
+            Value::Int32(_) => Kind::Int32,
+            Value::Float64(_) => Kind::Float64,
+            Value::Bool(_) => Kind::Bool,
+            Value::Floats(_) => Kind::Floats,
+            Value::Strings(_) => Kind::Strings,
+        }
+    }
+}
+
+impl std::fmt::Debug for Value {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Value({})", self.kind().name())
+    }
+}
+
+/// How a column is stored in Parquet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Store {
+    /// zstd, with min/max statistics per row group (integers, booleans, few distinct floats)
+    Packed,
+    /// PLAIN, uncompressed, no statistics: near-incompressible floats (random initial
+    /// conditions, event times; zstd saved 8 % of the size and cost 12 % of the run)
+    Plain,
+    /// a dictionary, then zstd, no statistics: a few values repeated per stick (no reader skips
+    /// row groups on them, and a string's min/max cost 4 % of a run's instructions)
+    Dictionary,
+}
+
 /// When a column is in a part.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Presence {
@@ -158,12 +149,14 @@ pub enum Bound {
 pub struct Column {
     /// its name (`columns::…`)
     pub name: &'static str,
-    /// its Arrow type
-    pub kind: Kind,
+    /// what a realization writes there
+    pub value: Value,
     /// the schema version that introduced it
     pub since: u8,
     /// when it is present
     pub presence: Presence,
+    /// how it is stored
+    pub store: Store,
     /// the rule of its values, for a per-realization float
     pub bound: Bound,
     /// its unit (`s`, `m/s`, `1`, …)
@@ -172,43 +165,152 @@ pub struct Column {
     pub meaning: &'static str,
 }
 
-const fn col(name: &'static str, kind: Kind, since: u8, bound: Bound, unit: &'static str, meaning: &'static str) -> Column {
-    Column { name, kind, since, presence: Presence::Always, bound, unit, meaning }
+impl Column {
+    /// Its Arrow type.
+    pub fn kind(&self) -> Kind {
+        self.value.kind()
+    }
 }
 
-/// Every column, in the writer's order (the drawn scene keys, one float64 each, follow them).
+const fn col(name: &'static str, value: Value, since: u8, store: Store, bound: Bound, unit: &'static str, meaning: &'static str) -> Column {
+    Column { name, value, since, presence: Presence::Always, store, bound, unit, meaning }
+}
+
+/// A count as the int64 the dataset holds.
+fn count(n: usize) -> i64 {
+    n as i64
+}
+
+/// Every column, in the writer's order (the drawn scene keys, one float64 each, stored
+/// [`Store::Plain`], follow them).
 pub const COLUMNS: [Column; 24] = {
     use Bound::*;
-    use Kind::*;
+    use Store::*;
+    use Value as V;
     [
-        col(name::REALIZATION, Int64, 1, Unchecked, "1", "global index 0..N−1"),
-        col("x0", Float64, 1, Unchecked, "m", "initial position"),
-        col("xdot0", Float64, 1, Unchecked, "m/s", "initial velocity"),
-        col("initial_sign", Int32, 1, Unchecked, "1", "belt direction at t = 0 (0: a belt at rest)"),
-        col(name::INITIAL_VELOCITY, Float64, 3, Unchecked, "m/s", "belt velocity at t = 0"),
-        col(name::N_SWITCHES, Int64, 1, Unchecked, "1", "Q, belt velocity changes in [0, t_a]"),
-        col(name::N_STICK, Int64, 1, Unchecked, "1", "S_T, the number of sticks"),
-        col(name::N_SLIP, Int64, 1, Unchecked, "1", "S_L, the number of slips"),
-        col(name::STICK_START, Floats, 1, Unchecked, "s", "T_1..T_{S_T}, the stick start instants"),
-        col(name::STICK_DURATION, Floats, 1, Unchecked, "s", "D_1..D_{S_T}, the stick durations"),
-        col(name::SLIP_START, Floats, 1, Unchecked, "s", "L_1..L_{S_L}, the slip start instants (from the slip after the first stick)"),
-        col(name::SLIP_DURATION, Floats, 1, Unchecked, "s", "H_1..H_{S_L}, the slip durations"),
-        col(name::LAST_TRUNCATED, Bool, 1, Unchecked, "1", "the last interval was cut at t_a (its duration is censored)"),
-        col(name::STICK_END, Strings, 3, Unchecked, "1", "how each stick ended: flip, breakaway or horizon"),
-        col(name::STICK_ENTRY_POSITION, Floats, 3, Unchecked, "m", "x at each stick's start"),
-        col(name::STICK_ENTRY_VELOCITY, Floats, 3, Unchecked, "m/s", "the belt velocity at each stick's start"),
-        col(name::LONGEST_STICK, Float64, 3, Window, "s", "the longest stick within [0, t_a], the cut one counted for its time in the window"),
-        col(name::STICK_FRACTION, Float64, 3, Fraction, "1", "fraction of [0, t_a] spent stuck"),
-        col(name::MIN_VELOCITY, Float64, 3, Finite, "m/s", "least mass velocity over [0, t_a]"),
-        col(name::MAX_VELOCITY, Float64, 3, Finite, "m/s", "greatest mass velocity over [0, t_a]"),
-        col(name::MAX_SLIP_SPEED, Float64, 3, NonNegative, "m/s", "largest slip speed |v − ẋ| over [0, t_a]"),
-        col(name::SEVERITY, Float64, 3, Severity, "1", "(max_velocity − min_velocity)/(2 v0), v0 the belt's speed scale over [0, t_a]"),
-        Column { presence: Presence::SwitchTimes, ..col(name::SWITCH_TIMES, Floats, 1, Unchecked, "s", "Y_1..Y_Q, the belt velocity change instants") },
-        Column { presence: Presence::SwitchTimes, ..col(name::SWITCH_VELOCITIES, Floats, 3, Unchecked, "m/s", "the belt velocity after each change") },
+        col(name::REALIZATION, V::Int64(|r| r.index as i64), 1, Packed, Unchecked, "1", "global index 0..N−1"),
+        col("x0", V::Float64(|r| r.out.x0), 1, Plain, Unchecked, "m", "initial position"),
+        col("xdot0", V::Float64(|r| r.out.xdot0), 1, Plain, Unchecked, "m/s", "initial velocity"),
+        col("initial_sign", V::Int32(|r| r.out.belt.initial_sign()), 1, Packed, Unchecked, "1", "belt direction at t = 0 (0: a belt at rest)"),
+        col(name::INITIAL_VELOCITY, V::Float64(|r| r.out.belt.initial_velocity), 3, Packed, Unchecked, "m/s", "belt velocity at t = 0"),
+        col(name::N_SWITCHES, V::Int64(|r| count(r.out.belt.switch_times.len())), 1, Packed, Unchecked, "1", "Q, belt velocity changes in [0, t_a]"),
+        col(name::N_STICK, V::Int64(|r| count(r.out.record.n_stick())), 1, Packed, Unchecked, "1", "S_T, the number of sticks"),
+        col(name::N_SLIP, V::Int64(|r| count(r.out.record.n_slip())), 1, Packed, Unchecked, "1", "S_L, the number of slips"),
+        col(name::STICK_START, V::Floats(|r, v| v.extend(&r.out.record.stick_start)), 1, Plain, Unchecked, "s", "T_1..T_{S_T}, the stick start instants"),
+        col(name::STICK_DURATION, V::Floats(|r, v| v.extend(&r.out.record.stick_duration)), 1, Plain, Unchecked, "s", "D_1..D_{S_T}, the stick durations"),
+        col(
+            name::SLIP_START,
+            V::Floats(|r, v| v.extend(&r.out.record.slip_start)),
+            1,
+            Plain,
+            Unchecked,
+            "s",
+            "L_1..L_{S_L}, the slip start instants (from the slip after the first stick)",
+        ),
+        col(name::SLIP_DURATION, V::Floats(|r, v| v.extend(&r.out.record.slip_duration)), 1, Plain, Unchecked, "s", "H_1..H_{S_L}, the slip durations"),
+        col(
+            name::LAST_TRUNCATED,
+            V::Bool(|r| r.out.record.last_truncated),
+            1,
+            Packed,
+            Unchecked,
+            "1",
+            "the last interval was cut at t_a (its duration is censored)",
+        ),
+        col(
+            name::STICK_END,
+            V::Strings(|r, v| v.extend(r.out.record.stick_end.iter().map(|e| e.name()))),
+            3,
+            Dictionary,
+            Unchecked,
+            "1",
+            "how each stick ended: flip, breakaway or horizon",
+        ),
+        col(name::STICK_ENTRY_POSITION, V::Floats(|r, v| v.extend(&r.out.record.stick_entry_position)), 3, Plain, Unchecked, "m", "x at each stick's start"),
+        col(
+            name::STICK_ENTRY_VELOCITY,
+            V::Floats(|r, v| v.extend(&r.out.record.stick_entry_velocity)),
+            3,
+            Dictionary,
+            Unchecked,
+            "m/s",
+            "the belt velocity at each stick's start",
+        ),
+        col(
+            name::LONGEST_STICK,
+            V::Float64(|r| r.out.record.longest_stick()),
+            3,
+            Plain,
+            Window,
+            "s",
+            "the longest stick within [0, t_a], the cut one counted for its time in the window",
+        ),
+        col(name::STICK_FRACTION, V::Float64(|r| r.out.record.stick_fraction(r.out.t_a)), 3, Plain, Fraction, "1", "fraction of [0, t_a] spent stuck"),
+        col(name::MIN_VELOCITY, V::Float64(|r| r.out.record.min_velocity), 3, Plain, Finite, "m/s", "least mass velocity over [0, t_a]"),
+        col(name::MAX_VELOCITY, V::Float64(|r| r.out.record.max_velocity), 3, Plain, Finite, "m/s", "greatest mass velocity over [0, t_a]"),
+        col(name::MAX_SLIP_SPEED, V::Float64(|r| r.out.record.max_slip_speed), 3, Plain, NonNegative, "m/s", "largest slip speed |v − ẋ| over [0, t_a]"),
+        col(
+            name::SEVERITY,
+            V::Float64(|r| r.out.record.severity(r.out.speed_scale)),
+            3,
+            Plain,
+            Severity,
+            "1",
+            "(max_velocity − min_velocity)/(2 v0), v0 the belt's speed scale over [0, t_a]",
+        ),
+        Column {
+            presence: Presence::SwitchTimes,
+            ..col(
+                name::SWITCH_TIMES,
+                V::Floats(|r, v| v.extend(&r.out.belt.switch_times)),
+                1,
+                Plain,
+                Unchecked,
+                "s",
+                "Y_1..Y_Q, the belt velocity change instants",
+            )
+        },
+        Column {
+            presence: Presence::SwitchTimes,
+            ..col(
+                name::SWITCH_VELOCITIES,
+                V::Floats(|r, v| v.extend((0..r.out.belt.switch_times.len()).map(|k| r.out.belt.velocity_after(k)))),
+                3,
+                Packed,
+                Unchecked,
+                "m/s",
+                "the belt velocity after each change",
+            )
+        },
     ]
 };
+
+/// The dataset's schema version, recorded in every part: the latest `since` of [`COLUMNS`]
+/// (v1 had int32 counts, v2 int64 ones; v3 added the tails' columns). `analyze` reads every
+/// version from 1 to this one.
+pub const VERSION: u8 = {
+    let mut latest = 0;
+    let mut i = 0;
+    while i < COLUMNS.len() {
+        if COLUMNS[i].since > latest {
+            latest = COLUMNS[i].since;
+        }
+        i += 1;
+    }
+    latest
+};
+
+/// Whether `analyze` reads parts of schema `version` (written as in their metadata).
+pub fn readable(version: &str) -> Option<u8> {
+    version.parse().ok().filter(|v| (1..=VERSION).contains(v))
+}
 
 /// The columns every part of schema `version` has (the switch times aside).
 pub fn required(version: u8) -> impl Iterator<Item = &'static Column> {
     COLUMNS.iter().filter(move |c| c.presence == Presence::Always && c.since <= version)
+}
+
+/// The columns a part of this schema version has, with or without the switch times.
+pub fn present(switch_times: bool) -> impl Iterator<Item = &'static Column> {
+    COLUMNS.iter().filter(move |c| c.presence == Presence::Always || switch_times)
 }

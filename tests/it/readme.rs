@@ -47,7 +47,7 @@ fn the_readme_dataset_table_is_the_declared_schema() {
     for c in stickslip::simulation::schema::COLUMNS {
         let row =
             rows.iter().find(|r| r[0].split(", ").any(|n| n == c.name)).unwrap_or_else(|| panic!("the README's dataset table has no row for `{}`", c.name));
-        assert_eq!(row[1].replace("string", "utf8"), c.kind.name(), "`{}`", c.name);
+        assert_eq!(row[1].replace("string", "utf8"), c.kind().name(), "`{}`", c.name);
     }
     assert!(rows.len() <= stickslip::simulation::schema::COLUMNS.len() + 2, "a README row for a column the schema does not declare");
 }
