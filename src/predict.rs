@@ -12,6 +12,7 @@ use rayon::prelude::*;
 use crate::law::flow::{Frame, Slip};
 use crate::law::passage::{self, Start};
 pub use crate::law::LawError;
+use crate::observables::Statistic;
 use crate::outdir::{Kind, StagedDir};
 use crate::scenario::{Scenario, ScenarioError};
 use crate::simulation::belt::{InitialSign, Process};
@@ -34,7 +35,7 @@ pub struct State {
 }
 
 /// The predicted variables, in the names of `prediction.parquet`.
-pub const VARIABLES: [&str; 5] = ["remaining_stick", "time_to_stick", "stick_duration", "slip_duration", "breakaway"];
+pub const VARIABLES: [&str; 5] = crate::observables::names(crate::observables::Statistic::PREDICTED);
 
 /// One row of the prediction: a variable's mean and variance by one method.
 #[derive(Debug, Clone, PartialEq)]
@@ -280,12 +281,12 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
         rows.push(Row { variable, method: "exact", mean: m, variance: v.max(0.0), error: e, variance_error: ve, futures: None });
     };
     if matches!(start, Start::Stuck(_)) {
-        row("remaining_stick", &|s| s.current.unwrap().0, &|s| s.current.unwrap().1);
+        row(Statistic::RemainingStick.name(), &|s| s.current.unwrap().0, &|s| s.current.unwrap().1);
     }
-    row("time_to_stick", &|s| s.sticks[0].start.0, &|s| s.sticks[0].start.1);
-    row("stick_duration", &|s| s.sticks[0].duration.0, &|s| s.sticks[0].duration.1);
-    row("slip_duration", &|s| s.sticks[0].slip.0, &|s| s.sticks[0].slip.1);
-    row("breakaway", &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
+    row(Statistic::TimeToStick.name(), &|s| s.sticks[0].start.0, &|s| s.sticks[0].start.1);
+    row(Statistic::StickDuration.name(), &|s| s.sticks[0].duration.0, &|s| s.sticks[0].duration.1);
+    row(Statistic::SlipDuration.name(), &|s| s.sticks[0].slip.0, &|s| s.sticks[0].slip.1);
+    row(Statistic::Breakaway.name(), &|s| s.sticks[0].breakaway, &|s| s.sticks[0].breakaway * (1.0 - s.sticks[0].breakaway));
     let survival = crate::law::sticks::survival_rows(frames, &solved, &crate::law::density::survival_times(frames, &[]), crate::law::Order::Irregular);
     Ok((rows, survival))
 }
@@ -296,7 +297,10 @@ fn exact_rows(frames: &[Frame], ladder: &[crate::law::Rung], at: usize, start: S
 /// half-period the larger mean plus ten.
 fn density_rows(frames: &[Frame], finest: u32, at: usize, start: Start, rows: &[Row]) -> Result<Vec<crate::law::densities::DensityRow>, String> {
     let reach = |sds: f64| {
-        rows.iter().filter(|r| matches!(r.variable, "time_to_stick" | "slip_duration")).map(|r| r.mean + sds * r.variance.sqrt()).fold(0.0, f64::max)
+        rows.iter()
+            .filter(|r| [Statistic::TimeToStick.name(), Statistic::SlipDuration.name()].contains(&r.variable))
+            .map(|r| r.mean + sds * r.variance.sqrt())
+            .fold(0.0, f64::max)
     };
     let (cells, half_period) = (reach(6.0), reach(10.0));
     let ladder = crate::law::ladder(frames, finest, crate::law::LEVELS)?;

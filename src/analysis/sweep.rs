@@ -17,7 +17,7 @@ use std::path::Path;
 use super::accum::Moments;
 use super::input::open_cells;
 use super::{analyze_cells, output, Analysis, AnalysisError, Options};
-use crate::observables::Observable;
+use crate::observables::{Observable, Statistic};
 use crate::outdir::{Kind, StagedDir};
 use crate::table::{Col, Table};
 
@@ -156,9 +156,9 @@ pub fn table(cells: &[CellSummary]) -> Table {
         t.push(&format!("{name}_lo"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.0)));
         t.push(&format!("{name}_hi"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.1)));
     };
-    estimate(&mut t, "sticks_per_second", &|c| c.sticks_per_second);
-    estimate(&mut t, "longest_stick", &|c| c.longest_stick);
-    estimate(&mut t, "severity", &|c| c.severity);
+    estimate(&mut t, Statistic::SticksPerSecond.name(), &|c| c.sticks_per_second);
+    estimate(&mut t, Observable::LongestStick.variable(), &|c| c.longest_stick);
+    estimate(&mut t, Observable::Severity.variable(), &|c| c.severity);
     // the tails' columns, in the order of the first cell that has each
     let mut names: Vec<&String> = Vec::new();
     for (n, _) in cells.iter().flat_map(|c| &c.tails) {

@@ -55,6 +55,7 @@
 //! spread of those curves (the jackknife's variance) does not depend on reading each up to one
 //! coarse cell early, and the interval is centred on the fine estimate.
 
+use crate::observables::{Observable, Statistic};
 use polars::prelude::*;
 
 use super::input::{scan_all, Dataset};
@@ -255,12 +256,12 @@ pub(crate) fn finish(plan: &TailPlan, counts: &TailCounts) -> Tails {
             let loo: Vec<Option<f64>> = (0..GROUPS).map(|g| ratio(num, den, Some(g))).collect();
             out.exceedances.push(Exceedance { statistic, threshold, value, interval: transformed(value, &loo, LN), n: total(den, None) });
         };
-        push("breakaway_fraction", None, 2, 1);
+        push(Statistic::BreakawayFraction.name(), None, 2, 1);
         for (i, t) in opts.times.iter().enumerate() {
-            push("longest_stick", Some(*t), 3 + i, 0);
+            push(Observable::LongestStick.variable(), Some(*t), 3 + i, 0);
         }
         for (i, s) in opts.severity.iter().enumerate() {
-            push("severity", Some(*s), 3 + opts.times.len() + i, 0);
+            push(Observable::Severity.variable(), Some(*s), 3 + opts.times.len() + i, 0);
         }
     }
     out

@@ -5,6 +5,7 @@ use super::chart::{Figure, Panel, Series};
 use super::inputs::Inputs;
 use super::{contour, format, tails};
 use crate::analysis::tables::{convergence, growth, independence, joint_histograms, moments};
+use crate::observables::Observable;
 use crate::special::ln_gamma;
 use crate::table::Table;
 
@@ -147,7 +148,7 @@ pub fn counts_figure(inp: &Inputs) -> Figure {
         rows: 1,
         cols: 2,
         size: (1200, 500),
-        panels: vec![panel("S_T", "S_T (sticks)"), panel("S_L", "S_L (slips)")],
+        panels: vec![panel(Observable::Sticks.variable(), "S_T (sticks)"), panel(Observable::Slips.variable(), "S_L (slips)")],
     }
 }
 

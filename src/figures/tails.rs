@@ -6,6 +6,7 @@ use super::chart::{Figure, Panel, Series};
 use super::format;
 use super::inputs::Inputs;
 use crate::analysis::tables::{survival, tails};
+use crate::observables::{Observable, Statistic};
 
 /// The tails: P(D > t) and P(H > t) pooled over every stick (slip) on a log axis — product limit
 /// with its 95 % band, the naive curve that drops the censored intervals, and for sticks the
@@ -45,12 +46,12 @@ pub fn tails_figure(inp: &Inputs) -> Option<Figure> {
         let band = lo[r].zip(hi[r]).map_or(String::new(), |(a, b)| format!(" [{} – {}]", format::significant(a, 3), format::significant(b, 3)));
         Some(format!("{}{band}", format::significant(value[r]?, 3)))
     };
-    let breakaway = exceed("breakaway_fraction").map_or(String::new(), |b| format!("; sticks ending by breakaway: {b}"));
+    let breakaway = exceed(Statistic::BreakawayFraction.name()).map_or(String::new(), |b| format!("; sticks ending by breakaway: {b}"));
     let mut panels = vec![survival_panel("D", "every stick"), survival_panel("H", "every slip")];
-    panels.extend(law("longest_stick", "law of the longest stick of a realization".into(), "longest stick [s]"));
+    panels.extend(law(Observable::LongestStick.variable(), "law of the longest stick of a realization".into(), "longest stick [s]"));
     // the severity's exceedance P(S > s) from its histogram (mostly a point mass at 1: a mass
     // that follows the belt), with the thresholds of `tails.parquet` as markers
-    let bars = inp.histogram("severity", None);
+    let bars = inp.histogram(Observable::Severity.variable(), None);
     if !bars.is_empty() {
         let mut above = 1.0;
         let line: Vec<(f64, f64)> = bars
@@ -66,7 +67,11 @@ pub fn tails_figure(inp: &Inputs) -> Option<Figure> {
             .as_ref()
             .map(|e| {
                 let (names, threshold, value) = (e.str(&tails::STATISTIC), e.float(&tails::THRESHOLD), e.float(&tails::VALUE));
-                (0..e.height()).filter(|&r| names[r] == "severity").filter_map(|r| Some((threshold[r]?, value[r]?))).filter(|p| p.1 > 0.0).collect()
+                (0..e.height())
+                    .filter(|&r| names[r] == Observable::Severity.variable())
+                    .filter_map(|r| Some((threshold[r]?, value[r]?)))
+                    .filter(|p| p.1 > 0.0)
+                    .collect()
             })
             .unwrap_or_default();
         panels.push(Panel {

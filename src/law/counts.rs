@@ -21,6 +21,7 @@ use super::clock::{Euler, Points};
 use super::flow::Frame;
 use super::passage::{self, Step};
 use super::stationary::Rung;
+use crate::observables::Observable;
 use crate::scenario::Scenario;
 
 /// Where the sequence stops: P(T_k ≤ t_a) below this (past the mode) — the inversion's own
@@ -31,7 +32,7 @@ pub const NEGLIGIBLE: f64 = 1e-8;
 pub const MAX_STICKS: usize = 400;
 
 /// The variables, in analyze's names.
-pub const VARIABLES: [&str; 2] = ["S_T", "S_L"];
+pub const VARIABLES: [&str; 2] = [Observable::Sticks.variable(), Observable::Slips.variable()];
 
 /// One resolution's P(S ≥ k), k = 1, 2, … (S_T, S_L).
 #[derive(Debug, Clone, PartialEq)]
@@ -174,7 +175,7 @@ pub fn markdown(rows: &[CountRow]) -> String {
     let of = |v: &str, n: u32| rows.iter().find(|r| r.variable == v && r.value == n);
     let top = rows.iter().map(|r| r.value).max().unwrap_or(0);
     for n in 0..=top {
-        let (st, sl) = (of("S_T", n), of("S_L", n));
+        let (st, sl) = (of(VARIABLES[0], n), of(VARIABLES[1], n));
         if [st, sl].iter().all(|r| r.is_none_or(|r| r.probability < 1e-6)) {
             continue;
         }

@@ -52,6 +52,7 @@ use super::kept::{restick, start_point, Path};
 use super::passage::{self, Start, Step};
 use super::stationary::Rung;
 use super::sticks::STICKS;
+use crate::observables::{Observable, Statistic};
 use crate::scenario::Scenario;
 
 /// J, the highest term of the cosine series (on the paper scene, P = 10.4 s: ω_J = 77 rad/s, a
@@ -62,7 +63,7 @@ pub(crate) const N: usize = TERMS + 1;
 /// The cells of [0, t_a] the densities are averaged over.
 pub const GRID: usize = 100;
 /// The variables, in analyze's names.
-pub const VARIABLES: [&str; 3] = ["T", "L", "H"];
+pub const VARIABLES: [&str; 3] = [Observable::StickStart(1).variable(), Observable::SlipStart(1).variable(), Observable::SlipDuration(1).variable()];
 
 /// One variable's transform at one resolution: φ of its law at the points, less its point
 /// masses (module docs), and those: (t, mass).
@@ -170,7 +171,7 @@ pub(crate) fn predicted(frames: &[Frame], h: &[f64], half: f64, at: usize, start
             without(&mut phi, &origin, t, m);
             points.push((t, m));
         }
-        out.push(Transform { variable: "time_to_stick", index: 1, phi, points });
+        out.push(Transform { variable: Statistic::TimeToStick.name(), index: 1, phi, points });
         false
     })?;
     let since_end = Points::<N>::cosine(half_period, &lambdas, true);
@@ -182,7 +183,7 @@ pub(crate) fn predicted(frames: &[Frame], h: &[f64], half: f64, at: usize, start
             return true;
         }
         let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, &resticks, &breakaways);
-        out.push(Transform { variable: "slip_duration", index: 1, phi, points });
+        out.push(Transform { variable: Statistic::SlipDuration.name(), index: 1, phi, points });
         false
     })?;
     Ok(out)

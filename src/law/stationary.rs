@@ -11,16 +11,7 @@ use super::flow::Frame;
 use super::richardson::extrapolate;
 
 /// The long-run quantities, in the names of `stationary.parquet`.
-pub const QUANTITIES: [&str; 8] = [
-    "stick_fraction",
-    "mean_stick_duration",
-    "mean_slip_duration",
-    "var_stick_duration",
-    "var_slip_duration",
-    "sticks_per_second",
-    "breakaway_fraction",
-    "mean_cycle",
-];
+pub const QUANTITIES: [&str; 8] = crate::observables::names(crate::observables::Statistic::LONG_RUN);
 
 /// The frames of a scene's belt states (one for the symmetric belt, two for an asymmetric
 /// telegraph belt: forward, reverse; [`chain::Chain`]), or why the method does not hold for it.

@@ -30,6 +30,7 @@
 use super::flow::{Frame, Slip, Visitor};
 use super::passage::{self, MeanVar, Sequence, Start};
 use super::stationary::Rung;
+use crate::observables::Observable;
 use crate::scenario::Scenario;
 use crate::simulation::belt::InitialSign;
 
@@ -38,7 +39,12 @@ pub const STICKS: usize = 6;
 
 /// The variables, in analyze's names: T_k (stick starts), L_k (slip starts, the ends of the
 /// sticks), D_k (stick durations), H_k (slip durations).
-pub const VARIABLES: [&str; 4] = ["T", "L", "D", "H"];
+pub const VARIABLES: [&str; 4] = [
+    Observable::StickStart(1).variable(),
+    Observable::SlipStart(1).variable(),
+    Observable::StickDuration(1).variable(),
+    Observable::SlipDuration(1).variable(),
+];
 
 /// One row of `moments.parquet`.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,6 +1,7 @@
 //! The tails' rows of the report, and the points of a `survival.parquet` (analyze's, or
 //! exact-law's).
 
+use crate::observables::{Observable, Statistic};
 use std::path::Path;
 
 use super::error::ReportError;
@@ -69,7 +70,7 @@ pub(super) fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[
     let mut out = Vec::new();
     // P(D > t) at the asked times (the longest stick's thresholds are those times)
     if let Some(s) = &s {
-        for r in (0..e.height()).filter(|&r| stat[r] == "longest_stick") {
+        for r in (0..e.height()).filter(|&r| stat[r] == Observable::LongestStick.variable()) {
             for m in ["kaplan_meier", "naive", "conditional"] {
                 if let Some(q) = s.iter().find(|q| q.variable == "D" && q.index.is_none() && q.method == m && q.t == threshold[r]) {
                     let label = format!("P(D > {} s), {}", q.t.map_or("–".into(), short), m.replace('_', "-"));
@@ -81,7 +82,7 @@ pub(super) fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[
     // stick cycles per unit time: E[S_T]/t_a, with the mean's interval
     let (var, mean, mlo, mhi, mn) =
         (moments.str(&m::VARIABLE), moments.float(&m::MEAN), moments.float(&m::MEAN_LO), moments.float(&m::MEAN_HI), moments.int(&m::N));
-    if let Some(r) = (0..moments.height()).find(|&r| var[r] == "S_T") {
+    if let Some(r) = (0..moments.height()).find(|&r| var[r] == Observable::Sticks.variable()) {
         // (columns an older analysis may lack read as missing, not as a panic)
         let per = |c: &[Option<f64>]| c.get(r).copied().flatten().map(|x| x / t_a);
         out.push([
@@ -95,7 +96,7 @@ pub(super) fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[
             Some(x) => format!("P({} > {})", stat[r], short(x)),
             None => stat[r].replace('_', " "),
         };
-        let of = if stat[r] == "breakaway_fraction" { "sticks" } else { "realizations" };
+        let of = if stat[r] == Statistic::BreakawayFraction.name() { "sticks" } else { "realizations" };
         out.push([label, shown(value[r], lo[r], hi[r]), format!("{} {of}", n[r].unwrap_or(0))]);
     }
     Ok(out)

@@ -1,4 +1,6 @@
-//! One home for the per-realization quantities the tool measures: their names (one parser for
+//! One home for the quantities the tool names — the per-realization ones here ([`Observable`]),
+//! the ensemble and long-run statistics the exact law, `predict` and the tails report in
+//! [`Statistic`] — and for the per-realization ones: their names (one parser for
 //! what users type), units, meaning, their value on one simulated realization — the one
 //! definition `simulate --target-se`, `tradeoff` and `sensitivity` use (they never write a
 //! dataset) — and their polars expression over a dataset's columns ([`Observable::expr`]), the
@@ -15,6 +17,9 @@
 
 use std::fmt;
 use std::str::FromStr;
+
+mod statistic;
+pub use statistic::{names, Statistic};
 
 use polars::prelude::{col, lit, when, DataType, Expr, NULL};
 
@@ -84,7 +89,7 @@ impl Observable {
 
     /// The `variable` column of the analysis tables: the family letter of an indexed quantity
     /// (`T`, `L`, `D`, `H`, `Y`) or the whole name of a scalar one (`S_T`, `stick_fraction`).
-    pub fn variable(self) -> &'static str {
+    pub const fn variable(self) -> &'static str {
         match self {
             Observable::StickStart(_) => "T",
             Observable::SlipStart(_) => "L",
