@@ -126,9 +126,13 @@ impl Sketch {
         }
         let mut counts = vec![0u64; (hi - lo) as usize + 1];
         for s in [self, other] {
-            let k = exp - s.axis.exp;
+            // `remap` in integers: the bin indices are integers below 2^42 (in f64 exactly), and
+            // ⌊i / 2^k⌋ is i >> k (an arithmetic shift floors negative ones too); k ≥ 0
+            let (k, first, to) = (exp - s.axis.exp, s.axis.lo as i64, lo as i64);
             for (j, &c) in s.counts.iter().enumerate() {
-                counts[remap(&s.axis, j, k, lo)] += c;
+                if c != 0 {
+                    counts[(((first + j as i64) >> k) - to) as usize] += c;
+                }
             }
         }
         Sketch { axis: Axis { exp, lo, len: counts.len() }, counts }
