@@ -89,6 +89,21 @@ pub struct Prediction {
     pub censored: u64,
     /// the futures' horizon, s
     pub horizon: f64,
+    /// the exact law of each stick's duration from the state, at each resolution
+    survival: Option<Vec<crate::law::sticks::SurvivalRow>>,
+    /// the exact densities of τ and H (with `--densities`)
+    densities: Option<Vec<crate::law::densities::DensityRow>>,
+}
+
+impl Prediction {
+    /// Its tables, with their definitions (what `--out` holds): `prediction.parquet`, and where
+    /// the exact method ran `stick_survival.parquet`, with `--densities` `densities.parquet`.
+    pub fn tables(&self) -> Vec<(&'static crate::table::Def, Table)> {
+        let mut out = vec![(&prediction::DEF, table(&self.rows))];
+        out.extend(self.survival.as_ref().map(|s| (&STICK_SURVIVAL, crate::law::tables::survival(s))));
+        out.extend(self.densities.as_ref().map(|d| (&DENSITIES, crate::law::tables::densities(d))));
+        out
+    }
 }
 
 /// Two velocities equal but for rounding (1e-9 relative): a typed belt or mass velocity names
@@ -211,20 +226,16 @@ pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>,
         rows.extend(r);
         censored = c;
     }
+    let prediction = Prediction { rows, exact_refused, censored, horizon, survival, densities };
     if let Some(staged) = staged {
         let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: staged.path().join(name), message: e.to_string() };
-        let t = table(&rows);
-        prediction::DEF.check(&t).map_err(|e| werr("prediction.parquet", &e))?;
-        t.write_parquet(&staged.path().join("prediction.parquet")).map_err(|e| werr("prediction.parquet", &e))?;
-        if let Some(s) = &survival {
-            crate::law::tables::survival(s).write_parquet(&staged.path().join("stick_survival.parquet")).map_err(|e| werr("stick_survival.parquet", &e))?;
-        }
-        if let Some(d) = &densities {
-            crate::law::tables::densities(d).write_parquet(&staged.path().join("densities.parquet")).map_err(|e| werr("densities.parquet", &e))?;
+        for (def, t) in prediction.tables() {
+            def.check(&t).map_err(|e| werr(def.file, &e))?;
+            t.write_parquet(&staged.path().join(def.file)).map_err(|e| werr(def.file, &e))?;
         }
         staged.commit()?;
     }
-    Ok(Prediction { rows, exact_refused, censored, horizon })
+    Ok(prediction)
 }
 
 /// Whether --stuck agrees with the state: a stuck mass moves with the belt and the spring (and
@@ -422,6 +433,22 @@ fn future(out: &Outcome, stuck: bool) -> Result<Future, LawError> {
     f.slip = r.stick_start.get(k + 1).map(|_| r.slip_duration[k]);
     Ok(f)
 }
+
+/// `stick_survival.parquet` of `predict`: exact-law's `survival.parquet` columns, of the sticks
+/// from the state.
+pub const STICK_SURVIVAL: crate::table::Def = crate::table::Def {
+    file: "stick_survival.parquet",
+    meaning: "P(D_k > t) of the k-th stick from the state, exact (the columns of exact-law's survival.parquet)",
+    columns: crate::law::defs::survival::DEF.columns,
+};
+
+/// `densities.parquet` of `predict` (with `--densities`): exact-law's `densities.parquet`
+/// columns, of τ and H from the state.
+pub const DENSITIES: crate::table::Def = crate::table::Def {
+    file: "densities.parquet",
+    meaning: "the densities of the time to the next stick and of the slip after it (the columns of exact-law's densities.parquet)",
+    columns: crate::law::defs::densities::DEF.columns,
+};
 
 table! {
     /// `prediction.parquet`: one row per (variable, method).

@@ -228,6 +228,11 @@ table! {
     }
 }
 
+/// The tables of the indices, with their definitions (what the stage writes).
+pub fn tables(rows: &[Index]) -> Vec<(&'static crate::table::Def, Table)> {
+    vec![(&sobol::DEF, table(rows))]
+}
+
 /// The indices as `sobol.parquet`.
 pub fn table(rows: &[Index]) -> Table {
     let f = |g: &dyn Fn(&Index) -> f64| Col::Float(rows.iter().map(|r| Some(g(r)).filter(|x| x.is_finite())).collect());
@@ -289,9 +294,10 @@ pub fn run(scenario: &Scenario, n: u64, out: &Path, ctl: crate::progress::Contro
     ctl.check()?;
     let rows = compute(scenario, n)?;
     let werr = |name: &str, e: &dyn std::fmt::Display| SensitivityError::Write { path: out.join(name), message: e.to_string() };
-    let t = table(&rows);
-    sobol::DEF.check(&t).map_err(|e| werr("sobol.parquet", &e))?;
-    t.write_parquet(&staged.path().join("sobol.parquet")).map_err(|e| werr("sobol.parquet", &e))?;
+    for (def, t) in tables(&rows) {
+        def.check(&t).map_err(|e| werr(def.file, &e))?;
+        t.write_parquet(&staged.path().join(def.file)).map_err(|e| werr(def.file, &e))?;
+    }
     render::save(&figure(&rows), staged.path()).map_err(|e| werr("sobol.png", &e))?;
     std::fs::write(staged.path().join("sobol.md"), markdown(&rows, n)).map_err(|e| werr("sobol.md", &e))?;
     staged.commit()?;

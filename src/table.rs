@@ -91,11 +91,26 @@ impl Def {
     /// Read `dir`'s file of this table and check it against the definition: a table of another
     /// shape (an older stickslip's, or an edited file) is refused with the difference named.
     pub fn read(&self, dir: &Path) -> Result<Table, String> {
-        let path = dir.join(self.file);
-        let t = Table::read_parquet(&path).map_err(|e| e.to_string())?;
+        self.read_at(&dir.join(self.file))
+    }
+
+    /// [`Def::read`] of the file at `path` (a copy of the table under another name).
+    pub fn read_at(&self, path: &Path) -> Result<Table, String> {
+        let t = Table::read_parquet(path).map_err(|e| e.to_string())?;
         self.check(&t)
             .map_err(|e| format!("{e}: not the table this version of stickslip writes (written by another version, or edited); run the stage again"))?;
         Ok(t)
+    }
+
+    /// Whether `t` has these columns in order, of these types, after some leading columns and
+    /// before some trailing ones (a table whose first and last columns depend on the run, as a
+    /// sweep's keys and tails); the number of leading columns, else the first difference.
+    pub fn check_span(&self, t: &Table) -> Result<usize, String> {
+        let first = self.columns.first().map_or("", |c| c.name);
+        let start = t.columns.iter().position(|(n, _)| n == first).ok_or_else(|| format!("{}: column `{first}` is missing", self.file))?;
+        let span = Table { columns: t.columns[start..(start + self.columns.len()).min(t.columns.len())].to_vec() };
+        self.check(&span)?;
+        Ok(start)
     }
 
     /// The column named `name` (tests and generated documentation).
@@ -316,5 +331,36 @@ impl Table {
         let file = File::create(path).map_err(|e| polars_err!(ComputeError: "{}: {e}", path.display()))?;
         ParquetWriter::new(file).with_compression(ParquetCompression::Zstd(None)).finish(&mut df)?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    table! {
+        /// a table with run-dependent columns around its own
+        spanned = "spanned.parquet", "test" {
+            A: "a", Int, "a";
+            B: "b", Float, "b";
+        }
+    }
+
+    fn of(columns: &[(&str, Col)]) -> Table {
+        Table { columns: columns.iter().map(|(n, c)| (n.to_string(), c.clone())).collect() }
+    }
+
+    #[test]
+    fn a_span_is_found_after_leading_columns_and_checked() {
+        let (int, float) = (Col::Int(vec![Some(1)]), Col::Float(vec![Some(1.0)]));
+        let t = of(&[("key1", float.clone()), ("key2", float.clone()), ("a", int.clone()), ("b", float.clone()), ("tail", float.clone())]);
+        assert_eq!(spanned::DEF.check_span(&t), Ok(2));
+        assert_eq!(spanned::DEF.check_span(&of(&[("a", int.clone()), ("b", float.clone())])), Ok(0));
+        let missing = spanned::DEF.check_span(&of(&[("key", float.clone()), ("b", float.clone())])).unwrap_err();
+        assert!(missing.contains("column `a` is missing"), "{missing}");
+        let typed = spanned::DEF.check_span(&of(&[("a", int.clone()), ("b", int.clone())])).unwrap_err();
+        assert!(typed.contains("column `b` is Int"), "{typed}");
+        let cut = spanned::DEF.check_span(&of(&[("a", int), ("x", float)])).unwrap_err();
+        assert!(cut.contains("column `b` is missing"), "{cut}");
     }
 }

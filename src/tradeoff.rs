@@ -416,6 +416,11 @@ table! {
     }
 }
 
+/// The tables of `n` realizations' rows, with their definitions (what the stage writes).
+pub fn tables(rows: &[Row], n: u64) -> Vec<(&'static crate::table::Def, Table)> {
+    vec![(&tradeoff_table::DEF, table(rows, n))]
+}
+
 /// The rows as a table.
 pub fn table(rows: &[Row], n: u64) -> Table {
     let f = |g: &dyn Fn(&Row) -> f64| Col::Float(rows.iter().map(|r| Some(g(r)).filter(|x| x.is_finite())).collect());
@@ -500,9 +505,10 @@ pub fn run(base: &Scenario, n: u64, bias_fraction: f64, out: &Path, ctl: crate::
     let staged = StagedDir::new(out, Kind::Tradeoff, "--out", &[])?;
     let rows = measure(base, n, bias_fraction, ctl)?;
     let werr = |path: &Path, e: &dyn std::fmt::Display| TradeoffError::Write { path: path.to_owned(), message: e.to_string() };
-    let t = table(&rows, n);
-    tradeoff_table::DEF.check(&t).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
-    t.write_parquet(&staged.path().join("tradeoff.parquet")).map_err(|e| werr(&out.join("tradeoff.parquet"), &e))?;
+    for (def, t) in tables(&rows, n) {
+        def.check(&t).map_err(|e| werr(&out.join(def.file), &e))?;
+        t.write_parquet(&staged.path().join(def.file)).map_err(|e| werr(&out.join(def.file), &e))?;
+    }
     render::save(&figure(&rows), staged.path()).map_err(|e| werr(&out.join("work_precision.png"), &e))?;
     staged.commit()?;
     Ok(rows)

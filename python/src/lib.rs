@@ -261,16 +261,14 @@ fn analyze(
         let done = stage::analyze::run(&request, ctl)?;
         let mut cells = Vec::with_capacity(done.cells.len());
         for (path, a) in &done.cells {
-            let tables =
-                stickslip::analysis::output::tables(a)?.into_iter().map(|(def, t)| (def.name().to_string(), Table::from_batch(t.to_arrow()))).collect();
-            cells.push((path.clone(), tables, stickslip::analysis::output::summary(a).to_json()));
+            cells.push((path.clone(), tables(stickslip::analysis::output::tables(a)?), stickslip::analysis::output::summary(a).to_json()));
         }
         let sweep = done.sweep_table().map(|t| Table::from_batch(t.to_arrow()));
         Ok((cells, sweep))
     })
 }
 
-/// The `tradeoff` stage into `out`.
+/// The `tradeoff` stage into `out`; its tables by name.
 #[pyfunction]
 #[pyo3(signature = (kind, value, sets, out, realizations=None, bias_fraction=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -283,17 +281,17 @@ fn tradeoff(
     realizations: Option<u64>,
     bias_fraction: Option<f64>,
     progress: Option<Py<PyAny>>,
-) -> PyResult<()> {
+) -> PyResult<Vec<(String, Table)>> {
     let request = stage::tradeoff::Request {
         input: input(kind, value, sets)?,
         out,
         realizations: realizations.unwrap_or(stage::tradeoff::DEFAULT_REALIZATIONS),
         bias_fraction: bias_fraction.unwrap_or(stickslip::tradeoff::BIAS_FRACTION),
     };
-    staged(py, progress, |ctl| stage::tradeoff::run(&request, ctl).map(drop))
+    staged(py, progress, |ctl| Ok(tables(stage::tradeoff::run(&request, ctl)?.tables())))
 }
 
-/// The `sensitivity` stage into `out`.
+/// The `sensitivity` stage into `out`; its tables by name.
 #[pyfunction]
 #[pyo3(signature = (kind, value, sets, out, realizations=None, seed=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -306,17 +304,17 @@ fn sensitivity(
     realizations: Option<u64>,
     seed: Option<u64>,
     progress: Option<Py<PyAny>>,
-) -> PyResult<()> {
+) -> PyResult<Vec<(String, Table)>> {
     let request = stage::sensitivity::Request {
         input: input(kind, value, sets)?,
         out,
         realizations: realizations.unwrap_or(stage::sensitivity::DEFAULT_REALIZATIONS),
         seed,
     };
-    staged(py, progress, |ctl| stage::sensitivity::run(&request, ctl).map(drop))
+    staged(py, progress, |ctl| Ok(tables(stage::sensitivity::run(&request, ctl)?.tables())))
 }
 
-/// The `exact-law` stage into `out`.
+/// The `exact-law` stage into `out`; its tables by name.
 #[pyfunction]
 #[pyo3(signature = (kind, value, sets, out, resolution=None, tail_times=None, counts=None, densities=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -331,17 +329,17 @@ fn exact_law(
     counts: Option<u32>,
     densities: Option<u32>,
     progress: Option<Py<PyAny>>,
-) -> PyResult<()> {
+) -> PyResult<Vec<(String, Table)>> {
     let mut request = stage::exact_law::Request::new(input(kind, value, sets)?, out);
     request.resolution = resolution.unwrap_or(request.resolution);
     request.tail_times = tail_times.unwrap_or(request.tail_times);
     (request.counts, request.densities) = (counts, densities);
-    staged(py, progress, |ctl| stage::exact_law::run(&request, ctl).map(drop))
+    staged(py, progress, |ctl| Ok(tables(stage::exact_law::run(&request, ctl)?.tables)))
 }
 
-/// The `predict` stage, writing its tables into `out`.
+/// The `predict` stage (its tables also written into `out`, if given); its tables by name.
 #[pyfunction]
-#[pyo3(signature = (kind, value, sets, state, out, stuck=false, futures=None, horizon=None, resolution=None, seed=None, densities=None, progress=None))]
+#[pyo3(signature = (kind, value, sets, state, out=None, stuck=false, futures=None, horizon=None, resolution=None, seed=None, densities=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn predict(
     py: Python<'_>,
@@ -349,7 +347,7 @@ fn predict(
     value: Option<String>,
     sets: Vec<String>,
     state: (f64, f64, f64),
-    out: PathBuf,
+    out: Option<PathBuf>,
     stuck: bool,
     futures: Option<u64>,
     horizon: Option<f64>,
@@ -357,11 +355,16 @@ fn predict(
     seed: Option<u64>,
     densities: Option<u32>,
     progress: Option<Py<PyAny>>,
-) -> PyResult<()> {
+) -> PyResult<Vec<(String, Table)>> {
     let mut request = stage::predict::Request::new(input(kind, value, sets)?, state);
     request.resolution = resolution.unwrap_or(request.resolution);
-    (request.stuck, request.futures, request.horizon, request.seed, request.out, request.densities) = (stuck, futures, horizon, seed, Some(out), densities);
-    staged(py, progress, |ctl| stage::predict::run(&request, ctl).map(drop))
+    (request.stuck, request.futures, request.horizon, request.seed, request.out, request.densities) = (stuck, futures, horizon, seed, out, densities);
+    staged(py, progress, |ctl| Ok(tables(stage::predict::run(&request, ctl)?.tables())))
+}
+
+/// A stage's tables by name (`moments`, `sobol`, …), for Python.
+fn tables(tables: Vec<(&'static stickslip::table::Def, stickslip::table::Table)>) -> Vec<(String, Table)> {
+    tables.into_iter().map(|(def, t)| (def.name().to_string(), Table::from_batch(t.to_arrow()))).collect()
 }
 
 /// Run the command line with `argv` (the program name first), as the `stickslip` binary does;

@@ -31,7 +31,7 @@ import tempfile
 import typing
 import weakref
 from pathlib import Path
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import polars as pl
 
@@ -335,9 +335,9 @@ def _analyze(dataset: str, out: Optional[PathArg], max_index: Any, bins: Any, pa
     return Analysis({"sweep": pl.DataFrame(sweep)}, None, analyses, directory)
 
 
-def _read_tables(directory: PathArg) -> Tables:
-    d = Path(directory)
-    return Tables({p.stem: pl.read_parquet(p) for p in sorted(d.glob("*.parquet"))}, d)
+def _frames(tables: Sequence[Tuple[str, Any]]) -> Dict[str, pl.DataFrame]:
+    """A stage's tables (name, Arrow stream) as polars frames, without a copy."""
+    return {name: pl.DataFrame(t) for name, t in tables}
 
 
 def tradeoff(scenario: Scenario = None, *, out: PathArg, realizations: Optional[int] = None, set: Optional[Mapping[str, Any]] = None, progress: bool = False) -> pl.DataFrame:
@@ -361,8 +361,8 @@ def tradeoff(scenario: Scenario = None, *, out: PathArg, realizations: Optional[
         ``tradeoff.parquet``: one row per setting.
     """
     realizations = _args.optional_integer("realizations", realizations)
-    _stickslip.tradeoff(*_args.scenario(scenario), _args.sets(set), os.fspath(out), realizations, None, _progress(progress))
-    return pl.read_parquet(Path(out) / "tradeoff.parquet")
+    tables = _stickslip.tradeoff(*_args.scenario(scenario), _args.sets(set), os.fspath(out), realizations, None, _progress(progress))
+    return _frames(tables)["tradeoff"]
 
 
 def sensitivity(
@@ -392,8 +392,8 @@ def sensitivity(
     """
     realizations = _args.optional_integer("realizations", realizations)
     seed = _args.optional_integer("seed", seed, 0)
-    _stickslip.sensitivity(*_args.scenario(scenario), _args.sets(set), os.fspath(out), realizations, seed, _progress(progress))
-    return pl.read_parquet(Path(out) / "sobol.parquet")
+    tables = _stickslip.sensitivity(*_args.scenario(scenario), _args.sets(set), os.fspath(out), realizations, seed, _progress(progress))
+    return _frames(tables)["sobol"]
 
 
 def exact_law(
@@ -437,8 +437,8 @@ def exact_law(
     counts = _args.optional_integer("counts", counts, 1, _args.MAX_U32)
     densities = _args.optional_integer("densities", densities, 1, _args.MAX_U32)
     kind, value = _args.scenario(scenario)
-    _stickslip.exact_law(kind, value, _args.sets(set), os.fspath(out), resolution, _args.times("tail_times", tail_times), counts, densities, _progress(progress))
-    return _read_tables(out)
+    tables = _stickslip.exact_law(kind, value, _args.sets(set), os.fspath(out), resolution, _args.times("tail_times", tail_times), counts, densities, _progress(progress))
+    return Tables(_frames(tables), Path(out))
 
 
 def predict(
@@ -500,9 +500,8 @@ def predict(
     resolution = _args.optional_integer("resolution", resolution, 1, _args.MAX_U32)
     seed = _args.optional_integer("seed", seed, 0)
     kind, value = _args.scenario(scenario)
-    with tempfile.TemporaryDirectory() as tmp:
-        _stickslip.predict(kind, value, _args.sets(set), x, os.path.join(tmp, "p"), bool(stuck), futures, h, resolution, seed, None, _progress(progress))
-        return pl.read_parquet(os.path.join(tmp, "p", "prediction.parquet"))
+    tables = _stickslip.predict(kind, value, _args.sets(set), x, None, bool(stuck), futures, h, resolution, seed, None, _progress(progress))
+    return _frames(tables)["prediction"]
 
 
 def scenes() -> Dict[str, str]:

@@ -469,12 +469,14 @@ fn belt_levels(scenario: &Scenario) -> Option<Vec<f64>> {
 /// output: every value finite ([`crate::table::Table::read_parquet`]), the instants in [0, t_a],
 /// each realization's in order, and every event one the simulation writes.
 fn check_trajectories(dir: &Path, t_a: f64) -> Result<(), InputError> {
-    use crate::simulation::trajectory::{EVENTS, EVENT_NAMES, SAMPLES};
-    for file in [SAMPLES, EVENTS] {
+    use crate::simulation::trajectory::{events, samples, EVENT_NAMES};
+    // (by the columns checked here, not the whole shape: an older simulate's tables are copied as
+    // they are, and the figures say what they lack)
+    for (file, realization, instant) in [(samples::DEF.file, samples::REALIZATION, samples::T), (events::DEF.file, events::REALIZATION, events::T)] {
         let path = dir.join(file);
         let t = crate::table::Table::read_parquet(&path).map_err(|e| bad(&path, e.to_string()))?;
-        let (Some(ids), Some(times)) = (t.ints("realization"), t.floats("t")) else {
-            return Err(bad(&path, "lacks the int64 column `realization` or the float64 column `t`"));
+        let (Some(ids), Some(times)) = (t.ints(realization.name), t.floats(instant.name)) else {
+            return Err(bad(&path, format!("lacks the int64 column `{}` or the float64 column `{}`", realization.name, instant.name)));
         };
         for r in 0..t.height() {
             let (id, at) = (ids[r], times[r]);
@@ -488,9 +490,9 @@ fn check_trajectories(dir: &Path, t_a: f64) -> Result<(), InputError> {
                 return Err(bad(&path, format!("row {r}, column `t`: the instants of realization {} decrease", id.unwrap_or(-1))));
             }
         }
-        if let Some(events) = t.strings("event") {
-            if let Some((r, e)) = events.iter().enumerate().find(|(_, e)| !EVENT_NAMES.contains(&e.as_str())) {
-                return Err(bad(&path, format!("row {r}, column `event`: {e:?} (one of {})", EVENT_NAMES.join(", "))));
+        if let Some(kinds) = t.strings(events::EVENT.name) {
+            if let Some((r, e)) = kinds.iter().enumerate().find(|(_, e)| !EVENT_NAMES.contains(&e.as_str())) {
+                return Err(bad(&path, format!("row {r}, column `{}`: {e:?} (one of {})", events::EVENT.name, EVENT_NAMES.join(", "))));
             }
         }
     }

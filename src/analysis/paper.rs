@@ -141,13 +141,21 @@ impl Row {
 /// `compare` (the dataset is of the paper's scene, [`crate::scenario::Scenario::is_paper_scene`]):
 /// built once, for `table1.md`, the printed table and the report alike.
 pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
-    let (vars, idx) = (moments.strings("variable").unwrap_or_default(), moments.ints("index").unwrap_or_default());
-    let n = moments.ints("n").unwrap_or_default();
-    let col = |c: &str| moments.floats(c).unwrap_or_default();
+    use super::tables::moments as m;
+    let (vars, idx, n) = (moments.str(&m::VARIABLE), moments.int(&m::INDEX), moments.int(&m::N));
+    let col = |c: &crate::table::Column| moments.float(c);
     let (mean, var, mode, skew, kurt, mse, vse) =
-        (col("mean"), col("variance"), col("mode"), col("skewness"), col("kurtosis"), col("mean_se"), col("variance_se"));
-    let bounds = |stat: &str| (col(&format!("{stat}_lo")), col(&format!("{stat}_hi")));
-    let iv: Vec<(&[Option<f64>], &[Option<f64>])> = ["mean", "variance", "mode", "skewness", "kurtosis"].iter().map(|s| bounds(s)).collect();
+        (col(&m::MEAN), col(&m::VARIANCE), col(&m::MODE), col(&m::SKEWNESS), col(&m::KURTOSIS), col(&m::MEAN_SE), col(&m::VARIANCE_SE));
+    let iv: Vec<(&[Option<f64>], &[Option<f64>])> = [
+        (m::MEAN_LO, m::MEAN_HI),
+        (m::VARIANCE_LO, m::VARIANCE_HI),
+        (m::MODE_LO, m::MODE_HI),
+        (m::SKEWNESS_LO, m::SKEWNESS_HI),
+        (m::KURTOSIS_LO, m::KURTOSIS_HI),
+    ]
+    .iter()
+    .map(|(lo, hi)| (col(lo), col(hi)))
+    .collect();
     let mut rows = Vec::new();
     let wanted = TABLE1.iter().map(|(o, p)| (*o, Some(*p))).chain(COUNTS.iter().map(|(o, m, s2)| (*o, Some([*m, *s2, f64::NAN, f64::NAN, f64::NAN]))));
     for (o, p) in wanted {

@@ -17,7 +17,7 @@ use std::path::Path;
 use super::accum::Moments;
 use super::input::open_cells;
 use super::{analyze_cells, output, Analysis, AnalysisError, Options};
-use crate::observables::{Observable, Statistic};
+use crate::observables::Observable;
 use crate::outdir::{Kind, StagedDir};
 use crate::table::{Col, Table};
 
@@ -132,6 +132,36 @@ pub fn summarize(path: &str, a: &Analysis) -> CellSummary {
     }
 }
 
+crate::table::table! {
+    /// `sweep.parquet`: one row per cell of a sweep. Its columns are the swept keys' first (one
+    /// float64 each, named by the key's last component), then these, then the tails' exceedance
+    /// fractions of the analysis (`breakaway_fraction`, `p_longest_stick_gt_T`, …, each with
+    /// `_lo` and `_hi`) — the ones a sweep has ([`crate::table::Def::check_span`]).
+    sweep = "sweep.parquet", "one row per cell of a sweep: the swept keys' values, then what each cell's analysis found" {
+        REALIZATIONS: "realizations", Int, "realizations analysed in the cell";
+        MEAN_S_T: "mean_S_T", Float, "E[S_T], the mean number of sticks";
+        MEAN_S_T_SE: "mean_S_T_se", Float, "its standard error";
+        STICK_FRACTION: "stick_fraction", Float, "the mean fraction of [0, t_a] stuck";
+        STICK_FRACTION_LO: "stick_fraction_lo", Float, "its 95 % interval, lower end";
+        STICK_FRACTION_HI: "stick_fraction_hi", Float, "its 95 % interval, upper end";
+        MEAN_D: "mean_D", Float, "E[D], the mean stick duration, pooled over k [s]";
+        MEAN_H: "mean_H", Float, "E[H], the mean slip duration, pooled over k [s]";
+        VAR_T_SLOPE: "var_T_slope", Float, "the slope of Var T_k in k [s²]";
+        VAR_T_SLOPE_SE: "var_T_slope_se", Float, "its standard error [s²]";
+        MEAN_T_SLOPE: "mean_T_slope", Float, "the slope of E[T_k] in k: the mean cycle E[D] + E[H] [s]";
+        T_K_MAX: "T_k_max", Int, "the largest k the fits use";
+        STICKS_PER_SECOND: "sticks_per_second", Float, "E[S_T]/t_a [1/s]";
+        STICKS_PER_SECOND_LO: "sticks_per_second_lo", Float, "its 95 % interval, lower end";
+        STICKS_PER_SECOND_HI: "sticks_per_second_hi", Float, "its 95 % interval, upper end";
+        LONGEST_STICK: "longest_stick", Float, "the mean longest stick [s]";
+        LONGEST_STICK_LO: "longest_stick_lo", Float, "its 95 % interval, lower end";
+        LONGEST_STICK_HI: "longest_stick_hi", Float, "its 95 % interval, upper end";
+        SEVERITY: "severity", Float, "the mean severity";
+        SEVERITY_LO: "severity_lo", Float, "its 95 % interval, lower end";
+        SEVERITY_HI: "severity_hi", Float, "its 95 % interval, upper end";
+    }
+}
+
 /// The per-cell summaries as a table.
 pub fn table(cells: &[CellSummary]) -> Table {
     let mut t = Table::default();
@@ -139,26 +169,26 @@ pub fn table(cells: &[CellSummary]) -> Table {
         t.push(key, Col::Float(cells.iter().map(|c| c.keys.get(i).map(|k| k.1)).collect()));
     }
     let f = |g: &dyn Fn(&CellSummary) -> Option<f64>| Col::Float(cells.iter().map(|c| g(c).filter(|x| x.is_finite())).collect());
-    t.push("realizations", Col::Int(cells.iter().map(|c| Some(c.realizations as i64)).collect()))
-        .push("mean_S_T", f(&|c| Some(c.mean_st)))
-        .push("mean_S_T_se", f(&|c| c.mean_st_se))
-        .push("stick_fraction", f(&|c| Some(c.stick_fraction)))
-        .push("stick_fraction_lo", f(&|c| c.stick_fraction_interval.map(|i| i.0)))
-        .push("stick_fraction_hi", f(&|c| c.stick_fraction_interval.map(|i| i.1)))
-        .push("mean_D", f(&|c| c.mean_d))
-        .push("mean_H", f(&|c| c.mean_h))
-        .push("var_T_slope", f(&|c| c.var_t_slope))
-        .push("var_T_slope_se", f(&|c| c.var_t_slope_se))
-        .push("mean_T_slope", f(&|c| c.mean_t_slope))
-        .push("T_k_max", Col::Int(cells.iter().map(|c| c.t_k_max.map(i64::from)).collect()));
+    t.put(&sweep::REALIZATIONS, Col::Int(cells.iter().map(|c| Some(c.realizations as i64)).collect()))
+        .put(&sweep::MEAN_S_T, f(&|c| Some(c.mean_st)))
+        .put(&sweep::MEAN_S_T_SE, f(&|c| c.mean_st_se))
+        .put(&sweep::STICK_FRACTION, f(&|c| Some(c.stick_fraction)))
+        .put(&sweep::STICK_FRACTION_LO, f(&|c| c.stick_fraction_interval.map(|i| i.0)))
+        .put(&sweep::STICK_FRACTION_HI, f(&|c| c.stick_fraction_interval.map(|i| i.1)))
+        .put(&sweep::MEAN_D, f(&|c| c.mean_d))
+        .put(&sweep::MEAN_H, f(&|c| c.mean_h))
+        .put(&sweep::VAR_T_SLOPE, f(&|c| c.var_t_slope))
+        .put(&sweep::VAR_T_SLOPE_SE, f(&|c| c.var_t_slope_se))
+        .put(&sweep::MEAN_T_SLOPE, f(&|c| c.mean_t_slope))
+        .put(&sweep::T_K_MAX, Col::Int(cells.iter().map(|c| c.t_k_max.map(i64::from)).collect()));
     let estimate = |t: &mut Table, name: &str, get: &dyn Fn(&CellSummary) -> Estimate| {
         t.push(name, f(&|c| get(c).map(|e| e.0)));
         t.push(&format!("{name}_lo"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.0)));
         t.push(&format!("{name}_hi"), f(&|c| get(c).and_then(|e| e.1).map(|i| i.1)));
     };
-    estimate(&mut t, Statistic::SticksPerSecond.name(), &|c| c.sticks_per_second);
-    estimate(&mut t, Observable::LongestStick.variable(), &|c| c.longest_stick);
-    estimate(&mut t, Observable::Severity.variable(), &|c| c.severity);
+    estimate(&mut t, sweep::STICKS_PER_SECOND.name, &|c| c.sticks_per_second);
+    estimate(&mut t, sweep::LONGEST_STICK.name, &|c| c.longest_stick);
+    estimate(&mut t, sweep::SEVERITY.name, &|c| c.severity);
     // the tails' columns, in the order of the first cell that has each
     let mut names: Vec<&String> = Vec::new();
     for (n, _) in cells.iter().flat_map(|c| &c.tails) {
@@ -201,4 +231,18 @@ pub fn analyze_all(dir: &Path, opts: &Options, out: Option<&Path>, ctl: crate::p
     }
     staged.commit()?;
     Ok(done)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::observables::Statistic;
+
+    #[test]
+    fn the_sweeps_estimates_are_named_as_the_quantities_they_estimate() {
+        assert_eq!(sweep::STICKS_PER_SECOND.name, Statistic::SticksPerSecond.name());
+        assert_eq!(sweep::LONGEST_STICK.name, Observable::LongestStick.variable());
+        assert_eq!(sweep::SEVERITY.name, Observable::Severity.variable());
+        assert_eq!(sweep::STICK_FRACTION.name, Observable::StickFraction.variable());
+    }
 }

@@ -17,7 +17,10 @@ pub fn run(adir: &Path, out: &Path) -> Result<Vec<String>, FigureError> {
     let mut names = Vec::new();
     let sweep_path = adir.join("sweep.parquet");
     if sweep_path.is_file() {
-        let sweep = Table::read_parquet(&sweep_path).map_err(|e| FigureError::Read { path: sweep_path.clone(), message: e.to_string() })?;
+        let read = Table::read_parquet(&sweep_path).map_err(|e| e.to_string());
+        let sweep = read
+            .and_then(|t| crate::analysis::sweep::sweep::DEF.check_span(&t).map(|_| t))
+            .map_err(|message| FigureError::Read { path: sweep_path.clone(), message })?;
         if let Some(f) = sweep_figure(&sweep) {
             render::save(&f, staged.path()).map_err(|message| FigureError::Draw { name: f.name.clone(), message })?;
             names.push(f.name);

@@ -7,7 +7,7 @@ use super::{contour, format, tails};
 use crate::analysis::tables::{convergence, growth, independence, joint_histograms, moments};
 use crate::observables::Observable;
 use crate::special::ln_gamma;
-use crate::table::Table;
+use crate::table::{Column, Table};
 
 fn poisson_pmf(mean: f64, q: u32) -> f64 {
     if mean == 0.0 {
@@ -286,15 +286,19 @@ pub fn convergence_figure(inp: &Inputs) -> Option<Figure> {
     })
 }
 
-/// The per-cell metrics of `sweep.parquet` drawn by [`sweep_figure`]: (column, panel title).
-pub const SWEEP_METRICS: [(&str, &str); 6] = [
-    ("mean_S_T", "E[S_T]"),
-    ("stick_fraction", "fraction of time in stick"),
-    ("mean_D", "E[D] [s]"),
-    ("mean_H", "E[H] [s]"),
-    ("var_T_slope", "slope of Var T_k [s²]"),
-    ("mean_T_slope", "mean cycle E[D] + E[H] [s]"),
-];
+/// The per-cell metrics of `sweep.parquet` drawn by [`sweep_figure`]: (column, panel title, its
+/// standard error's column).
+pub const SWEEP_METRICS: [(Column, &str, Option<Column>); 6] = {
+    use crate::analysis::sweep::sweep as s;
+    [
+        (s::MEAN_S_T, "E[S_T]", Some(s::MEAN_S_T_SE)),
+        (s::STICK_FRACTION, "fraction of time in stick", None),
+        (s::MEAN_D, "E[D] [s]", None),
+        (s::MEAN_H, "E[H] [s]", None),
+        (s::VAR_T_SLOPE, "slope of Var T_k [s²]", Some(s::VAR_T_SLOPE_SE)),
+        (s::MEAN_T_SLOPE, "mean cycle E[D] + E[H] [s]", None),
+    ]
+};
 
 /// A swept key (a sweep table's column: the last component of the key) as an axis title: the
 /// key as written with its unit, e.g. `belt.switch_rate [1/s]`.
@@ -360,7 +364,7 @@ fn edges(v: &[f64], log: bool) -> Vec<(f64, f64)> {
 /// keys: each metric as a heat map over the grid, with a colour bar. An axis is logarithmic when
 /// its key spans a factor of 10 or more.
 pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
-    let keys: Vec<&str> = sweep.columns.iter().map(|(n, _)| n.as_str()).take_while(|n| *n != "realizations").collect();
+    let keys: Vec<&str> = sweep.columns.iter().map(|(n, _)| n.as_str()).take_while(|n| *n != crate::analysis::sweep::sweep::REALIZATIONS.name).collect();
     let x = *keys.first()?;
     let xs = sweep.floats(x)?;
     let distinct = |k: &str| -> Option<Vec<f64>> {
@@ -378,8 +382,8 @@ pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
         let (xe, ye) = (edges(&x_values, x_log), edges(&y_values, y_log));
         let panels = SWEEP_METRICS
             .iter()
-            .filter_map(|&(col, title)| {
-                let v = sweep.floats(col)?;
+            .filter_map(|&(col, title, _)| {
+                let v = sweep.floats(col.name)?;
                 let heat: Vec<[f64; 5]> = (0..sweep.height())
                     .filter_map(|r| {
                         let (i, j) = (x_values.iter().position(|&a| Some(a) == xs[r])?, y_values.iter().position(|&b| Some(b) == ys[r])?);
@@ -411,9 +415,9 @@ pub fn sweep_figure(sweep: &Table) -> Option<Figure> {
     };
     let panels = SWEEP_METRICS
         .iter()
-        .filter_map(|&(col, title)| {
-            let ys = sweep.floats(col)?;
-            let se = sweep.floats(&format!("{col}_se"));
+        .filter_map(|&(col, title, se)| {
+            let ys = sweep.floats(col.name)?;
+            let se = se.and_then(|c| sweep.floats(c.name));
             let lines: Vec<Series> = groups
                 .iter()
                 .enumerate()
@@ -450,22 +454,9 @@ pub fn trajectory_figure(inp: &Inputs) -> Option<Figure> {
     let t_a = inp.scenario.run.duration;
     let t_end = if t_a.is_finite() && t_a >= last { t_a } else { last };
     // The belt as an exact step function through its changes (few, truly vertical segments), at
-    // the velocity each change records; an older analysis without them alternates between the
-    // two velocities sampled (+v_f and −v_r on an asymmetric belt; −v0 when no sample shows the
-    // other state).
+    // the velocity each change records (an older analysis without them is refused on read).
     let v0 = belt.first()?.1;
-    let v1 = belt.iter().map(|b| b.1).find(|v| v.signum() != v0.signum()).unwrap_or(-v0);
-    let level = |i: usize| match i.checked_sub(1).map(|j| tr.belt_switches[j].1) {
-        None => v0,
-        Some(v) if !v.is_nan() => v,
-        Some(_) => {
-            if i.is_multiple_of(2) {
-                v0
-            } else {
-                v1
-            }
-        }
-    };
+    let level = |i: usize| i.checked_sub(1).map_or(v0, |j| tr.belt_switches[j].1);
     let mut step = vec![(0.0, v0)];
     for (i, &t) in flips.iter().enumerate() {
         step.extend([(t, level(i)), (t, level(i + 1))]);

@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use super::error::FigureError;
+use crate::simulation::trajectory::{events, samples, EVENT_NAMES};
 use crate::table::Table;
 
 /// One sampled realization (Fig. 4): its grid samples and its events, in time order.
@@ -11,8 +12,7 @@ use crate::table::Table;
 pub struct Trajectory {
     /// (t [s], ẋ [m/s], belt velocity [m/s])
     pub samples: Vec<[f64; 3]>,
-    /// the belt velocity changes: instant [s] and the velocity from then on [m/s] (NaN in an
-    /// analysis written before the events carried it: the figure then alternates two levels)
+    /// the belt velocity changes: instant [s] and the velocity from then on [m/s]
     pub belt_switches: Vec<(f64, f64)>,
     /// instants the sticks begin [s] (`stick_start` events)
     pub stick_starts: Vec<f64>,
@@ -28,28 +28,25 @@ impl Trajectory {
         if !(sp.is_file() && ep.is_file()) {
             return Ok(None);
         }
-        let read = |path: &Path, columns: &[(&str, char)]| {
-            Table::read_checked(path, columns).map_err(|e| FigureError::Read { path: path.to_owned(), message: e.to_string() })
-        };
-        let s = read(&sp, &[("realization", 'i'), ("t", 'f'), ("xdot", 'f'), ("belt_velocity", 'f')])?;
-        let e = read(&ep, &[("realization", 'i'), ("event", 's'), ("t", 'f')])?;
-        let first = |t: &Table| t.ints("realization").unwrap_or_default().iter().map(|r| *r == Some(0)).collect::<Vec<bool>>();
+        let read = |def: &crate::table::Def, path: &Path| def.read_at(path).map_err(|message| FigureError::Read { path: path.to_owned(), message });
+        let (s, e) = (read(&samples::DEF, &sp)?, read(&events::DEF, &ep)?);
+        let first = |t: &Table, c| t.int(c).iter().map(|r| *r == Some(0)).collect::<Vec<bool>>();
         let mut out = Trajectory::default();
-        let (keep, t, xdot, v) =
-            (first(&s), s.floats("t").unwrap_or_default(), s.floats("xdot").unwrap_or_default(), s.floats("belt_velocity").unwrap_or_default());
+        let (keep, t, xdot, v) = (first(&s, &samples::REALIZATION), s.float(&samples::T), s.float(&samples::XDOT), s.float(&samples::BELT_VELOCITY));
         for i in (0..keep.len()).filter(|&i| keep[i]) {
             if let (Some(t), Some(x), Some(v)) = (t[i], xdot[i], v[i]) {
                 out.samples.push([t, x, v]);
             }
         }
-        let (keep, kind, t) = (first(&e), e.strings("event").unwrap_or_default(), e.floats("t").unwrap_or_default());
-        let belt = e.floats("belt_velocity").unwrap_or_default();
+        let (keep, kind, t) = (first(&e, &events::REALIZATION), e.str(&events::EVENT), e.float(&events::T));
+        let belt = e.float(&events::BELT_VELOCITY);
+        let [switch, start, end] = EVENT_NAMES;
         for i in (0..keep.len()).filter(|&i| keep[i]) {
-            let Some(t) = t[i] else { continue };
+            let (Some(t), Some(v)) = (t[i], belt[i]) else { continue };
             match kind[i].as_str() {
-                "belt_switch" => out.belt_switches.push((t, belt.get(i).copied().flatten().unwrap_or(f64::NAN))),
-                "stick_start" => out.stick_starts.push(t),
-                "stick_end" => out.stick_ends.push(t),
+                k if k == switch => out.belt_switches.push((t, v)),
+                k if k == start => out.stick_starts.push(t),
+                k if k == end => out.stick_ends.push(t),
                 _ => {}
             }
         }

@@ -327,15 +327,11 @@ pub(crate) fn characteristic_table(levels: &[(f64, Transforms)], half_period: f6
 /// The levels and the half-period back from `characteristic.parquet` (as written by
 /// [`characteristic_table`]).
 pub(crate) fn read_characteristic(path: &std::path::Path) -> Result<(f64, Vec<(f64, Transforms)>), String> {
-    let t = crate::table::Table::read_checked(
-        path,
-        &[("h", 'f'), ("variable", 's'), ("index", 'i'), ("j", 'i'), ("re", 'f'), ("im", 'f'), ("half_period", 'f'), ("point_at", 'f'), ("point_mass", 'f')],
-    )
-    .map_err(|e| e.to_string())?;
-    let (h, v, k, j) =
-        (t.floats("h").unwrap_or_default(), t.strings("variable").unwrap_or_default(), t.ints("index").unwrap_or_default(), t.ints("j").unwrap_or_default());
-    let (re, im, p) = (t.floats("re").unwrap_or_default(), t.floats("im").unwrap_or_default(), t.floats("half_period").unwrap_or_default());
-    let (at, mass) = (t.floats("point_at").unwrap_or_default(), t.floats("point_mass").unwrap_or_default());
+    use super::defs::characteristic as c;
+    let t = c::DEF.read_at(path)?;
+    let (h, v, k, j) = (t.float(&c::H), t.str(&c::VARIABLE), t.int(&c::INDEX), t.int(&c::J));
+    let (re, im, p) = (t.float(&c::RE), t.float(&c::IM), t.float(&c::HALF_PERIOD));
+    let (at, mass) = (t.float(&c::POINT_AT), t.float(&c::POINT_MASS));
     let bad = |r: usize| format!("{}: row {r} is not a transform of this version (h, variable, index, j, re, im, point_at, point_mass)", path.display());
     let half_period = p.first().copied().flatten().ok_or_else(|| format!("{}: no rows", path.display()))?;
     let mut levels: Vec<(f64, Transforms)> = Vec::new();

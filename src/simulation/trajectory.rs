@@ -78,11 +78,44 @@ impl<A: Observer, B: Observer> Observer for Tee<'_, A, B> {
     }
 }
 
+crate::table::table! {
+    /// `samples.parquet`: the sampled paths.
+    samples = "samples.parquet", "the first realizations' paths, sampled every output.trajectory_step" {
+        REALIZATION: "realization", Int, "the realization's global index";
+        T: "t", Float, "the instant [s]";
+        X: "x", Float, "the mass' position [m]";
+        XDOT: "xdot", Float, "the mass' velocity [m/s]";
+        BELT_VELOCITY: "belt_velocity", Float, "the belt's velocity [m/s]";
+    }
+}
+
+crate::table::table! {
+    /// `events.parquet`: the sampled realizations' events.
+    events = "events.parquet", "the sampled realizations' belt switches, stick starts and stick ends, in time order" {
+        REALIZATION: "realization", Int, "the realization's global index";
+        EVENT: "event", Str, "belt_switch, stick_start or stick_end";
+        T: "t", Float, "its instant [s]";
+        BELT_VELOCITY: "belt_velocity", Float, "the belt's velocity from that instant on [m/s]";
+    }
+}
+
 /// The two table files, in [`dir_for`].
-pub const SAMPLES: &str = "samples.parquet";
-pub const EVENTS: &str = "events.parquet";
+pub const SAMPLES: &str = samples::DEF.file;
+pub const EVENTS: &str = events::DEF.file;
 /// The `event` values of [`EVENTS`].
 pub const EVENT_NAMES: [&str; 3] = ["belt_switch", "stick_start", "stick_end"];
+
+/// A table definition's columns as the Arrow schema the writer uses (int64, float64, utf8; no
+/// nulls).
+fn arrow_schema(def: &crate::table::Def) -> Schema {
+    use crate::table::Type;
+    let ty = |t: Type| match t {
+        Type::Int => DataType::Int64,
+        Type::Float => DataType::Float64,
+        Type::Str => DataType::Utf8,
+    };
+    Schema::new(def.columns.iter().map(|c| Field::new(c.name, ty(c.ty), false)).collect::<Vec<_>>())
+}
 
 /// The footer key that marks a trajectory table as the tool's (a file without it is never
 /// replaced).
@@ -137,18 +170,11 @@ impl Tables {
     fn samples_batch(&self) -> RecordBatch {
         let f = |i: usize| Arc::new(Float64Array::from(self.samples.iter().map(|s| s[i]).collect::<Vec<_>>())) as ArrayRef;
         let cols: Vec<ArrayRef> = vec![Arc::new(Int64Array::from(self.sample_realization.clone())), f(0), f(1), f(2), f(3)];
-        let fields = ["t", "x", "xdot", "belt_velocity"].map(|n| Field::new(n, DataType::Float64, false));
-        let schema = Schema::new([Field::new("realization", DataType::Int64, false)].into_iter().chain(fields).collect::<Vec<_>>());
-        RecordBatch::try_new(Arc::new(schema), cols).expect("columns of equal length")
+        RecordBatch::try_new(Arc::new(arrow_schema(&samples::DEF)), cols).expect("columns of equal length")
     }
 
     fn events_batch(&self) -> RecordBatch {
-        let schema = Schema::new(vec![
-            Field::new("realization", DataType::Int64, false),
-            Field::new("event", DataType::Utf8, false),
-            Field::new("t", DataType::Float64, false),
-            Field::new("belt_velocity", DataType::Float64, false),
-        ]);
+        let schema = arrow_schema(&events::DEF);
         let cols: Vec<ArrayRef> = vec![
             Arc::new(Int64Array::from(self.event_realization.clone())),
             Arc::new(StringArray::from(self.event.clone())),

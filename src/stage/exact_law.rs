@@ -11,6 +11,7 @@ use crate::law::{counts::CountRow, densities::DensityRow, sticks, LawError, Leve
 use crate::outdir::{check_separate, Kind, StagedDir};
 use crate::progress::Control;
 use crate::scenario::Input;
+use crate::table::{Def, Table};
 
 /// The finest resolution by default.
 pub const DEFAULT_RESOLUTION: u32 = 80;
@@ -52,6 +53,8 @@ pub struct Outcome {
     pub densities: Vec<DensityRow>,
     /// a warning on the window t_a, if the sticks reach past it
     pub warning: Option<String>,
+    /// every table written, with its definition ([`crate::law::tables::all`])
+    pub tables: Vec<(&'static Def, Table)>,
 }
 
 /// Run the stage.
@@ -74,25 +77,26 @@ pub fn run(req: &Request, ctl: Control) -> anyhow::Result<Outcome> {
         ctl.progress.note(&note);
     }
     let opts = crate::law::Options { finest: req.resolution, tail_times: req.tail_times.clone(), counts: req.counts, densities: req.densities };
-    let solved = solve_into(&scenario, &opts, &req.out, ctl).context("exact-law")?;
-    Ok(Outcome { levels: solved.levels, rows: solved.rows, counts: solved.counts, densities: solved.densities, warning: solved.warning })
+    let (solved, tables) = solve_into(&scenario, &opts, &req.out, ctl).context("exact-law")?;
+    Ok(Outcome { levels: solved.levels, rows: solved.rows, counts: solved.counts, densities: solved.densities, warning: solved.warning, tables })
 }
 
 /// Check, solve and write `out` (replaced when complete): the scenario the law is of
 /// (`scenario.toml`: the report refuses a law of another scene beside a dataset), every table of
-/// the law ([`crate::law::tables::all`]) and its figures.
+/// the law ([`crate::law::tables::all`], returned with it) and its figures.
 pub fn solve_into(
     scenario: &crate::scenario::Scenario,
     opts: &crate::law::Options,
     out: &std::path::Path,
     ctl: Control,
-) -> Result<crate::law::Solved, LawError> {
+) -> Result<(crate::law::Solved, Vec<(&'static Def, Table)>), LawError> {
     let plan = crate::law::plan(scenario, opts)?;
     let staged = StagedDir::new(out, Kind::ExactLaw, "--out", &[])?;
     let solved = crate::law::solve(scenario, &plan, ctl)?;
     let werr = |name: &str, e: &dyn std::fmt::Display| LawError::Write { path: out.join(name), message: e.to_string() };
     std::fs::write(staged.path().join(SCENARIO_FILE), scenario.to_toml()).map_err(|e| werr(SCENARIO_FILE, &e))?;
-    for (def, table) in crate::law::tables::all(&solved).map_err(|message| LawError::Write { path: out.to_owned(), message })? {
+    let tables = crate::law::tables::all(&solved).map_err(|message| LawError::Write { path: out.to_owned(), message })?;
+    for (def, table) in &tables {
         table.write_parquet(&staged.path().join(def.file)).map_err(|e| werr(def.file, &e))?;
     }
     let mut figures = vec![crate::figures::exact::stationary_density(&solved.density)];
@@ -103,5 +107,5 @@ pub fn solve_into(
         crate::figures::render::save(f, staged.path()).map_err(|e| werr(&format!("{}.png", f.name), &e))?;
     }
     staged.commit()?;
-    Ok(solved)
+    Ok((solved, tables))
 }

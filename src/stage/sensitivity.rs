@@ -38,6 +38,13 @@ pub struct Outcome {
     pub realizations: u64,
 }
 
+impl Outcome {
+    /// The tables written, with their definitions.
+    pub fn tables(&self) -> Vec<(&'static crate::table::Def, crate::table::Table)> {
+        crate::sensitivity::tables(&self.rows)
+    }
+}
+
 /// Run the stage.
 pub fn run(req: &Request, ctl: Control) -> anyhow::Result<Outcome> {
     if req.realizations < 2 || req.realizations > 100_000_000 {

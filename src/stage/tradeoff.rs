@@ -36,6 +36,15 @@ pub struct Outcome {
     pub rows: Vec<Row>,
     /// the scenario's `run.realizations`, at which the biases are scored
     pub scored_at: u64,
+    /// the realizations each setting ran
+    pub realizations: u64,
+}
+
+impl Outcome {
+    /// The tables written, with their definitions.
+    pub fn tables(&self) -> Vec<(&'static crate::table::Def, crate::table::Table)> {
+        crate::tradeoff::tables(&self.rows, self.realizations)
+    }
 }
 
 /// Run the stage.
@@ -50,5 +59,5 @@ pub fn run(req: &Request, ctl: Control) -> anyhow::Result<Outcome> {
     let scenario = req.input.resolve()?;
     scenario.refuse_sweep("tradeoff")?;
     let rows = crate::tradeoff::run(&scenario, req.realizations, req.bias_fraction, &req.out, ctl).context("tradeoff")?;
-    Ok(Outcome { rows, scored_at: scenario.run.realizations })
+    Ok(Outcome { rows, scored_at: scenario.run.realizations, realizations: req.realizations })
 }

@@ -339,7 +339,7 @@ fn the_trajectory_figure_draws_the_belt_at_its_own_two_speeds() {
             [t, v, v]
         })
         .collect();
-    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![(0.3, f64::NAN), (0.6, f64::NAN)], ..Default::default() });
+    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: vec![(0.3, -0.5), (0.6, 1.0)], ..Default::default() });
     let f = figures::trajectory_figure(&inp).unwrap();
     let belt = &f.panels[0].lines[1].points;
     // on to the end of the window, t_a (the samples stop at 0.9 s)
@@ -401,7 +401,7 @@ fn the_belt_trace_reaches_the_end_of_each_window() {
     assert!(t_a > 3.0, "the paper's scene runs for {t_a} s");
     let level = |t: f64| if (0.3..0.6).contains(&t) || (1.8..2.2).contains(&t) { -0.5 } else { 1.0 };
     let samples = (0..30).map(|i| i as f64 * 0.1).map(|t| [t, 0.0, level(t)]).collect();
-    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: [0.3, 0.6, 1.8, 2.2].map(|t| (t, f64::NAN)).to_vec(), ..Default::default() });
+    inp.trajectory = Some(figures::Trajectory { samples, belt_switches: [0.3, 0.6, 1.8, 2.2].map(|t| (t, level(t))).to_vec(), ..Default::default() });
     let f = figures::trajectory_figure(&inp).unwrap();
     let (whole, first) = (&f.panels[0], &f.panels[1]);
     assert_eq!(first.lines[1].points.last(), Some(&(2.0, -0.5)), "{:?}", first.lines[1].points);
@@ -443,4 +443,24 @@ fn a_table_of_another_shape_is_refused_naming_the_column() {
     t.write_parquet(&path).unwrap();
     let e = Inputs::load(tmp.path()).unwrap_err().to_string();
     assert!(e.contains("moments.parquet") && e.contains("`reached` is missing") && e.contains("run the stage again"), "{e}");
+}
+
+#[test]
+fn an_older_analysis_without_the_belt_velocity_of_its_events_is_refused_naming_the_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    hand_made(tmp.path());
+    let mut samples = Table::default();
+    samples
+        .push("realization", Col::Int(vec![Some(0)]))
+        .push("t", Col::Float(vec![Some(0.0)]))
+        .push("x", Col::Float(vec![Some(0.0)]))
+        .push("xdot", Col::Float(vec![Some(0.0)]))
+        .push("belt_velocity", Col::Float(vec![Some(1.0)]));
+    samples.write_parquet(&tmp.path().join("trajectory_samples.parquet")).unwrap();
+    // the events as an older simulate wrote them: no belt velocity
+    let mut events = Table::default();
+    events.push("realization", Col::Int(vec![Some(0)])).push("event", Col::Str(vec!["belt_switch".into()])).push("t", Col::Float(vec![Some(0.5)]));
+    events.write_parquet(&tmp.path().join("trajectory_events.parquet")).unwrap();
+    let err = Inputs::load(tmp.path()).unwrap_err().to_string();
+    assert!(err.contains("trajectory_events.parquet") && err.contains("`belt_velocity` is missing") && err.contains("run the stage again"), "{err}");
 }

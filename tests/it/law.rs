@@ -295,7 +295,7 @@ fn table_agrees(sets: &[&str]) {
     let sc = scenario(sets);
     let times = [0.05, 0.2, 0.5, 1.0];
     let opts = stickslip::law::Options { finest: 20, tail_times: times.to_vec(), counts: None, densities: None };
-    let rows = stickslip::stage::exact_law::solve_into(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap().rows;
+    let rows = stickslip::stage::exact_law::solve_into(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap().0.rows;
     let t = stickslip::table::Table::read_checked(
         &tmp.path().join("e/moments.parquet"),
         &[("variable", 's'), ("index", 'i'), ("mean", 'f'), ("variance", 'f'), ("error", 'f'), ("variance_error", 'f')],
@@ -344,7 +344,7 @@ fn count_laws_agree_with_monte_carlo() {
     let tmp = tempfile::tempdir().unwrap();
     let sc = scenario(&["run.duration=4"]);
     let opts = stickslip::law::Options { finest: 8, tail_times: vec![], counts: Some(8), densities: None };
-    let solved = stickslip::stage::exact_law::solve_into(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap();
+    let solved = stickslip::stage::exact_law::solve_into(&sc, &opts, &tmp.path().join("e"), stickslip::progress::Control::silent()).unwrap().0;
     let (rows, counts) = (solved.rows, solved.counts);
     let runs = outcomes(&sc, 20_000);
     let n = runs.len() as f64;
