@@ -49,16 +49,19 @@ pub(crate) fn tails(
     half: f64,
     starts: &[(usize, passage::Start, f64)],
     t_a: f64,
-    tick: &mut dyn FnMut(usize, f64),
+    tick: &mut dyn FnMut(usize, f64) -> bool,
 ) -> Result<Tails, String> {
     let points = Points::at(t_a, &frames.iter().map(|f| f.lambda).collect::<Vec<_>>());
     let mut out = Tails { sticks: Vec::new(), slips: Vec::new() };
-    let mut peak = 0.0f64;
+    let (mut peak, mut stopped) = (0.0f64, false);
     passage::walk_sequence::<Euler>(&points, frames, h, half, starts, MAX_STICKS, &mut |step: Step<Euler>| {
         let all = passage::total(&step.entries.concat());
         let p = points.cdf(&all.t).clamp(0.0, 1.0);
         out.sticks.push(p);
-        tick(out.sticks.len(), p);
+        if !tick(out.sticks.len(), p) {
+            stopped = true;
+            return false;
+        }
         if let Some(held) = step.held {
             out.slips.push(points.cdf(&held.ends.t).clamp(0.0, 1.0));
         }
@@ -67,6 +70,9 @@ pub(crate) fn tails(
         peak = peak.max(fall);
         !(p < NEGLIGIBLE && fall < peak)
     })?;
+    if stopped {
+        return Err(passage::STOPPED.into());
+    }
     if out.sticks.len() > MAX_STICKS {
         return Err(format!("more than {MAX_STICKS} sticks may start in run.duration = {t_a} s: the law of the counts is not computed for so long a window"));
     }
@@ -121,7 +127,7 @@ pub(crate) fn solve(
     frames: &[Frame],
     ladder: &[Rung],
     progress: &mut dyn FnMut(u32, f64),
-    tick: &mut dyn FnMut(u32, usize, f64),
+    tick: &mut dyn FnMut(u32, usize, f64) -> bool,
 ) -> Result<Vec<(f64, Tails)>, String> {
     let mut out = Vec::new();
     for (n, h) in ladder {

@@ -192,11 +192,26 @@ pub(crate) fn predicted(frames: &[Frame], h: &[f64], half: f64, at: usize, start
 /// The transforms of T_k, L_k and H_k (k = 1 … [`STICKS`]) from the weighted `starts` at one
 /// resolution (two walks: t since the origin, then since the last stick's end), H_k's point
 /// masses taken out (module docs).
-fn transforms(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, passage::Start, f64)], half_period: f64) -> Result<Transforms, String> {
+fn transforms(
+    frames: &[Frame],
+    h: &[f64],
+    half: f64,
+    starts: &[(usize, passage::Start, f64)],
+    half_period: f64,
+    go_on: &dyn Fn() -> bool,
+) -> Result<Transforms, String> {
     let lambdas: Vec<f64> = frames.iter().map(|f| f.lambda).collect();
     let mut out: Transforms = Vec::new();
     let origin = Points::<N>::cosine(half_period, &lambdas, false);
+    let stopped = std::cell::Cell::new(false);
+    let ask = || {
+        stopped.set(stopped.get() || !go_on());
+        !stopped.get()
+    };
     passage::walk_sequence::<Laplace<N>>(&origin, frames, h, half, starts, STICKS, &mut |step: Step<Laplace<N>>| {
+        if !ask() {
+            return false;
+        }
         let Some(held) = step.held else { return false };
         let index = out.len() as u32 / 2 + 1;
         out.push(Transform { variable: "T", index, phi: Box::new(passage::total(&step.entries.concat()).t), points: Vec::new() });
@@ -208,6 +223,9 @@ fn transforms(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, passage:
     // per belt state, the mass of the last passage's sticks that end by breakaway
     let (mut k, mut breakaways) = (0u32, Vec::<f64>::new());
     passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, starts, STICKS, &mut |step: Step<Laplace<N>>| {
+        if !ask() {
+            return false;
+        }
         if k > 0 {
             let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, &resticks, &breakaways);
             out.push(Transform { variable: "H", index: k, phi, points });
@@ -216,6 +234,9 @@ fn transforms(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, passage:
         k += 1;
         step.held.is_some()
     })?;
+    if stopped.get() {
+        return Err(passage::STOPPED.into());
+    }
     Ok(out)
 }
 
@@ -227,12 +248,13 @@ pub(crate) fn solve(
     ladder: &[Rung],
     half_period: f64,
     progress: &mut dyn FnMut(u32, f64),
+    go_on: &dyn Fn() -> bool,
 ) -> Result<Vec<(f64, Transforms)>, String> {
     let mut out = Vec::new();
     for (n, h) in ladder {
         let (starts, half) = super::sticks::held_starts(scenario, frames, h[0]);
         let t = std::time::Instant::now();
-        out.push((h[0], transforms(frames, h, half, &starts, half_period)?));
+        out.push((h[0], transforms(frames, h, half, &starts, half_period, go_on)?));
         progress(*n, t.elapsed().as_secs_f64());
     }
     Ok(out)
@@ -453,7 +475,7 @@ pub(crate) mod tests {
             let (starts, half) = super::super::sticks::held_starts(&sc, &frames, h[0]);
             let moments = passage::sequence(&frames, h, half, &starts, STICKS).unwrap();
             let p = half_period(sc.run.duration, moments.next_start);
-            let got = transforms(&frames, h, half, &starts, p).unwrap();
+            let got = transforms(&frames, h, half, &starts, p, &|| true).unwrap();
             assert_eq!(got.len(), 3 * STICKS);
             // (the second scene's T_k and L_k are left out: at λ = 1 the flip-free walks from this
             // resolution's few starts carry most of T_1, point masses the series reads to 2e-3)

@@ -501,8 +501,30 @@ pub(crate) fn walk_sequence<C: Clocks>(
 /// The first `count` sticks after the weighted `starts` ([`walk_sequence`] with the moment
 /// clocks): count + 1 first passages, each from the exits of the sticks before.
 pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize, Start, f64)], count: usize) -> Result<Sequence, String> {
+    sequence_until(frames, h, half, starts, count, &|| true)
+}
+
+/// The error of a walk that `go_on` stopped (the caller tells a stop from a failure by asking its
+/// cancel token).
+pub(crate) const STOPPED: &str = "stopped";
+
+/// [`sequence`], asking `go_on` after each passage: when it says no, the walk ends and the
+/// result is the error [`STOPPED`].
+pub(crate) fn sequence_until(
+    frames: &[Frame],
+    h: &[f64],
+    half: f64,
+    starts: &[(usize, Start, f64)],
+    count: usize,
+    go_on: &dyn Fn() -> bool,
+) -> Result<Sequence, String> {
     let (mut sticks, mut laws, mut next_start) = (Vec::<Stick>::new(), Vec::new(), (f64::NAN, f64::NAN));
+    let mut stopped = false;
     let (current, lost) = walk_sequence::<Clock>(&(), frames, h, half, starts, count, &mut |step: Step<Clock>| {
+        if !go_on() {
+            stopped = true;
+            return false;
+        }
         let all = total(&step.entries.concat());
         if let Some(before) = sticks.last_mut() {
             before.slip = moments(all, 3);
@@ -521,6 +543,9 @@ pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize,
         });
         true
     })?;
+    if stopped {
+        return Err(STOPPED.into());
+    }
     Ok(Sequence { current: current.map(|h| h.duration()), sticks, lost, entries: laws, next_start })
 }
 

@@ -133,7 +133,7 @@ pub fn plan(scenario: &Scenario, opts: &Options) -> Result<Plan, LawError> {
 /// Solve the planned law of `scenario`. `ctl` hears each resolution's result as a note when it is
 /// done, each iteration as a status (resolution, iteration, change of the measure; for the
 /// counts: resolution, stick k, P(T_k ≤ t_a)) and each sequence's time as a note; it is asked
-/// between resolutions and sequences. D_k's law is evaluated on a grid of times with the
+/// after each iteration of the stationary solve and each passage of the walks. D_k's law is evaluated on a grid of times with the
 /// plan's tail times added.
 pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, LawError> {
     let note = |what: &str, n: u32, seconds: f64| ctl.progress.note(&format!("{what} from the initial conditions, resolution {n:>3}: {seconds:.1} s"));
@@ -159,16 +159,29 @@ pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, L
         density = d.or(density);
     }
     let density = density.expect("the finest resolution computes the density");
+    // the walks below ask the cancel token after each passage (a stick: a few seconds at the
+    // finest resolution); a walk it stopped fails, told from a failure by asking the token again
+    let go_on = || !(ctl.cancel)();
+    let failed = |e: String| -> LawError {
+        if ctl.check().is_err() {
+            Cancelled.into()
+        } else {
+            LawError::Failed(e)
+        }
+    };
     ctl.check()?;
-    let after = sticks::solve(scenario, frames, ladder, &mut |n, s| note("sticks 1-6", n, s)).map_err(LawError::Failed)?;
+    let after = sticks::solve(scenario, frames, ladder, &mut |n, s| note("sticks 1-6", n, s), &go_on).map_err(failed)?;
     let order = sticks::order(scenario);
     let mut rows = sticks::rows(&after, order);
     let counts = match &plan.counts {
         Some(ladder) => {
             ctl.check()?;
-            let counting = |n: u32, k: usize, p: f64| ctl.progress.status(&format!("S_T and S_L, resolution {n:>3}: stick {k}, P(T_k <= t_a) = {p:.1e}"));
-            let solved = super::counts::solve(scenario, frames, ladder, &mut |n, s| note("S_T and S_L", n, s), &mut |n, k, p| counting(n, k, p))
-                .map_err(LawError::Failed)?;
+            let counting = |n: u32, k: usize, p: f64| {
+                ctl.progress.status(&format!("S_T and S_L, resolution {n:>3}: stick {k}, P(T_k <= t_a) = {p:.1e}"));
+                go_on()
+            };
+            let solved =
+                super::counts::solve(scenario, frames, ladder, &mut |n, s| note("S_T and S_L", n, s), &mut |n, k, p| counting(n, k, p)).map_err(failed)?;
             super::counts::reach(&solved, &mut rows);
             super::counts::rows(&solved)
         }
@@ -180,8 +193,8 @@ pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, L
             let t_a = scenario.run.duration;
             let half_period = super::densities::half_period(t_a, after.last().map_or((f64::NAN, f64::NAN), |(_, s)| s.next_start));
             ctl.check()?;
-            let solved = super::densities::solve(scenario, frames, ladder, half_period, &mut |n, s| note("densities of T_k, L_k, H_k", n, s))
-                .map_err(LawError::Failed)?;
+            let solved =
+                super::densities::solve(scenario, frames, ladder, half_period, &mut |n, s| note("densities of T_k, L_k, H_k", n, s), &go_on).map_err(failed)?;
             super::window::windowed(&solved, half_period, t_a, &mut rows);
             (super::densities::rows(&solved, half_period, t_a), super::densities::characteristic_table(&solved, half_period))
         }

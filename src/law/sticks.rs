@@ -310,12 +310,18 @@ pub(crate) fn held_starts(scenario: &Scenario, frames: &[Frame], h: f64) -> (Vec
 }
 
 /// The sequences of the scenario's initial law at the ladder's spacings (after [`check`]).
-pub(crate) fn solve(scenario: &Scenario, frames: &[Frame], ladder: &[Rung], progress: &mut dyn FnMut(u32, f64)) -> Result<Vec<(f64, Sequence)>, String> {
+pub(crate) fn solve(
+    scenario: &Scenario,
+    frames: &[Frame],
+    ladder: &[Rung],
+    progress: &mut dyn FnMut(u32, f64),
+    go_on: &dyn Fn() -> bool,
+) -> Result<Vec<(f64, Sequence)>, String> {
     let mut out = Vec::new();
     for (n, h) in ladder {
         let (starts, half) = held_starts(scenario, frames, h[0]);
         let t = std::time::Instant::now();
-        out.push((h[0], passage::sequence(frames, h, half, &starts, STICKS)?));
+        out.push((h[0], passage::sequence_until(frames, h, half, &starts, STICKS, go_on)?));
         progress(*n, t.elapsed().as_secs_f64());
     }
     Ok(out)
@@ -373,7 +379,7 @@ mod tests {
         .unwrap();
         let frames = super::super::stationary::frames(&sc.scene().unwrap()).unwrap();
         let ladder = super::super::stationary::ladder(&frames, 16, 3).unwrap();
-        let solved = solve(&sc, &frames, &ladder, &mut |_, _| {}).unwrap();
+        let solved = solve(&sc, &frames, &ladder, &mut |_, _| {}, &|| true).unwrap();
         let rows = rows(&solved, order(&sc));
         let (omega, v0, w0) = (2.0f64, 1.0, 0.5);
         let (ck, cs) = (0.51 * 9.8 / 4.0, 0.6 * 9.8 / 4.0);

@@ -509,3 +509,35 @@ fn a_cancelled_exact_law_stops_in_its_first_iteration_and_leaves_nothing() {
     assert_eq!(asked.load(Ordering::Relaxed), 3);
     assert!(!tmp.path().join("e").exists());
 }
+
+/// Cancelled while the sticks' walks run (after their coarsest resolution), the exact law stops
+/// within the next walk's first passage — it asks the token once there and once more to tell the
+/// stop from a failure — as cancelled, and leaves no output directory.
+#[test]
+fn a_cancel_during_the_sticks_walks_stops_at_the_next_passage() {
+    use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+    struct Notes<'a>(&'a AtomicBool);
+    impl stickslip::progress::Progress for Notes<'_> {
+        fn note(&self, line: &str) {
+            if line.starts_with("sticks 1-6") {
+                self.0.store(true, Ordering::Relaxed);
+            }
+        }
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let (walked, asked_after) = (AtomicBool::new(false), AtomicU32::new(0));
+    let cancel = || {
+        let now = walked.load(Ordering::Relaxed);
+        if now {
+            asked_after.fetch_add(1, Ordering::Relaxed);
+        }
+        now
+    };
+    let sink = Notes(&walked);
+    let ctl = stickslip::progress::Control { progress: &sink, cancel: &cancel };
+    let opts = stickslip::law::Options { finest: 40, tail_times: vec![], counts: None, densities: None };
+    let e = stickslip::stage::exact_law::solve_into(&scenario(&[]), &opts, &tmp.path().join("e"), ctl).unwrap_err();
+    assert!(matches!(e, stickslip::law::LawError::Cancelled(_)), "{e}");
+    assert_eq!(asked_after.load(Ordering::Relaxed), 2);
+    assert!(!tmp.path().join("e").exists());
+}
