@@ -25,6 +25,7 @@ ends a stage between chunks of work with ``KeyboardInterrupt``, leaving nothing 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import os
 import tempfile
@@ -188,14 +189,20 @@ def provenance(df: pl.DataFrame) -> Dict[str, str]:
     return dict(table.metadata)
 
 
+@functools.lru_cache(maxsize=None)
+def _fields(tp: Any) -> Tuple[Tuple[str, Any], ...]:
+    """A summary dataclass' fields with their evaluated annotations (evaluated once per class)."""
+    hints = typing.get_type_hints(tp, vars(_summary))
+    return tuple((f.name, hints[f.name]) for f in dataclasses.fields(tp))
+
+
 def _summary_value(tp: Any, value: Any) -> Any:
     """``value`` (parsed JSON) as the annotation ``tp`` of :mod:`stickslip._summary` says."""
     origin, args = typing.get_origin(tp), typing.get_args(tp)
     if value is None:
         return None
     if dataclasses.is_dataclass(tp):
-        hints = typing.get_type_hints(tp, vars(_summary))
-        return tp(**{f.name: _summary_value(hints[f.name], value.get(f.name)) for f in dataclasses.fields(tp)})
+        return tp(**{name: _summary_value(hint, value.get(name)) for name, hint in _fields(tp)})
     if origin is Union:
         inner = [a for a in args if a is not type(None)]
         return _summary_value(inner[0], value) if len(inner) == 1 else value

@@ -252,13 +252,21 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
         let df = all.slice(0, PILOT_ROWS as IdxSize).select(cols).collect_with_engine(Engine::Streaming)?.unwrap_single();
         let groups: Vec<i64> = df.column(GROUP)?.i64()?.into_no_null_iter().collect();
         let values = |i: usize| -> PolarsResult<Vec<Option<f64>>> { Ok(df.column(&value(i))?.f64()?.iter().collect()) };
-        // the finest sketch exponent of the pilot's values without each group (and of all)
+        // the finest sketch exponent of the pilot's values without each group (and of all): the
+        // range without group g from the groups' own ranges (min and max combine exactly)
         let finest = |xs: &[Option<f64>], o: Observable, cap: usize| -> i32 {
             let e0 = sketch::start_exponent(o.scale(t_a));
-            (0..=GROUPS as i64)
+            let mut ranges = [(f64::INFINITY, f64::NEG_INFINITY); GROUPS];
+            for (x, &h) in xs.iter().zip(&groups) {
+                if let Some(x) = *x {
+                    let r = &mut ranges[h as usize];
+                    *r = (r.0.min(x), r.1.max(x));
+                }
+            }
+            (0..=GROUPS)
                 .filter_map(|g| {
-                    let kept = xs.iter().zip(&groups).filter(|(_, h)| **h != g).filter_map(|(x, _)| *x);
-                    let (lo, hi) = kept.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+                    let kept = ranges.iter().enumerate().filter(|(h, _)| *h != g).map(|(_, r)| *r);
+                    let (lo, hi) = kept.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.0), b.max(r.1)));
                     (lo <= hi).then(|| sketch::exponent_for(lo, hi, e0, cap))
                 })
                 .min()
