@@ -189,10 +189,7 @@ impl Table {
                     return Some(format!("column `{name}` row {row}: {x} is not a finite number"));
                 }
                 if non_negative && x < 0.0 {
-                    return Some(format!(
-                        "column `{name}` row {row}: {} is negative (a count, variance, standard error or density)",
-                        crate::scenario::short(x)
-                    ));
+                    return Some(format!("column `{name}` row {row}: {} is negative (a count, variance, standard error or density)", crate::shown::short(x)));
                 }
             }
         }

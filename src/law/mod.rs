@@ -87,6 +87,7 @@
 
 mod anderson;
 pub(crate) mod chain;
+pub(crate) mod characteristic;
 pub(crate) mod clock;
 pub mod counts;
 pub mod defs;

@@ -196,7 +196,7 @@ pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, L
             let solved =
                 super::densities::solve(scenario, frames, ladder, half_period, &mut |n, s| note("densities of T_k, L_k, H_k", n, s), &go_on).map_err(failed)?;
             super::window::windowed(&solved, half_period, t_a, &mut rows);
-            (super::densities::rows(&solved, half_period, t_a), super::densities::characteristic_table(&solved, half_period))
+            (super::densities::rows(&solved, half_period, t_a), super::characteristic::characteristic_table(&solved, half_period))
         }
         None => (Vec::new(), Table::default()),
     };

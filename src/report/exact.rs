@@ -103,7 +103,7 @@ pub(super) fn density_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, 
     if !path.exists() {
         return Ok(Vec::new());
     }
-    let (half_period, levels) = crate::law::densities::read_characteristic(&path).map_err(|message| ReportError::Read { path: path.clone(), message })?;
+    let (half_period, levels) = crate::law::characteristic::read_characteristic(&path).map_err(|message| ReportError::Read { path: path.clone(), message })?;
     let ours = our_bins(adir)?;
     let mut out = Vec::new();
     for (i, x) in levels.last().map_or(&[][..], |l| &l.1[..]).iter().enumerate() {
@@ -207,8 +207,9 @@ fn count_rows(law: &Path, adir: &Path) -> Result<Vec<[String; 4]>, ReportError> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::law::characteristic::characteristic_table;
     use crate::law::clock::{Points, C64};
-    use crate::law::densities::{characteristic_table, Transform, N};
+    use crate::law::densities::{Transform, N};
     use crate::table::{Col, Table};
 
     /// The report's density rows on a law whose histogram is known: T_1 ~ Exp(2) (φ = 2/(2 + iω))
