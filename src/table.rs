@@ -102,6 +102,14 @@ impl Def {
         Ok(t)
     }
 
+    /// [`Def::check`], and every value one this tool's tables hold (no NaN or ±∞; counts,
+    /// variances, standard errors and densities not negative): the guard a table passes before
+    /// it is written or handed over in memory.
+    pub fn check_all(&self, t: &Table) -> Result<(), String> {
+        self.check(t)?;
+        t.first_impossible().map_or(Ok(()), |problem| Err(format!("{}: {problem}", self.file)))
+    }
+
     /// Whether `t` has these columns in order, of these types, after some leading columns and
     /// before some trailing ones (a table whose first and last columns depend on the run, as a
     /// sweep's keys and tails); the number of leading columns, else the first difference.
@@ -179,7 +187,7 @@ impl Table {
     /// The first value that no table of this tool holds — NaN or ±∞ in any float column, or a
     /// negative value in a column of counts, variances, standard errors or densities
     /// ([`NON_NEGATIVE`]) — as a message naming the column and the row (0-based).
-    fn first_impossible(&self) -> Option<String> {
+    pub(crate) fn first_impossible(&self) -> Option<String> {
         for (name, col) in &self.columns {
             let Col::Float(values) = col else { continue };
             let non_negative = NON_NEGATIVE.contains(&name.as_str());

@@ -261,7 +261,7 @@ fn analyze(
         let done = stage::analyze::run(&request, ctl)?;
         let mut cells = Vec::with_capacity(done.cells.len());
         for (path, a) in &done.cells {
-            cells.push((path.clone(), tables(stickslip::analysis::output::tables(a)?), stickslip::analysis::output::summary(a).to_json()));
+            cells.push((path.clone(), tables(stickslip::analysis::output::tables(a)?)?, stickslip::analysis::output::summary(a).to_json()));
         }
         let sweep = done.sweep_table().map(|t| Table::from_batch(t.to_arrow()));
         Ok((cells, sweep))
@@ -288,7 +288,7 @@ fn tradeoff(
         realizations: realizations.unwrap_or(stage::tradeoff::DEFAULT_REALIZATIONS),
         bias_fraction: bias_fraction.unwrap_or(stickslip::tradeoff::BIAS_FRACTION),
     };
-    staged(py, progress, |ctl| Ok(tables(stage::tradeoff::run(&request, ctl)?.tables())))
+    staged(py, progress, |ctl| tables(stage::tradeoff::run(&request, ctl)?.tables()))
 }
 
 /// The `sensitivity` stage into `out`; its tables by name.
@@ -311,7 +311,7 @@ fn sensitivity(
         realizations: realizations.unwrap_or(stage::sensitivity::DEFAULT_REALIZATIONS),
         seed,
     };
-    staged(py, progress, |ctl| Ok(tables(stage::sensitivity::run(&request, ctl)?.tables())))
+    staged(py, progress, |ctl| tables(stage::sensitivity::run(&request, ctl)?.tables()))
 }
 
 /// The `exact-law` stage into `out`; its tables by name.
@@ -334,7 +334,7 @@ fn exact_law(
     request.resolution = resolution.unwrap_or(request.resolution);
     request.tail_times = tail_times.unwrap_or(request.tail_times);
     (request.counts, request.densities) = (counts, densities);
-    staged(py, progress, |ctl| Ok(tables(stage::exact_law::run(&request, ctl)?.tables)))
+    staged(py, progress, |ctl| tables(stage::exact_law::run(&request, ctl)?.tables))
 }
 
 /// The `predict` stage (its tables also written into `out`, if given); its tables by name.
@@ -359,12 +359,16 @@ fn predict(
     let mut request = stage::predict::Request::new(input(kind, value, sets)?, state);
     request.resolution = resolution.unwrap_or(request.resolution);
     (request.stuck, request.futures, request.horizon, request.seed, request.out, request.densities) = (stuck, futures, horizon, seed, out, densities);
-    staged(py, progress, |ctl| Ok(tables(stage::predict::run(&request, ctl)?.tables())))
+    staged(py, progress, |ctl| tables(stage::predict::run(&request, ctl)?.tables()))
 }
 
-/// A stage's tables by name (`moments`, `sobol`, …), for Python.
-fn tables(tables: Vec<(&'static stickslip::table::Def, stickslip::table::Table)>) -> Vec<(String, Table)> {
-    tables.into_iter().map(|(def, t)| (def.name().to_string(), Table::from_batch(t.to_arrow()))).collect()
+/// A stage's tables by name (`moments`, `sobol`, …), for Python, each checked against its
+/// definition and for impossible values first (as a written table is).
+fn tables(tables: Vec<(&'static stickslip::table::Def, stickslip::table::Table)>) -> anyhow::Result<Vec<(String, Table)>> {
+    tables
+        .into_iter()
+        .map(|(def, t)| def.check_all(&t).map(|()| (def.name().to_string(), Table::from_batch(t.to_arrow()))).map_err(anyhow::Error::msg))
+        .collect()
 }
 
 /// Run the command line with `argv` (the program name first), as the `stickslip` binary does;

@@ -214,7 +214,7 @@ fn check(path: &Path) -> Result<Part, InputError> {
         let field =
             schema.field_with_name(column.name).map_err(|_| bad(path, format!("missing column `{}` (schema version {version} has it)", column.name)))?;
         let got = type_name(field.data_type());
-        let v1_count = version == "1" && got == "int32" && column.kind() == Kind::Int64;
+        let v1_count = number == 1 && got == "int32" && column.kind() == Kind::Int64;
         if got != column.kind().name() && !v1_count {
             return Err(bad(path, format!("column `{}` is {got}, expected {}", column.name, column.kind().name())));
         }
@@ -483,11 +483,11 @@ fn check_trajectories(dir: &Path, t_a: f64) -> Result<(), InputError> {
             if !at.is_some_and(|x| (0.0..=t_a * (1.0 + 1e-12)).contains(&x)) {
                 return Err(bad(
                     &path,
-                    format!("row {r}, column `t`: {} (an instant in [0, t_a = {t_a}] s)", at.map_or("null".into(), crate::scenario::short)),
+                    format!("row {r}, column `{}`: {} (an instant in [0, t_a = {t_a}] s)", instant.name, at.map_or("null".into(), crate::scenario::short)),
                 ));
             }
             if r > 0 && id == ids[r - 1] && at < times[r - 1] {
-                return Err(bad(&path, format!("row {r}, column `t`: the instants of realization {} decrease", id.unwrap_or(-1))));
+                return Err(bad(&path, format!("row {r}, column `{}`: the instants of realization {} decrease", instant.name, id.unwrap_or(-1))));
             }
         }
         if let Some(kinds) = t.strings(events::EVENT.name) {

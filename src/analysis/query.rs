@@ -259,7 +259,7 @@ pub(crate) fn pilots(cells: &[&Dataset], plan: &Plan) -> PolarsResult<Vec<Pilot>
             let mut ranges = [(f64::INFINITY, f64::NEG_INFINITY); GROUPS];
             for (x, &h) in xs.iter().zip(&groups) {
                 if let Some(x) = *x {
-                    let r = &mut ranges[h as usize];
+                    let r = &mut ranges[h.rem_euclid(GROUPS as i64) as usize];
                     *r = (r.0.min(x), r.1.max(x));
                 }
             }

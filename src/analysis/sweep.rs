@@ -226,8 +226,10 @@ pub fn analyze_all(dir: &Path, opts: &Options, out: Option<&Path>, ctl: crate::p
     }
     if done.len() > 1 || done.first().is_some_and(|(p, _)| !p.is_empty()) {
         let summaries: Vec<CellSummary> = done.iter().map(|(p, a)| summarize(p, a)).collect();
-        let path = out.join("sweep.parquet");
-        table(&summaries).write_parquet(&staged.path().join("sweep.parquet")).map_err(|e| AnalysisError::Write { path, message: e.to_string() })?;
+        let (file, t) = (sweep::DEF.file, table(&summaries));
+        let werr = |message: String| AnalysisError::Write { path: out.join(file), message };
+        sweep::DEF.check_span(&t).map_err(werr)?;
+        t.write_parquet(&staged.path().join(file)).map_err(|e| werr(e.to_string()))?;
     }
     staged.commit()?;
     Ok(done)

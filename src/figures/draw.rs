@@ -15,7 +15,7 @@ use crate::table::Table;
 pub fn run(adir: &Path, out: &Path) -> Result<Vec<String>, FigureError> {
     let staged = StagedDir::new(out, Kind::Figures, "--out", &[adir])?;
     let mut names = Vec::new();
-    let sweep_path = adir.join("sweep.parquet");
+    let sweep_path = adir.join(crate::analysis::sweep::sweep::DEF.file);
     if sweep_path.is_file() {
         let read = Table::read_parquet(&sweep_path).map_err(|e| e.to_string());
         let sweep = read

@@ -156,9 +156,9 @@ pub fn counts_figure(inp: &Inputs) -> Figure {
 pub fn joint_figure(inp: &Inputs, x: &str, y: &str, name: &str) -> Option<Figure> {
     let j = &inp.joints;
     let (xs, ys) = (j.str(&joint_histograms::X), j.str(&joint_histograms::Y));
-    let col = |c: &str| j.floats(c);
-    let (x0, x1, y0, y1) = (col("x_lo")?, col("x_hi")?, col("y_lo")?, col("y_hi")?);
-    let (dens, prod) = (col("density")?, col("product_density")?);
+    let col = |c: &crate::table::Column| j.floats(c.name);
+    let (x0, x1, y0, y1) = (col(&joint_histograms::X_LO)?, col(&joint_histograms::X_HI)?, col(&joint_histograms::Y_LO)?, col(&joint_histograms::Y_HI)?);
+    let (dens, prod) = (col(&joint_histograms::DENSITY)?, col(&joint_histograms::PRODUCT_DENSITY)?);
     let rows: Vec<usize> = (0..j.height()).filter(|&r| xs[r] == x && ys[r] == y).collect();
     if rows.is_empty() {
         return None;

@@ -214,10 +214,13 @@ fn transforms(
         }
         let Some(held) = step.held else { return false };
         let index = out.len() as u32 / 2 + 1;
-        out.push(Transform { variable: "T", index, phi: Box::new(passage::total(&step.entries.concat()).t), points: Vec::new() });
-        out.push(Transform { variable: "L", index, phi: Box::new(held.ends.t), points: Vec::new() });
+        out.push(Transform { variable: VARIABLES[0], index, phi: Box::new(passage::total(&step.entries.concat()).t), points: Vec::new() });
+        out.push(Transform { variable: VARIABLES[1], index, phi: Box::new(held.ends.t), points: Vec::new() });
         (index as usize) < STICKS
     })?;
+    if stopped.get() {
+        return Err(passage::STOPPED.into());
+    }
     let since_end = Points::<N>::cosine(half_period, &lambdas, true);
     let resticks: Vec<Option<Path>> = (0..frames.len()).map(|s| restick(frames, s)).collect();
     // per belt state, the mass of the last passage's sticks that end by breakaway
@@ -228,7 +231,7 @@ fn transforms(
         }
         if k > 0 {
             let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, &resticks, &breakaways);
-            out.push(Transform { variable: "H", index: k, phi, points });
+            out.push(Transform { variable: VARIABLES[2], index: k, phi, points });
         }
         breakaways = breakaway_masses(&step);
         k += 1;

@@ -97,7 +97,7 @@ pub fn densities(rows: &[DensityRow]) -> Table {
 pub fn survival(rows: &[SurvivalRow]) -> Table {
     let f = |g: &dyn Fn(&sticks::SurvivalRow) -> f64| Col::Float(rows.iter().map(|r| Some(g(r))).collect());
     let mut t = Table::default();
-    t.put(&defs::survival::VARIABLE, Col::Str(rows.iter().map(|_| "D".to_string()).collect()))
+    t.put(&defs::survival::VARIABLE, Col::Str(rows.iter().map(|_| crate::observables::Observable::StickDuration(1).variable().to_string()).collect()))
         .put(&defs::survival::INDEX, Col::Int(rows.iter().map(|r| Some(i64::from(r.index))).collect()))
         .put(&defs::survival::METHOD, Col::Str(rows.iter().map(|_| "exact".to_string()).collect()))
         .put(&defs::survival::T, f(&|r| r.t))

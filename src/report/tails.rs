@@ -72,7 +72,9 @@ pub(super) fn tails_rows(adir: &Path, moments: &Table, t_a: f64) -> Result<Vec<[
     if let Some(s) = &s {
         for r in (0..e.height()).filter(|&r| stat[r] == Observable::LongestStick.variable()) {
             for m in ["kaplan_meier", "naive", "conditional"] {
-                if let Some(q) = s.iter().find(|q| q.variable == "D" && q.index.is_none() && q.method == m && q.t == threshold[r]) {
+                if let Some(q) =
+                    s.iter().find(|q| q.variable == Observable::StickDuration(1).variable() && q.index.is_none() && q.method == m && q.t == threshold[r])
+                {
                     let label = format!("P(D > {} s), {}", q.t.map_or("–".into(), short), m.replace('_', "-"));
                     out.push([label, shown(q.survival, q.lo, q.hi), format!("{} sticks", q.n.unwrap_or(0))]);
                 }

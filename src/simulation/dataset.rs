@@ -92,7 +92,8 @@ impl<T> Ragged<T> {
     }
 }
 
-/// The most values a list column reserves up front (512 KiB of f64; [`Rows::new`]).
+/// The most values a list column reserves up front (512 KiB of f64, 1 MiB of `stick_end`'s
+/// words; [`Rows::new`]).
 const LIST_RESERVE: usize = 1 << 16;
 
 /// One column being filled: the declared value ([`Value`]) with what it has gathered.

@@ -302,7 +302,7 @@ pub const VERSION: u8 = {
 
 /// Whether `analyze` reads parts of schema `version` (written as in their metadata).
 pub fn readable(version: &str) -> Option<u8> {
-    version.parse().ok().filter(|v| (1..=VERSION).contains(v))
+    (1..=VERSION).find(|v| v.to_string() == version)
 }
 
 /// The columns every part of schema `version` has (the switch times aside).
