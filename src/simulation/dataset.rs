@@ -92,8 +92,7 @@ impl<T> Ragged<T> {
     }
 }
 
-/// The most values a list column reserves up front (512 KiB of f64, 1 MiB of `stick_end`'s
-/// words; [`Rows::new`]).
+/// The most values a list column reserves up front (512 KiB of f64; [`Rows::new`]).
 const LIST_RESERVE: usize = 1 << 16;
 
 /// One column being filled: the declared value ([`Value`]) with what it has gathered.
@@ -104,7 +103,7 @@ enum Builder {
     Float64(fn(Row) -> f64, Vec<f64>),
     Bool(fn(Row) -> bool, Vec<bool>),
     Floats(fn(Row, &mut Vec<f64>), Ragged<f64>),
-    Strings(fn(Row, &mut Vec<&'static str>), Ragged<&'static str>),
+    Strings(&'static [&'static str], fn(Row, &mut Vec<u8>), Ragged<u8>),
 }
 
 impl Builder {
@@ -115,7 +114,7 @@ impl Builder {
             Value::Float64(f) => Builder::Float64(f, Vec::with_capacity(rows)),
             Value::Bool(f) => Builder::Bool(f, Vec::with_capacity(rows)),
             Value::Floats(f) => Builder::Floats(f, Ragged::with_capacity(rows, values)),
-            Value::Strings(f) => Builder::Strings(f, Ragged::with_capacity(rows, values)),
+            Value::Strings(words, f) => Builder::Strings(words, f, Ragged::with_capacity(rows, values)),
         }
     }
 
@@ -126,7 +125,7 @@ impl Builder {
             Builder::Float64(f, v) => v.push(f(row)),
             Builder::Bool(f, v) => v.push(f(row)),
             Builder::Floats(f, v) => v.push_with(|values| f(row, values)),
-            Builder::Strings(f, v) => v.push_with(|values| f(row, values)),
+            Builder::Strings(_, f, v) => v.push_with(|values| f(row, values)),
         }
     }
 
@@ -137,7 +136,7 @@ impl Builder {
             Builder::Float64(_, v) => Arc::new(Float64Array::from(v)),
             Builder::Bool(_, v) => Arc::new(BooleanArray::from(v)),
             Builder::Floats(_, v) => v.into_list(|values| Arc::new(Float64Array::from(values))),
-            Builder::Strings(_, v) => v.into_list(|values| Arc::new(StringArray::from(values))),
+            Builder::Strings(words, _, v) => v.into_list(|codes| Arc::new(StringArray::from_iter_values(codes.iter().map(|&c| words[usize::from(c)])))),
         }
     }
 }
@@ -393,7 +392,7 @@ mod tests {
     fn list_capacities(rows: &Rows) -> Vec<usize> {
         let lists = rows.columns.iter().filter_map(|c| match c {
             Builder::Floats(_, v) => Some((v.values.capacity(), v.offsets.capacity())),
-            Builder::Strings(_, v) => Some((v.values.capacity(), v.offsets.capacity())),
+            Builder::Strings(_, _, v) => Some((v.values.capacity(), v.offsets.capacity())),
             _ => None,
         });
         lists.map(|(values, offsets)| values.min(offsets.saturating_mul(1 << 20))).collect()
@@ -408,7 +407,7 @@ mod tests {
         for c in &rows.columns {
             let (values, offsets) = match c {
                 Builder::Floats(_, v) => (v.values.capacity(), v.offsets.capacity()),
-                Builder::Strings(_, v) => (v.values.capacity(), v.offsets.capacity()),
+                Builder::Strings(_, _, v) => (v.values.capacity(), v.offsets.capacity()),
                 _ => continue,
             };
             assert!(values >= 30_000 && offsets >= 1001, "{values} {offsets}");

@@ -29,7 +29,7 @@ impl StickEnd {
     pub const ALL: [StickEnd; 3] = [StickEnd::Flip, StickEnd::Breakaway, StickEnd::Horizon];
 
     /// The `stick_end` column's string.
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             StickEnd::Flip => "flip",
             StickEnd::Breakaway => "breakaway",

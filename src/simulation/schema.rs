@@ -8,6 +8,7 @@
 use arrow_schema::DataType;
 
 use super::ensemble::Outcome;
+use super::events::StickEnd;
 
 use columns as name;
 
@@ -80,8 +81,9 @@ pub enum Value {
     Bool(fn(Row) -> bool),
     /// a list of float64
     Floats(fn(Row, &mut Vec<f64>)),
-    /// a list of strings
-    Strings(fn(Row, &mut Vec<&'static str>)),
+    /// a list of strings, each one of a few words: the words, and the function appending the
+    /// row's words as their positions in it (a byte each while the rows are gathered)
+    Strings(&'static [&'static str], fn(Row, &mut Vec<u8>)),
 }
 
 impl Value {
@@ -93,7 +95,7 @@ impl Value {
             Value::Float64(_) => Kind::Float64,
             Value::Bool(_) => Kind::Bool,
             Value::Floats(_) => Kind::Floats,
-            Value::Strings(_) => Kind::Strings,
+            Value::Strings(..) => Kind::Strings,
         }
     }
 }
@@ -176,6 +178,9 @@ const fn col(name: &'static str, value: Value, since: u8, store: Store, bound: B
     Column { name, value, since, presence: Presence::Always, store, bound, unit, meaning }
 }
 
+/// The words of `stick_end`, in the order of [`StickEnd`]'s codes.
+const STICK_END_WORDS: [&str; 3] = [StickEnd::ALL[0].name(), StickEnd::ALL[1].name(), StickEnd::ALL[2].name()];
+
 /// A count as the int64 the dataset holds.
 fn count(n: usize) -> i64 {
     n as i64
@@ -219,7 +224,7 @@ pub const COLUMNS: [Column; 24] = {
         ),
         col(
             name::STICK_END,
-            V::Strings(|r, v| v.extend(r.out.record.stick_end.iter().map(|e| e.name()))),
+            V::Strings(&STICK_END_WORDS, |r, v| v.extend(r.out.record.stick_end.iter().map(|&e| e as u8))),
             3,
             Dictionary,
             Unchecked,
