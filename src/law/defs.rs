@@ -3,6 +3,20 @@
 
 use crate::table::table;
 
+/// Every table `exact-law` can write, in the order it writes them (`counts` with `--counts`,
+/// `densities` and `characteristic` with `--densities`).
+pub const ALL: [&crate::table::Def; 9] = [
+    &stationary::DEF,
+    &convergence::DEF,
+    &density::DEF,
+    &stick_survival::DEF,
+    &moments::DEF,
+    &survival::DEF,
+    &counts::DEF,
+    &densities::DEF,
+    &characteristic::DEF,
+];
+
 table! {
     /// `stationary.parquet`: the long run.
     stationary = "stationary.parquet", "the long-run quantities, extrapolated from the finest resolutions, each with an error estimate" {

@@ -29,6 +29,20 @@ pub mod sensitivity;
 pub mod simulate;
 pub mod tradeoff;
 
+/// Every table a stage writes, with the stage that writes it: the one list the generated
+/// reference documents (`tests/it/docs_reference.rs`).
+pub fn tables() -> Vec<(&'static str, &'static crate::table::Def)> {
+    let mut out: Vec<(&'static str, &'static crate::table::Def)> = Vec::new();
+    out.extend([("simulate", &crate::simulation::trajectory::samples::DEF), ("simulate", &crate::simulation::trajectory::events::DEF)]);
+    out.extend(crate::analysis::tables::ALL.map(|d| ("analyze", d)));
+    out.push(("analyze", &crate::analysis::sweep::sweep::DEF));
+    out.push(("tradeoff", &crate::tradeoff::tradeoff_table::DEF));
+    out.push(("sensitivity", &crate::sensitivity::sobol::DEF));
+    out.extend(crate::law::defs::ALL.map(|d| ("exact-law", d)));
+    out.extend([("predict", &crate::predict::prediction::DEF), ("predict", &crate::predict::STICK_SURVIVAL), ("predict", &crate::predict::DENSITIES)]);
+    out
+}
+
 pub use crate::blame::{Culprit, Usage};
 pub use crate::progress::{Cancelled, Control, Progress, Silent};
 pub use crate::scenario::{Input, Source};

@@ -9,6 +9,7 @@ mod closed_forms;
 mod coverage;
 mod dataset;
 mod determinism;
+mod docs_reference;
 mod extremes;
 mod figures;
 mod fingerprint;
