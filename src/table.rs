@@ -35,6 +35,17 @@ pub enum Type {
     Float,
 }
 
+impl Type {
+    /// The Arrow type of its columns.
+    pub fn arrow(self) -> arrow_schema::DataType {
+        match self {
+            Type::Str => arrow_schema::DataType::Utf8,
+            Type::Int => arrow_schema::DataType::Int64,
+            Type::Float => arrow_schema::DataType::Float64,
+        }
+    }
+}
+
 /// One column of a table's definition: its name, type and meaning (unit included).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Column {
@@ -68,11 +79,7 @@ impl Def {
     /// Whether `t` has exactly these columns, in order, of these types; else the first
     /// difference.
     pub fn check(&self, t: &Table) -> Result<(), String> {
-        let ty = |c: &Col| match c {
-            Col::Str(_) => Type::Str,
-            Col::Int(_) => Type::Int,
-            Col::Float(_) => Type::Float,
-        };
+        let ty = Col::ty;
         let names: Vec<&str> = t.columns.iter().map(|(n, _)| n.as_str()).collect();
         for (i, c) in self.columns.iter().enumerate() {
             match t.columns.get(i) {
@@ -121,6 +128,12 @@ impl Def {
         Ok(start)
     }
 
+    /// The columns as an Arrow schema, none nullable (a table written with arrow directly, as
+    /// the trajectories are).
+    pub fn arrow_schema(&self) -> arrow_schema::Schema {
+        arrow_schema::Schema::new(self.columns.iter().map(|c| arrow_schema::Field::new(c.name, c.ty.arrow(), false)).collect::<Vec<_>>())
+    }
+
     /// The column named `name` (tests and generated documentation).
     pub fn column(&self, name: &str) -> Option<&'static Column> {
         self.columns.iter().find(|c| c.name == name)
@@ -160,6 +173,17 @@ pub enum Col {
     Int(Vec<Option<i64>>),
     /// floats, None for null
     Float(Vec<Option<f64>>),
+}
+
+impl Col {
+    /// Its type in a table's definition.
+    pub fn ty(&self) -> Type {
+        match self {
+            Col::Str(_) => Type::Str,
+            Col::Int(_) => Type::Int,
+            Col::Float(_) => Type::Float,
+        }
+    }
 }
 
 impl Table {
@@ -302,14 +326,17 @@ impl Table {
     /// the Python package hands a table over without writing it).
     pub fn to_arrow(&self) -> arrow_array::RecordBatch {
         use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, RecordBatchOptions, StringArray};
-        use arrow_schema::{DataType as Arrow, Field, Schema};
+        use arrow_schema::{Field, Schema};
         let (fields, arrays): (Vec<Field>, Vec<ArrayRef>) = self
             .columns
             .iter()
-            .map(|(name, c)| match c {
-                Col::Str(v) => (Field::new(name, Arrow::Utf8, true), std::sync::Arc::new(StringArray::from_iter_values(v)) as ArrayRef),
-                Col::Int(v) => (Field::new(name, Arrow::Int64, true), std::sync::Arc::new(Int64Array::from(v.clone())) as ArrayRef),
-                Col::Float(v) => (Field::new(name, Arrow::Float64, true), std::sync::Arc::new(Float64Array::from(v.clone())) as ArrayRef),
+            .map(|(name, c)| {
+                let array: ArrayRef = match c {
+                    Col::Str(v) => std::sync::Arc::new(StringArray::from_iter_values(v)),
+                    Col::Int(v) => std::sync::Arc::new(Int64Array::from(v.clone())),
+                    Col::Float(v) => std::sync::Arc::new(Float64Array::from(v.clone())),
+                };
+                (Field::new(name, c.ty().arrow(), true), array)
             })
             .unzip();
         let options = RecordBatchOptions::new().with_row_count(Some(self.height()));

@@ -71,8 +71,8 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
     };
     let w = fine.width();
     let reach = ((6.0 * bw / w).ceil() as usize).min(fine.bins());
-    // equal-width bins: the kernel between bin centres depends only on their offset
-    let kernel: Vec<f64> = (0..=reach).map(|d| (-0.5 * (d as f64 * w / bw).powi(2)).exp()).collect();
+    // equal-width bins: the kernel between bin centres depends only on their offset d − reach
+    let kernel_about: Vec<f64> = (0..=2 * reach).map(|d| (-0.5 * (d.abs_diff(reach) as f64 * w / bw).powi(2)).exp()).collect();
     let bins = fine.bins();
     let center = |i: usize| fine.lo + w * (i as f64 + 0.5);
     // mirror images about 0 of the mass near it (only when the grid starts at or above 0)
@@ -81,10 +81,6 @@ pub fn kde_mode(fine: &Histogram, m: &Moments) -> Option<f64> {
     // bin by bin, every occupied bin i adds its terms to the f_j it reaches (the same terms in
     // the same order as summing f_j alone, so the same bits; an empty bin adds exactly 0 and is
     // left out; the inner loop runs over consecutive j, which vectorises)
-    let mut kernel_about = vec![0.0; 2 * reach + 1];
-    for (d, k) in kernel_about.iter_mut().enumerate() {
-        *k = kernel[d.abs_diff(reach)];
-    }
     let mut sums = vec![0.0f64; bins];
     for (i, &c) in fine.counts.iter().enumerate().filter(|(_, &c)| c != 0) {
         let (lo, hi) = (i.saturating_sub(reach), (i + reach).min(bins - 1));

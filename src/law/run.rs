@@ -139,28 +139,9 @@ pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, L
     let note = |what: &str, n: u32, seconds: f64| ctl.progress.note(&format!("{what} from the initial conditions, resolution {n:>3}: {seconds:.1} s"));
     let step = |n: u32, i: u32, change: f64| ctl.progress.status(&format!("resolution {n:>3}: iteration {i}, change {change:.1e}"));
     let Plan { frames, ladder, .. } = plan;
-    let (mut levels, mut density) = (Vec::new(), None);
-    for rung in ladder {
-        let (n, start) = (rung.0, std::time::Instant::now());
-        ctl.check()?;
-        let go_on = &mut |i, change| {
-            step(n, i, change);
-            !(ctl.cancel)()
-        };
-        let (level, d) = super::stationary::solve(frames, rung, n == plan.finest, go_on).map_err(|e| {
-            if ctl.check().is_err() {
-                Cancelled.into()
-            } else {
-                LawError::Failed(e)
-            }
-        })?;
-        ctl.progress.note(&format!("resolution {:>3}: {} iterations, {:.1} s", level.n, level.iterations, start.elapsed().as_secs_f64()));
-        levels.push(level);
-        density = d.or(density);
-    }
-    let density = density.expect("the finest resolution computes the density");
-    // the walks below ask the cancel token after each passage (a stick: a few seconds at the
-    // finest resolution); a walk it stopped fails, told from a failure by asking the token again
+    // every solve below asks the cancel token as it goes (the stationary one after each
+    // iteration, the walks after each passage: a stick, a few seconds at the finest resolution);
+    // a solve it stopped fails, told from a failure by asking the token again
     let go_on = || !(ctl.cancel)();
     let failed = |e: String| -> LawError {
         if ctl.check().is_err() {
@@ -169,6 +150,20 @@ pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, L
             LawError::Failed(e)
         }
     };
+    let (mut levels, mut density) = (Vec::new(), None);
+    for rung in ladder {
+        let (n, start) = (rung.0, std::time::Instant::now());
+        ctl.check()?;
+        let iterated = &mut |i, change| {
+            step(n, i, change);
+            go_on()
+        };
+        let (level, d) = super::stationary::solve(frames, rung, n == plan.finest, iterated).map_err(failed)?;
+        ctl.progress.note(&format!("resolution {:>3}: {} iterations, {:.1} s", level.n, level.iterations, start.elapsed().as_secs_f64()));
+        levels.push(level);
+        density = d.or(density);
+    }
+    let density = density.expect("the finest resolution computes the density");
     ctl.check()?;
     let after = sticks::solve(scenario, frames, ladder, &mut |n, s| note("sticks 1-6", n, s), &go_on).map_err(failed)?;
     let order = sticks::order(scenario);

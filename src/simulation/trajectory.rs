@@ -17,7 +17,6 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use arrow_array::{ArrayRef, Float64Array, Int64Array, RecordBatch, StringArray};
-use arrow_schema::{DataType, Field, Schema};
 use parquet::arrow::ArrowWriter;
 use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
@@ -105,18 +104,6 @@ pub const EVENTS: &str = events::DEF.file;
 /// The `event` values of [`EVENTS`].
 pub const EVENT_NAMES: [&str; 3] = ["belt_switch", "stick_start", "stick_end"];
 
-/// A table definition's columns as the Arrow schema the writer uses (int64, float64, utf8; no
-/// nulls).
-fn arrow_schema(def: &crate::table::Def) -> Schema {
-    use crate::table::Type;
-    let ty = |t: Type| match t {
-        Type::Int => DataType::Int64,
-        Type::Float => DataType::Float64,
-        Type::Str => DataType::Utf8,
-    };
-    Schema::new(def.columns.iter().map(|c| Field::new(c.name, ty(c.ty), false)).collect::<Vec<_>>())
-}
-
 /// The footer key that marks a trajectory table as the tool's (a file without it is never
 /// replaced).
 const MARK: &str = "stickslip.trajectories";
@@ -170,11 +157,11 @@ impl Tables {
     fn samples_batch(&self) -> RecordBatch {
         let f = |i: usize| Arc::new(Float64Array::from(self.samples.iter().map(|s| s[i]).collect::<Vec<_>>())) as ArrayRef;
         let cols: Vec<ArrayRef> = vec![Arc::new(Int64Array::from(self.sample_realization.clone())), f(0), f(1), f(2), f(3)];
-        RecordBatch::try_new(Arc::new(arrow_schema(&samples::DEF)), cols).expect("columns of equal length")
+        RecordBatch::try_new(Arc::new(samples::DEF.arrow_schema()), cols).expect("columns of equal length")
     }
 
     fn events_batch(&self) -> RecordBatch {
-        let schema = arrow_schema(&events::DEF);
+        let schema = events::DEF.arrow_schema();
         let cols: Vec<ArrayRef> = vec![
             Arc::new(Int64Array::from(self.event_realization.clone())),
             Arc::new(StringArray::from(self.event.clone())),
