@@ -1,4 +1,4 @@
-"""The yardsticks of `stickslip analyze` (README, "Benchmarks"): the Table 1 moments of T_k, L_k,
+"""The yardsticks of `stickslip analyze` (the book's Benchmarks): the Table 1 moments of T_k, L_k,
 D_k, H_k (k <= 6) and of S_T, S_L, plus one joint histogram (T_1, T_2 on a 64 x 64 grid), as one
 query over a dataset directory, in DuckDB or in polars (lazy, streaming). Usage:
 

@@ -10,7 +10,7 @@ sqrt(SE² + error²). Prints a Markdown table and the largest |z|; then the same
 (ended before t_a) that last longer, with its binomial standard error. Last, the cost at matched
 precision: per statistic the relative error the exact run certifies and the realizations Monte
 Carlo needs for a standard error that small, N·(SE/error)², timed at the simulate run's rate (its
-cost is linear in N: README, "Linear cost at 10^7"); and the same for 1e-4 relative.
+cost is linear in N: the book's Benchmarks, "Whole processes"); and the same for 1e-4 relative.
 
 usage: python3 benches/exact_table1.py [BINARY] [--realizations N] [--seed S] [--resolution R] [--keep DIR]
        [--law LAWDIR] [--set KEY=VALUE ...]

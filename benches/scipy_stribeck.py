@@ -15,7 +15,7 @@
 The speed ratio is taken at matched event accuracy, two ways: the cheapest scipy setting (on a
 ladder of half decades) at least as accurate as stickslip's; and scipy's cost interpolated to
 exactly stickslip's accuracy on its work-precision line (log cost linear in log error between the
-two settings that bracket it) — the lower, fairer ratio, quoted in the README.
+two settings that bracket it) — the lower, fairer ratio, quoted in the book's Benchmarks.
 """
 import argparse
 import os

@@ -1,4 +1,4 @@
-"""The README's speed table, measured in one interleaved run (rounds of A B C ..., medians, and the
+"""The book's speed table (docs/src/benchmarks.md), measured in one interleaved run (rounds of A B C ..., medians, and the
 median of the per-round ratios; `benches/interleaved.py`). Usage:
 
     python3 benches/speed.py --bin target/release/stickslip [--vs OLD_BINARY] [--rounds N]

@@ -1,4 +1,4 @@
-"""The yardstick of `analyze`'s tails (README, "Tails"): the same counts as
+"""The yardstick of `analyze`'s tails (the book's Benchmarks, "The tails"): the same counts as
 `src/analysis/tail_counts.rs`, written as one Python polars query over a dataset directory — the
 stick and slip durations exploded with their index k and censoring flag, counted per
 (k, time cell, flag) on the fine cells ρ = t_a 2^-16 split at the tail times (groups pooled)

@@ -1,4 +1,4 @@
-//! In-process speed benchmark (`cargo bench --bench throughput`): numbers for the README.
+//! In-process speed benchmark (`cargo bench --bench throughput`): numbers for the book's Benchmarks.
 //!
 //! Per-realization cost of the solvers on the same realizations, measured side by side: every
 //! round runs each setting once, in turn (so a slower moment of the machine falls on all alike);

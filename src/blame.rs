@@ -18,6 +18,31 @@ pub enum Culprit {
     Output,
 }
 
+impl Culprit {
+    /// Every culprit, in the order the documentation lists them.
+    pub const ALL: [Culprit; 4] = [Culprit::Usage, Culprit::Scenario, Culprit::Dataset, Culprit::Output];
+
+    /// The Python package's exception class for it (each a `ValueError` subclass).
+    pub const fn python_class(self) -> &'static str {
+        match self {
+            Culprit::Usage => "UsageError",
+            Culprit::Scenario => "ScenarioError",
+            Culprit::Dataset => "DatasetError",
+            Culprit::Output => "OutputError",
+        }
+    }
+
+    /// What it blames, as the documentation says it.
+    pub const fn meaning(self) -> &'static str {
+        match self {
+            Culprit::Usage => "a flag or argument: its value, or values that cannot go together",
+            Culprit::Scenario => "the scenario: a key, a value, the scenario file, or a scene the stage cannot take",
+            Culprit::Dataset => "a dataset, or another stage's output read as input, that fails its checks",
+            Culprit::Output => "the output directory or file, refused by the output rules",
+        }
+    }
+}
+
 /// An error that knows whether an input is to blame.
 pub trait Blame {
     /// The input at fault, or None for a failure while running (exit code 1).

@@ -8,6 +8,10 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
+/// The exit code of a run ended by a signal is this plus the signal's number (SIGINT 2 → 130,
+/// SIGTERM 15 → 143), as a shell expects.
+pub const SIGNALLED: i32 = 128;
+
 /// What to remove on a signal.
 #[derive(Debug, PartialEq)]
 enum Held {
@@ -103,7 +107,7 @@ pub fn install() {
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else { return };
     std::thread::spawn(move || {
         if let Some(sig) = signals.forever().next() {
-            remove_all_and_exit(128 + sig);
+            remove_all_and_exit(SIGNALLED + sig);
         }
     });
 }

@@ -39,7 +39,7 @@ fn bound_malloc_arenas() {
 /// polars panics on a value that is not a positive integer, so one the user set is checked
 /// before anything runs and refused with one line. (This command once raised the default to
 /// 32,768 for the tails' counts, 8 % faster when polars counted every key; since the counts are
-/// made per batch it changes nothing: 3.89 s against 3.85 s at 10^6, README, "Tails".)
+/// made per batch it changes nothing: 3.89 s against 3.85 s at 10^6, the book's Benchmarks, "The tails".)
 fn check_polars_hot_table_size() -> Result<(), String> {
     const HOT_TABLE: &str = "POLARS_HOT_TABLE_SIZE";
     match std::env::var_os(HOT_TABLE) {

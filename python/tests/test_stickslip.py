@@ -362,9 +362,30 @@ def test_a_sweep_analysed_from_python_has_its_cells(tmp_path: Path) -> None:
     assert cell.summary is not None and cell.summary.dataset.realizations == 300
 
 
-def test_the_readme_python_section_runs_as_written(tmp_path: Path) -> None:
+def _python_block(text: str, after: str) -> str:
+    section = text[text.index(after) :]
+    start = section.index("```python") + len("```python")
+    return section[start : section.index("```", start)]
+
+
+def test_the_readme_python_example_prints_what_the_readme_says(tmp_path: Path) -> None:
     readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
-    section = readme[readme.index("## Python") :]
-    code = section[section.index("```python") + len("```python") : section.index("```", section.index("```python") + 9)]
+    code = _python_block(readme, "## From Python")
+    begin, end = "<!-- readme python stdout: begin -->\n```text\n", "\n```\n<!-- readme python stdout: end -->"
+    quoted = readme[readme.index(begin) + len(begin) : readme.index(end)]
     r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
+    assert r.stdout.rstrip("\n") == quoted, f"the README's Python block prints:\n{r.stdout}"
+
+
+def test_the_python_tutorial_runs_as_written(tmp_path: Path) -> None:
+    page = (Path(__file__).resolve().parents[2] / "docs" / "src" / "tutorials" / "python.md").read_text()
+    code = _python_block(page, "## 3. The API in one screen")
+    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+
+
+def test_the_version_is_the_command_lines() -> None:
+    r = subprocess.run([sys.executable, "-m", "stickslip._cli", "--version"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["stickslip", stickslip.__version__], r.stdout

@@ -15,7 +15,7 @@
 //! It needs nothing but mergeable accumulators, so it fits the one-pass design for every
 //! statistic: mean, variance, skewness, kurtosis, the mode (a kernel estimate on each
 //! leave-one-group-out sketch), growth slopes and renewal predictions. Its coverage is measured
-//! (`tests/it/coverage.rs`, and the README).
+//! (`tests/it/coverage.rs`, and the book: docs/src/explanation/estimators.md).
 
 /// Realization-index groups.
 pub const GROUPS: usize = 20;

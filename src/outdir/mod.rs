@@ -1,6 +1,6 @@
 //! Output safety: what a stage may write, replace or delete, and how it writes it.
 //!
-//! The rules (README, "Output directories"):
+//! The rules (the book: docs/src/reference/output-directories.md):
 //! - **Separate.** An output that equals, contains or lies inside any input (dataset, analysis,
 //!   figures, scenario file) is refused before anything runs ([`check_separate`]).
 //! - **Recognised.** Every directory the tool writes carries a marker file (`marker.rs`) naming its

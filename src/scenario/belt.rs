@@ -267,30 +267,32 @@ fn read_csv_log(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
     Ok((times, velocities))
 }
 
+/// A Parquet log, read with polars (whose Parquet reader has every codec pyarrow and pandas write:
+/// snappy, gzip, lz4, brotli, zstd). The columns `time` and `velocity` may be float64 or int64.
 fn read_parquet_log(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
-    use arrow_array::{Array, Float64Array, Int64Array};
-    use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+    use polars::prelude::{DataType, ParquetReader, SerReader};
     let file = std::fs::File::open(path).map_err(|e| format!("cannot read it: {e}"))?;
-    let reader = ParquetRecordBatchReaderBuilder::try_new(file).and_then(|b| b.build()).map_err(|e| format!("not a readable Parquet file ({e})"))?;
-    let (mut times, mut velocities) = (Vec::new(), Vec::new());
-    for batch in reader {
-        let batch = batch.map_err(|e| format!("reading it: {e}"))?;
-        for (name, out) in [("time", &mut times), ("velocity", &mut velocities)] {
-            let c = batch.column_by_name(name).ok_or(format!("it has no column `{name}`"))?;
-            if c.null_count() > 0 {
-                return Err(format!("column `{name}` holds nulls"));
-            }
-            if let Some(f) = c.as_any().downcast_ref::<Float64Array>() {
-                out.extend(f.values().iter().copied());
-            } else if let Some(i) = c.as_any().downcast_ref::<Int64Array>() {
-                out.extend(i.values().iter().map(|&x| x as f64));
-            } else {
-                return Err(format!("column `{name}` is {}, expected float64 or int64", c.data_type()));
-            }
-        }
-        if times.len() > MAX_LOG_ROWS {
-            return Err(format!("more than {MAX_LOG_ROWS} rows"));
+    let mut reader = ParquetReader::new(file);
+    let schema = reader.schema().map_err(|e| format!("not a readable Parquet file ({e})"))?;
+    if reader.num_rows().map_err(|e| format!("not a readable Parquet file ({e})"))? > MAX_LOG_ROWS {
+        return Err(format!("more than {MAX_LOG_ROWS} rows"));
+    }
+    for name in ["time", "velocity"] {
+        if !schema.contains(name) {
+            return Err(format!("it has no column `{name}`"));
         }
     }
-    Ok((times, velocities))
+    let frame = reader.with_columns(Some(vec!["time".into(), "velocity".into()])).finish().map_err(|e| format!("reading it: {e}"))?;
+    let column = |name: &str| -> Result<Vec<f64>, String> {
+        let c = frame.column(name).map_err(|e| e.to_string())?.as_materialized_series();
+        if c.null_count() > 0 {
+            return Err(format!("column `{name}` holds nulls"));
+        }
+        match c.dtype() {
+            DataType::Float64 => Ok(c.f64().map_err(|e| e.to_string())?.into_no_null_iter().collect()),
+            DataType::Int64 => Ok(c.i64().map_err(|e| e.to_string())?.into_no_null_iter().map(|x| x as f64).collect()),
+            other => Err(format!("column `{name}` is {other}, expected float64 or int64")),
+        }
+    };
+    Ok((column("time")?, column("velocity")?))
 }

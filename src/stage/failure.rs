@@ -40,13 +40,18 @@ pub fn cancelled(e: &anyhow::Error) -> bool {
     e.chain().any(|c| c.is::<crate::progress::Cancelled>())
 }
 
-/// Exit code of a failed run: 2 when an input (a flag, key, value, file or output directory)
-/// is at fault, 1 for a failure while running.
+/// The exit code when an input (a flag, key, value, file or output directory) is at fault (as
+/// clap's own for a flag it cannot parse).
+pub const INPUT_AT_FAULT: u8 = 2;
+/// The exit code of a failure while running.
+pub const RUN_FAILED: u8 = 1;
+
+/// Exit code of a failed run: [`INPUT_AT_FAULT`] or [`RUN_FAILED`].
 pub fn exit_code(e: &anyhow::Error) -> u8 {
     if culprit(e).is_some() {
-        2
+        INPUT_AT_FAULT
     } else {
-        1
+        RUN_FAILED
     }
 }
 

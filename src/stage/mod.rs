@@ -46,4 +46,4 @@ pub fn tables() -> Vec<(&'static str, &'static crate::table::Def)> {
 pub use crate::blame::{Culprit, Usage};
 pub use crate::progress::{Cancelled, Control, Progress, Silent};
 pub use crate::scenario::{Input, Source};
-pub use failure::{cancelled, culprit, exit_code, message};
+pub use failure::{cancelled, culprit, exit_code, message, INPUT_AT_FAULT, RUN_FAILED};

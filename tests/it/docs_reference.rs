@@ -1,4 +1,4 @@
-//! The reference pages in `docs/reference/` are generated from the code — the command line from
+//! The reference pages in `docs/src/reference/` are generated from the code — the command line from
 //! clap, the scenario keys from the keys table, the dataset's columns from the schema, every
 //! stage's tables from their definitions — so they cannot drift: this test generates them and
 //! fails when a committed page differs. `STICKSLIP_BLESS=1 cargo test --release docs_reference`
@@ -42,7 +42,7 @@ fn dataset() -> String {
             Bound::NonNegative => "finite, ≥ 0",
             Bound::Severity => "in [0, 2^24]",
         };
-        s += &format!("| `{}` | {} | v{} | {present} | {rule} | {} | {} |\n", c.name, c.kind().name(), c.since, c.unit, cell(c.meaning));
+        s += &format!("| `{}` | `{}` | v{} | {present} | {rule} | {} | {} |\n", c.name, c.kind().name(), c.since, c.unit, cell(c.meaning));
     }
     s
 }
@@ -75,12 +75,68 @@ fn keys() -> String {
     s
 }
 
+fn errors() -> String {
+    use stickslip::stage::{Culprit, INPUT_AT_FAULT, RUN_FAILED};
+    let signalled = stickslip::interrupt::SIGNALLED;
+    let mut s = format!("{HEADER}# Errors and exit codes\n\nA stage that fails prints one line on standard error naming the culprit (the key, value, file, row or column) and leaves nothing partial behind. Whether an input is to blame decides the exit code and, in Python, the exception class.\n\n| exit code | when | Python |\n|---|---|---|\n| 0 | success | the call returns |\n");
+    for c in Culprit::ALL {
+        s += &format!("| {INPUT_AT_FAULT} | {} | `stickslip.{}` (a `ValueError`) |\n", cell(c.meaning()), c.python_class());
+    }
+    s += &format!("| {INPUT_AT_FAULT} | a flag the command line cannot parse (clap's own message) | — |\n| {RUN_FAILED} | a failure while running, the input not to blame (a disk error, say) | `stickslip.RunError` (a `RuntimeError`) |\n| {} / {} | interrupted by SIGINT / SIGTERM (Ctrl-C): the run's temporaries removed | `KeyboardInterrupt` |\n", signalled + 2, signalled + 15);
+    s
+}
+
+/// One command's synopsis from its clap definition, wrapped at 80 columns.
+fn synopsis(sub: &clap::Command) -> String {
+    let mut parts = vec![format!("stickslip {}", sub.get_name())];
+    for a in sub.get_arguments() {
+        if a.is_hide_set() || a.get_id() == "help" {
+            continue;
+        }
+        let value =
+            a.get_value_names().map_or_else(|| a.get_id().to_string().to_uppercase(), |v| v.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(" "));
+        let mut text = if a.is_positional() {
+            value
+        } else {
+            let flag = a.get_long().map_or_else(|| format!("-{}", a.get_short().unwrap()), |l| format!("--{l}"));
+            if a.get_action().takes_values() {
+                format!("{flag} {value}")
+            } else {
+                flag
+            }
+        };
+        if matches!(a.get_action(), clap::ArgAction::Append) && !text.ends_with("...") {
+            text += "...";
+        }
+        parts.push(if a.is_required_set() { text } else { format!("[{text}]") });
+    }
+    let mut out = String::new();
+    let mut line = String::new();
+    for part in parts {
+        if !line.is_empty() && line.chars().count() + 1 + part.chars().count() > 80 {
+            out += &line;
+            out += "\n";
+            line = " ".repeat(4);
+        } else if !line.is_empty() && line.trim_start() != "" {
+            line.push(' ');
+        }
+        line += &part;
+    }
+    out + &line + "\n"
+}
+
 fn cli() -> String {
     use clap::CommandFactory;
     let mut command = stickslip::cli::Cli::command();
     // (built: each subcommand's usage then names the program)
     command.build();
-    let mut s = format!("{HEADER}# The command line\n\n```text\n{}\n```\n", command.render_long_help().to_string().trim_end());
+    let mut s = format!("{HEADER}# The command line\n\n```text\n{}\n```\n\n## Synopsis\n\nEvery command with every flag (`[…]` optional, `…` repeatable); each is explained in its section below.\n\n```text\n", command.render_long_help().to_string().trim_end());
+    for sub in command.get_subcommands() {
+        if sub.get_name() != "help" && !sub.is_hide_set() {
+            s += &synopsis(sub);
+        }
+    }
+    s += "```\n";
     for sub in command.get_subcommands_mut() {
         let name = sub.get_name().to_string();
         if name == "help" {
@@ -93,8 +149,8 @@ fn cli() -> String {
 
 #[test]
 fn docs_reference_pages_are_generated_from_the_code() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/reference");
-    let pages = [("cli.md", cli()), ("scenario-keys.md", keys()), ("dataset.md", dataset()), ("tables.md", tables())];
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/src/reference");
+    let pages = [("cli.md", cli()), ("scenario-keys.md", keys()), ("dataset.md", dataset()), ("tables.md", tables()), ("errors.md", errors())];
     if std::env::var_os("STICKSLIP_BLESS").is_some() {
         std::fs::create_dir_all(&dir).unwrap();
         for (file, text) in &pages {
@@ -103,7 +159,7 @@ fn docs_reference_pages_are_generated_from_the_code() {
     }
     for (file, text) in &pages {
         let committed = std::fs::read_to_string(dir.join(file)).unwrap_or_default();
-        assert!(committed == *text, "docs/reference/{file} is not what the code generates: run STICKSLIP_BLESS=1 cargo test --release docs_reference");
+        assert!(committed == *text, "docs/src/reference/{file} is not what the code generates: run STICKSLIP_BLESS=1 cargo test --release docs_reference");
     }
     // every table a stage writes is listed once
     let files: Vec<(&str, &str)> = stickslip::stage::tables().iter().map(|(s, d)| (*s, d.file)).collect();

@@ -253,10 +253,11 @@ print("duckdb_bigint_counts", float(all(t == "BIGINT" for t in types)))
     }
 }
 
-/// The README's code block that contains `marker`.
-fn readme_block(marker: &str) -> String {
-    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
-    let at = readme.find(marker).unwrap_or_else(|| panic!("the README has no block with {marker:?}"));
+/// The code block of the book's how-to "Query datasets with polars and DuckDB" that contains
+/// `marker`.
+fn book_block(marker: &str) -> String {
+    let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/src/how-to/query.md")).unwrap();
+    let at = readme.find(marker).unwrap_or_else(|| panic!("the query how-to has no block with {marker:?}"));
     let start = readme[..at].rfind("```").and_then(|i| readme[i..].find('\n').map(|j| i + j + 1)).unwrap();
     let end = at + readme[at..].find("```").unwrap();
     readme[start..end].to_string()
@@ -264,13 +265,13 @@ fn readme_block(marker: &str) -> String {
 
 #[test]
 fn clients_read_a_hive_partitioned_sweep() {
-    // the README's DuckDB and polars sweep queries, as written, on a sweep of non-integer keys:
+    // the book's DuckDB and polars sweep queries, as written, on a sweep of non-integer keys:
     // typed keys in numeric order, values as analyze's (issue 20, item 15)
     let tmp = tempfile::tempdir().unwrap();
     let t = sweep(tmp.path());
     let dir = tmp.path().join("sweep");
-    let sql = readme_block("FROM read_parquet('data/sweep/").replace("data/sweep/", &format!("{}/", dir.display()));
-    let polars = readme_block("pl.scan_parquet(\"data/sweep/").replace("data/sweep/", &format!("{}/", dir.display()));
+    let sql = book_block("FROM read_parquet('data/sweep/").replace("data/sweep/", &format!("{}/", dir.display()));
+    let polars = book_block("pl.scan_parquet(\"data/sweep/").replace("data/sweep/", &format!("{}/", dir.display()));
     let script = format!(
         r#"
 import duckdb

@@ -387,16 +387,19 @@ fn a_velocity_log_is_a_regular_file_of_bounded_size_in_any_parquet_codec() {
     assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
     let e = resolve(&["belt.process=\"recorded\"", &set(fifo.to_str().unwrap())]).unwrap_err();
     assert!(e.contains("not a regular file"), "{e}");
-    // the codecs pyarrow and pandas write (snappy by default)
-    use parquet::basic::{BrotliLevel, Compression, GzipLevel};
-    for codec in [Compression::SNAPPY, Compression::GZIP(GzipLevel::default()), Compression::LZ4_RAW, Compression::BROTLI(BrotliLevel::default())] {
-        let schema = Arc::new(arrow_schema::Schema::new(vec![Field::new("time", DataType::Float64, false), Field::new("velocity", DataType::Float64, false)]));
-        let cols: Vec<ArrayRef> = vec![Arc::new(Float64Array::from(vec![0.0, 2.0, 5.0])), Arc::new(Float64Array::from(vec![1.0, -1.0, 1.0]))];
-        let path = t.join(format!("log-{codec:?}.parquet").replace(['(', ')', ' ', '{', '}', ':'], ""));
-        let props = parquet::file::properties::WriterProperties::builder().set_compression(codec).build();
-        let mut w = parquet::arrow::ArrowWriter::try_new(std::fs::File::create(&path).unwrap(), schema.clone(), Some(props)).unwrap();
-        w.write(&arrow_array::RecordBatch::try_new(schema, cols).unwrap()).unwrap();
-        w.close().unwrap();
+    // the codecs pyarrow and pandas write (snappy by default), written here by polars' writer
+    use polars::prelude::{df, ParquetCompression, ParquetWriter};
+    let codecs = [
+        ParquetCompression::Snappy,
+        ParquetCompression::Gzip(None),
+        ParquetCompression::Lz4Raw,
+        ParquetCompression::Brotli(None),
+        ParquetCompression::Zstd(None),
+    ];
+    for (i, codec) in codecs.into_iter().enumerate() {
+        let path = t.join(format!("log-{i}.parquet"));
+        let mut frame = df!("time" => [0.0, 2.0, 5.0], "velocity" => [1.0, -1.0, 1.0]).unwrap();
+        ParquetWriter::new(std::fs::File::create(&path).unwrap()).with_compression(codec).finish(&mut frame).unwrap();
         let sc = resolve(&["belt.process=\"recorded\"", &set(path.to_str().unwrap())]).unwrap_or_else(|e| panic!("{codec:?}: {e}"));
         all_finite(&sc, 5);
     }
