@@ -1,6 +1,6 @@
 //! Shared test helpers: run realizations, check the counting invariants, run the CLI.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use stickslip::physics::Params;
@@ -154,4 +154,22 @@ pub fn rms(v: &[f64]) -> f64 {
 /// Run the CLI binary.
 pub fn stickslip(args: &[&str], cwd: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_stickslip")).args(args).current_dir(cwd).output().expect("binary runs")
+}
+
+/// Every file below `dir` (hidden ones included, directories walked), sorted.
+pub fn files_below(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
 }

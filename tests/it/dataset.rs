@@ -3,24 +3,12 @@
 use polars::prelude::*;
 use stickslip::simulation::simulate::{self, Options, Shard};
 
-use crate::common::{outcomes, scenario};
+use crate::common::{files_below, outcomes, scenario};
 
 /// Read every part file below `dir` (recursively, in path order) with polars' Parquet reader and
 /// stack them: the rows a `DIR/**/*.parquet` scan gives, without hive columns.
 pub fn read_dir(dir: &std::path::Path) -> DataFrame {
-    fn parts(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
-        for e in std::fs::read_dir(dir).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                parts(&p, out);
-            } else if p.extension().is_some_and(|x| x == "parquet") {
-                out.push(p);
-            }
-        }
-    }
-    let mut files = Vec::new();
-    parts(dir, &mut files);
-    files.sort();
+    let files: Vec<_> = files_below(dir).into_iter().filter(|p| p.extension().is_some_and(|x| x == "parquet")).collect();
     let mut frames = files.iter().map(|p| ParquetReader::new(std::fs::File::open(p).unwrap()).finish().unwrap());
     let mut df = frames.next().expect("no part file");
     for f in frames {

@@ -7,6 +7,8 @@
 use std::collections::HashSet;
 use std::path::{Component, Path, PathBuf};
 
+use crate::common::files_below;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -17,20 +19,7 @@ fn book() -> PathBuf {
 
 /// Every Markdown page of the book, sorted.
 fn pages() -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                walk(&path, out);
-            } else if path.extension().is_some_and(|e| e == "md") {
-                out.push(path);
-            }
-        }
-    }
-    let mut out = Vec::new();
-    walk(&book(), &mut out);
-    out.sort();
-    out
+    files_below(&book()).into_iter().filter(|p| p.extension().is_some_and(|e| e == "md")).collect()
 }
 
 /// The text a reader sees as prose: fenced code blocks and inline code spans blanked out.
@@ -224,18 +213,7 @@ fn the_layout_page_names_every_source_file() {
         if path.is_dir() {
             let folder = format!("`src/{name}/`");
             let bullet = bullets.iter().find(|b| b.contains(&folder));
-            let mut files = Vec::new();
-            let mut dirs = vec![path.clone()];
-            while let Some(dir) = dirs.pop() {
-                for entry in std::fs::read_dir(&dir).unwrap() {
-                    let p = entry.unwrap().path();
-                    if p.is_dir() {
-                        dirs.push(p);
-                    } else {
-                        files.push(p.strip_prefix(&path).unwrap().to_string_lossy().to_string());
-                    }
-                }
-            }
+            let files = files_below(&path).into_iter().map(|p| p.strip_prefix(&path).unwrap().to_string_lossy().to_string());
             for file in files {
                 if file == "mod.rs" {
                     continue;
