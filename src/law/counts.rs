@@ -49,19 +49,17 @@ pub(crate) fn tails(
     half: f64,
     starts: &[(usize, passage::Start, f64)],
     t_a: f64,
-    tick: &mut dyn FnMut(usize, f64) -> bool,
+    tick: &mut dyn FnMut(usize, f64),
+    go_on: &dyn Fn() -> bool,
 ) -> Result<Tails, String> {
     let points = Points::at(t_a, &frames.iter().map(|f| f.lambda).collect::<Vec<_>>());
     let mut out = Tails { sticks: Vec::new(), slips: Vec::new() };
-    let (mut peak, mut stopped) = (0.0f64, false);
-    passage::walk_sequence::<Euler>(&points, frames, h, half, starts, MAX_STICKS, &mut |step: Step<Euler>| {
+    let mut peak = 0.0f64;
+    passage::walk_sequence::<Euler>(&points, frames, h, half, starts, MAX_STICKS, go_on, &mut |step: Step<Euler>| {
         let all = passage::total(&step.entries.concat());
         let p = points.cdf(&all.t).clamp(0.0, 1.0);
         out.sticks.push(p);
-        if !tick(out.sticks.len(), p) {
-            stopped = true;
-            return false;
-        }
+        tick(out.sticks.len(), p);
         if let Some(held) = step.held {
             out.slips.push(points.cdf(&held.ends.t).clamp(0.0, 1.0));
         }
@@ -70,9 +68,6 @@ pub(crate) fn tails(
         peak = peak.max(fall);
         !(p < NEGLIGIBLE && fall < peak)
     })?;
-    if stopped {
-        return Err(passage::STOPPED.into());
-    }
     if out.sticks.len() > MAX_STICKS {
         return Err(format!("more than {MAX_STICKS} sticks may start in run.duration = {t_a} s: the law of the counts is not computed for so long a window"));
     }
@@ -127,13 +122,14 @@ pub(crate) fn solve(
     frames: &[Frame],
     ladder: &[Rung],
     progress: &mut dyn FnMut(u32, f64),
-    tick: &mut dyn FnMut(u32, usize, f64) -> bool,
+    tick: &mut dyn FnMut(u32, usize, f64),
+    go_on: &dyn Fn() -> bool,
 ) -> Result<Vec<(f64, Tails)>, String> {
     let mut out = Vec::new();
     for (n, h) in ladder {
         let (starts, half) = super::sticks::held_starts(scenario, frames, h[0]);
         let t = std::time::Instant::now();
-        out.push((h[0], tails(frames, h, half, &starts, scenario.run.duration, &mut |k, p| tick(*n, k, p))?));
+        out.push((h[0], tails(frames, h, half, &starts, scenario.run.duration, &mut |k, p| tick(*n, k, p), go_on)?));
         progress(*n, t.elapsed().as_secs_f64());
     }
     Ok(out)

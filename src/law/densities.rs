@@ -164,7 +164,7 @@ pub(crate) fn predicted(frames: &[Frame], h: &[f64], half: f64, at: usize, start
     let starts = [(at, start, 1.0)];
     let mut out: Transforms = Vec::new();
     let origin = Points::<N>::cosine(half_period, &lambdas, false);
-    passage::walk_sequence::<Laplace<N>>(&origin, frames, h, half, &starts, 0, &mut |step: Step<Laplace<N>>| {
+    passage::walk_sequence::<Laplace<N>>(&origin, frames, h, half, &starts, 0, &|| true, &mut |step: Step<Laplace<N>>| {
         let mut phi = Box::new(passage::total(&step.entries.concat()).t);
         let mut points = Vec::new();
         if let Some((t, m)) = start_point(frames, at, start) {
@@ -177,7 +177,7 @@ pub(crate) fn predicted(frames: &[Frame], h: &[f64], half: f64, at: usize, start
     let since_end = Points::<N>::cosine(half_period, &lambdas, true);
     let resticks: Vec<Option<Path>> = (0..frames.len()).map(|s| restick(frames, s)).collect();
     let mut breakaways = Vec::new();
-    passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, &starts, 1, &mut |step: Step<Laplace<N>>| {
+    passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, &starts, 1, &|| true, &mut |step: Step<Laplace<N>>| {
         if step.held.is_some() {
             breakaways = breakaway_masses(&step);
             return true;
@@ -203,32 +203,18 @@ fn transforms(
     let lambdas: Vec<f64> = frames.iter().map(|f| f.lambda).collect();
     let mut out: Transforms = Vec::new();
     let origin = Points::<N>::cosine(half_period, &lambdas, false);
-    let stopped = std::cell::Cell::new(false);
-    let ask = || {
-        stopped.set(stopped.get() || !go_on());
-        !stopped.get()
-    };
-    passage::walk_sequence::<Laplace<N>>(&origin, frames, h, half, starts, STICKS, &mut |step: Step<Laplace<N>>| {
-        if !ask() {
-            return false;
-        }
+    passage::walk_sequence::<Laplace<N>>(&origin, frames, h, half, starts, STICKS, go_on, &mut |step: Step<Laplace<N>>| {
         let Some(held) = step.held else { return false };
         let index = out.len() as u32 / 2 + 1;
         out.push(Transform { variable: VARIABLES[0], index, phi: Box::new(passage::total(&step.entries.concat()).t), points: Vec::new() });
         out.push(Transform { variable: VARIABLES[1], index, phi: Box::new(held.ends.t), points: Vec::new() });
         (index as usize) < STICKS
     })?;
-    if stopped.get() {
-        return Err(passage::STOPPED.into());
-    }
     let since_end = Points::<N>::cosine(half_period, &lambdas, true);
     let resticks: Vec<Option<Path>> = (0..frames.len()).map(|s| restick(frames, s)).collect();
     // per belt state, the mass of the last passage's sticks that end by breakaway
     let (mut k, mut breakaways) = (0u32, Vec::<f64>::new());
-    passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, starts, STICKS, &mut |step: Step<Laplace<N>>| {
-        if !ask() {
-            return false;
-        }
+    passage::walk_sequence::<Laplace<N>>(&since_end, frames, h, half, starts, STICKS, go_on, &mut |step: Step<Laplace<N>>| {
         if k > 0 {
             let (phi, points) = slip_law(passage::total(&step.entries.concat()).t, &since_end, &resticks, &breakaways);
             out.push(Transform { variable: VARIABLES[2], index: k, phi, points });
@@ -237,9 +223,6 @@ fn transforms(
         k += 1;
         step.held.is_some()
     })?;
-    if stopped.get() {
-        return Err(passage::STOPPED.into());
-    }
     Ok(out)
 }
 

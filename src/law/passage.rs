@@ -49,6 +49,7 @@ use super::chain::{Mesh, CHUNKS};
 use super::clock::{Clocks, Moments};
 use super::flow::one_minus_exp_poly;
 use super::flow::{decay, Frame, Slip, Visitor};
+use super::stationary::STOPPED;
 
 /// An atom's clocks for Table 1: its mass; ∫ t dμ and ∫ t² dμ, t the time since the origin;
 /// ∫ a dμ and ∫ a² dμ, a the time since the last stick ended (since the origin before the
@@ -449,8 +450,9 @@ pub(crate) struct Step<'a, C> {
 /// stuck starts have a current stick first), on grids of spacings `h` (per belt state of
 /// `frames`) over the box `half` ([`half_width`]), in the clock algebra C: passage k = 0, 1, …
 /// from the exits of the sticks before, each reported to `step`, up to `count` (the last
-/// without its sticks' exits) or until `step` says stop. Returns the current stick's (a stuck
-/// start's) and the mass lost off the grid.
+/// without its sticks' exits) or until `step` says stop. `go_on` is asked before each passage
+/// (a stick, a few seconds at the finest resolution); when it says no the walk ends with the
+/// error [`STOPPED`]. Returns the current stick's (a stuck start's) and the mass lost off the grid.
 pub(crate) fn walk_sequence<C: Clocks>(
     ctx: &C::Ctx,
     frames: &[Frame],
@@ -458,6 +460,7 @@ pub(crate) fn walk_sequence<C: Clocks>(
     half: f64,
     starts: &[(usize, Start, f64)],
     count: usize,
+    go_on: &dyn Fn() -> bool,
     step: &mut dyn FnMut(Step<C>) -> bool,
 ) -> Result<(Option<Held<C>>, f64), String> {
     let meshes: Vec<Mesh> = frames.iter().zip(h).map(|(f, &h)| Mesh::new(*f, h, half)).collect();
@@ -480,6 +483,9 @@ pub(crate) fn walk_sequence<C: Clocks>(
     let node = |s: usize, k: usize| meshes[s].frame.hold_lo() + k as f64 * meshes[s].h_line;
     let mut lost = 0.0;
     for k in 0..=count {
+        if !go_on() {
+            return Err(STOPPED.into());
+        }
         let mut entries: Vec<Vec<C>> = meshes.iter().map(|m| vec![C::zero(); m.n_line + 1]).collect();
         lost += passage(ctx, &meshes, clouds, &mut entries)?;
         if k == count {
@@ -504,12 +510,7 @@ pub(crate) fn sequence(frames: &[Frame], h: &[f64], half: f64, starts: &[(usize,
     sequence_until(frames, h, half, starts, count, &|| true)
 }
 
-/// The error of a walk that `go_on` stopped (the caller tells a stop from a failure by asking its
-/// cancel token).
-pub(crate) const STOPPED: &str = "stopped";
-
-/// [`sequence`], asking `go_on` after each passage: when it says no, the walk ends and the
-/// result is the error [`STOPPED`].
+/// [`sequence`], asking `go_on` before each passage ([`walk_sequence`]).
 pub(crate) fn sequence_until(
     frames: &[Frame],
     h: &[f64],
@@ -519,12 +520,7 @@ pub(crate) fn sequence_until(
     go_on: &dyn Fn() -> bool,
 ) -> Result<Sequence, String> {
     let (mut sticks, mut laws, mut next_start) = (Vec::<Stick>::new(), Vec::new(), (f64::NAN, f64::NAN));
-    let mut stopped = false;
-    let (current, lost) = walk_sequence::<Clock>(&(), frames, h, half, starts, count, &mut |step: Step<Clock>| {
-        if !go_on() {
-            stopped = true;
-            return false;
-        }
+    let (current, lost) = walk_sequence::<Clock>(&(), frames, h, half, starts, count, go_on, &mut |step: Step<Clock>| {
         let all = total(&step.entries.concat());
         if let Some(before) = sticks.last_mut() {
             before.slip = moments(all, 3);
@@ -543,9 +539,6 @@ pub(crate) fn sequence_until(
         });
         true
     })?;
-    if stopped {
-        return Err(STOPPED.into());
-    }
     Ok(Sequence { current: current.map(|h| h.duration()), sticks, lost, entries: laws, next_start })
 }
 

@@ -181,7 +181,8 @@ pub(crate) fn ladder(frames: &[Frame], finest: u32, count: u32) -> Result<Vec<Ru
     Ok(out)
 }
 
-/// What [`solve`] returns when its `step` asks it to stop.
+/// What [`solve`] returns when its `step` asks it to stop, and a walk of passages when its `go_on`
+/// says no ([`super::passage::walk_sequence`]).
 pub(crate) const STOPPED: &str = "stopped";
 
 /// Solve for the stationary law at resolution n, grid spacings h ([`ladder`]); `step` hears

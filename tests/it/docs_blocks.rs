@@ -6,14 +6,18 @@ use std::path::Path;
 
 use crate::common::stickslip;
 
+/// The text block between `<!-- MARK: begin -->` and `<!-- MARK: end -->` in `text`.
+fn quoted<'a>(text: &'a str, mark: &str) -> Option<&'a str> {
+    let begin = format!("<!-- {mark}: begin -->\n```text\n");
+    let start = text.find(&begin)? + begin.len();
+    Some(&text[start..start + text[start..].find(&format!("\n```\n<!-- {mark}: end -->"))?])
+}
+
 /// The block of the book's `page` between `<!-- NAME stdout: begin -->` and `<!-- NAME stdout:
 /// end -->` is what `stickslip ARGS` prints.
 fn block_is_what_it_prints(page: &str, name: &str, args: &[&str]) {
     let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/src").join(page)).unwrap();
-    let begin = format!("<!-- {name} stdout: begin -->\n```text\n");
-    let end = format!("\n```\n<!-- {name} stdout: end -->");
-    let start = readme.find(&begin).unwrap_or_else(|| panic!("{page} has the {name} block")) + begin.len();
-    let quoted = &readme[start..start + readme[start..].find(&end).expect("the block ends")];
+    let quoted = quoted(&readme, &format!("{name} stdout")).unwrap_or_else(|| panic!("{page} has the {name} block"));
     let tmp = tempfile::tempdir().unwrap();
     let o = stickslip(args, tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -42,9 +46,7 @@ fn the_readme_cli_example_prints_what_the_readme_says() {
     let readme = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
     let command = readme.lines().find(|l| l.starts_with("cargo run --release -- simulate")).expect("the README's simulate example");
     let args: Vec<&str> = command.trim_start_matches("cargo run --release -- ").split_whitespace().collect();
-    let begin = "<!-- readme cli stderr: begin -->\n```text\n";
-    let start = readme.find(begin).expect("the README's quoted output") + begin.len();
-    let quoted = &readme[start..start + readme[start..].find("\n```").unwrap()];
+    let quoted = quoted(&readme, "readme cli stderr").expect("the README's quoted output");
     let tmp = tempfile::tempdir().unwrap();
     let o = stickslip(&args, tmp.path());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

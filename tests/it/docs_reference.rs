@@ -117,7 +117,7 @@ fn synopsis(sub: &clap::Command) -> String {
             out += &line;
             out += "\n";
             line = " ".repeat(4);
-        } else if !line.is_empty() && line.trim_start() != "" {
+        } else if !line.trim_start().is_empty() {
             line.push(' ');
         }
         line += &part;
