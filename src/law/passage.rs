@@ -453,6 +453,8 @@ pub(crate) struct Step<'a, C> {
 /// without its sticks' exits) or until `step` says stop. `go_on` is asked before each passage
 /// (a stick, a few seconds at the finest resolution); when it says no the walk ends with the
 /// error [`STOPPED`]. Returns the current stick's (a stuck start's) and the mass lost off the grid.
+// (the grid, the starts, how far and whether to go on, and the step: one walk's inputs)
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn walk_sequence<C: Clocks>(
     ctx: &C::Ctx,
     frames: &[Frame],
