@@ -193,7 +193,8 @@ fn the_whole_pipeline_produces_every_figure_and_a_self_contained_report() {
     ];
     for name in names {
         let png = std::fs::read(figs.join(format!("{name}.png"))).unwrap_or_else(|e| panic!("{name}.png: {e}"));
-        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 20_000, "{name}.png: {} bytes", png.len());
+        let ink = ink(&png).unwrap_or_else(|e| panic!("{name}.png: {e}"));
+        assert!(ink > 0.01, "{name}.png: {:.2} % of its pixels drawn", 100.0 * ink);
         let svg = std::fs::read_to_string(figs.join(format!("{name}.svg"))).unwrap();
         assert!(svg.contains("<svg") && svg.trim_end().ends_with("</svg>") && svg.len() > 5_000, "{name}.svg");
         check_tags(&svg).unwrap_or_else(|e| panic!("{name}.svg: {e}"));
@@ -463,4 +464,18 @@ fn an_older_analysis_without_the_belt_velocity_of_its_events_is_refused_naming_t
     events.write_parquet(&tmp.path().join("trajectory_events.parquet")).unwrap();
     let err = Inputs::load(tmp.path()).unwrap_err().to_string();
     assert!(err.contains("trajectory_events.parquet") && err.contains("`belt_velocity` is missing") && err.contains("run the stage again"), "{err}");
+}
+
+/// The fraction of a PNG's pixels that are not white: a figure with its axes, labels and data
+/// draws on several per cent of them, an empty or blank one on none.
+fn ink(png: &[u8]) -> Result<f64, String> {
+    let mut reader = png::Decoder::new(std::io::Cursor::new(png)).read_info().map_err(|e| e.to_string())?;
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    if info.color_type != png::ColorType::Rgb || info.bit_depth != png::BitDepth::Eight {
+        return Err(format!("{:?} {:?}, not 8-bit RGB", info.color_type, info.bit_depth));
+    }
+    let pixels = &buf[..info.buffer_size()];
+    let drawn = pixels.chunks_exact(3).filter(|p| *p != [255, 255, 255]).count();
+    Ok(drawn as f64 / (pixels.len() / 3) as f64)
 }
