@@ -81,10 +81,11 @@ impl SeriesStats {
 
     /// The 95 % interval of the kurtosis: the jackknife on the log scale (the sample kurtosis is
     /// skewed to the right, more so the heavier the tail), its half-width widened by
-    /// [`KURTOSIS_WIDENING`]. Measured by an earlier, pooled version of `benches/interval_coverage.py`
-    /// (100 datasets of 1,500 realizations against 200,000; T_1, L_1, D_1, H_1, S_T, stick fraction): the plain jackknife
-    /// covered 0.863 on the paper scene, on the log scale 0.887 (0.877 on the damped scene), and
-    /// widened 0.945 (0.943); the book gives the table (docs/src/explanation/estimators.md).
+    /// [`KURTOSIS_WIDENING`]. Measured by an earlier, pooled version of
+    /// `benches/interval_coverage.py` (100 datasets of 1,500 realizations against 200,000; T_1,
+    /// L_1, D_1, H_1, S_T, stick fraction): the plain jackknife covered 0.863 on the paper scene,
+    /// on the log scale 0.887 (0.877 on the damped scene), and widened 0.945 (0.943). Today's
+    /// coverage per column is in the book (docs/src/benchmarks.md, "Interval coverage").
     pub fn kurtosis_interval(&self) -> Option<jackknife::Interval> {
         let ln = |x: f64| (x > 0.0).then(|| x.ln());
         let loo: Vec<Option<f64>> = self.loo_moments.iter().map(Moments::kurtosis).collect();
