@@ -171,9 +171,8 @@ pub fn solve(scenario: &Scenario, plan: &Plan, ctl: Control) -> Result<Solved, L
     let counts = match &plan.counts {
         Some(ladder) => {
             ctl.check()?;
-            let counting = |n: u32, k: usize, p: f64| ctl.progress.status(&format!("S_T and S_L, resolution {n:>3}: stick {k}, P(T_k <= t_a) = {p:.1e}"));
-            let solved = super::counts::solve(scenario, frames, ladder, &mut |n, s| note("S_T and S_L", n, s), &mut |n, k, p| counting(n, k, p), &go_on)
-                .map_err(failed)?;
+            let mut counting = |n: u32, k: usize, p: f64| ctl.progress.status(&format!("S_T and S_L, resolution {n:>3}: stick {k}, P(T_k <= t_a) = {p:.1e}"));
+            let solved = super::counts::solve(scenario, frames, ladder, &mut |n, s| note("S_T and S_L", n, s), &mut counting, &go_on).map_err(failed)?;
             super::counts::reach(&solved, &mut rows);
             super::counts::rows(&solved)
         }
