@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     bound_malloc_arenas();
-    if let Err(e) = check_polars_hot_table_size() {
+    if let Err(e) = check_polars_hot_table_size().and_then(|()| stickslip::analysis::decode_on_every_core()) {
         eprintln!("stickslip: error: {e}");
         return ExitCode::from(2);
     }

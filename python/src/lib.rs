@@ -412,6 +412,8 @@ fn scenes() -> Vec<(String, String)> {
 #[pymodule]
 fn _stickslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    // (at import, before the extension's polars starts a thread)
+    stickslip::analysis::decode_on_every_core().map_err(UsageError::new_err)?;
     m.add_class::<Table>()?;
     for (name, class) in [
         ("UsageError", py.get_type::<UsageError>()),

@@ -1,11 +1,9 @@
 //! Power sums that do not depend on the order of addition: the integer parts of (x − c)^p that
-//! the analysis query sums (see [`quanta`]), and the central moments from them.
-
-use polars::prelude::*;
+//! the analysis' fold sums (see [`quanta`]), and the central moments from them.
 
 /// Power sums that do not depend on the order of addition.
 ///
-/// polars adds in whatever order its threads and morsels meet the rows, and floating-point
+/// The batches of rows come in whatever order polars' threads finish them, and floating-point
 /// addition is not associative: summed as floats, Σd^p would change in its last bits with the
 /// thread count or the shard split. So each term t = d^p (|d| ≤ B, n rows) is cut into two
 /// integers, summed exactly as int64 — the sums, being exact, are the same for any order:
@@ -30,15 +28,8 @@ pub(crate) fn exact(hi: i64, lo: i64, (q, r): (f64, f64)) -> f64 {
     q * (hi as f64 + lo as f64 / r)
 }
 
-pub(crate) fn term(i: usize, p: usize, part: char) -> String {
-    format!("__{part}{i}_{p}")
-}
-pub(crate) fn parts(i: usize) -> String {
-    format!("__p{i}")
-}
-
 /// The integer parts [hi, lo] of d^p for p = 1..4 (see [`quanta`]).
-fn split(d: f64, q: &[(f64, f64); 4]) -> [[i64; 2]; 4] {
+pub(crate) fn split(d: f64, q: &[(f64, f64); 4]) -> [[i64; 2]; 4] {
     let d2 = d * d;
     let mut out = [[0; 2]; 4];
     for (p, t) in [d, d2, d2 * d, d2 * d2].into_iter().enumerate() {
@@ -66,50 +57,6 @@ fn nearest(x: f64) -> f64 {
     } else {
         x
     }
-}
-
-/// The name of field `part` (`h` or `l`) of power `p` in an [`exact_parts`] struct.
-fn field(p: usize, part: char) -> String {
-    format!("{part}{p}")
-}
-
-/// The fields of an [`exact_parts`] struct, in order: `h1, l1, …, h4, l4`.
-fn fields() -> impl Iterator<Item = String> {
-    (1..=4).flat_map(|p| ['h', 'l'].map(|part| field(p, part)))
-}
-
-/// The integer parts `hi` and `lo` of (x − c)^p for p = 1..4 (see [`quanta`]) as a struct of
-/// eight int64 fields (see [`fields`]), in one pass over the column (a polars expression of
-/// arithmetic and casts would allocate a column per operation).
-pub(crate) fn exact_parts(x: Expr, c: f64, q: [(f64, f64); 4]) -> Expr {
-    use polars_arrow::array::PrimitiveArray;
-    x.map(
-        move |column: Column| {
-            let values = column.f64()?;
-            // per field, one array for each chunk of the input, with the chunk's validity
-            let mut chunks: Vec<Vec<PrimitiveArray<i64>>> = vec![Vec::new(); 8];
-            for arr in values.downcast_iter() {
-                let mut parts: [Vec<i64>; 8] = std::array::from_fn(|_| Vec::with_capacity(arr.len()));
-                for &x in arr.values().iter() {
-                    for (p, [hi, lo]) in split(x - c, &q).into_iter().enumerate() {
-                        parts[2 * p].push(hi);
-                        parts[2 * p + 1].push(lo);
-                    }
-                }
-                for (k, v) in parts.into_iter().enumerate() {
-                    chunks[k].push(PrimitiveArray::from_vec(v).with_validity(arr.validity().cloned()));
-                }
-            }
-            let columns: Vec<Column> = fields().zip(chunks).map(|(name, c)| Int64Chunked::from_chunk_iter(name.as_str().into(), c).into_column()).collect();
-            Ok(StructChunked::from_columns(column.name().clone(), values.len(), &columns)?.into_column())
-        },
-        |_, field| Ok(Field::new(field.name().clone(), DataType::Struct(fields().map(|f| Field::new(f.into(), DataType::Int64)).collect()))),
-    )
-}
-
-/// Field `part` (`h` or `l`) of power `p` of an [`exact_parts`] struct column.
-pub(crate) fn part_of(column: &str, p: usize, part: char) -> Expr {
-    col(column).struct_().field_by_name(&field(p, part))
 }
 
 /// The power sums of one observable in one jackknife group: n, Σ(x−c)^p for p = 1..4, range,
@@ -144,6 +91,19 @@ impl Sums {
         self.min = self.min.min(o.min);
         self.max = self.max.max(o.max);
         self.cut += o.cut;
+    }
+
+    /// Add one value x with the parts of (x − c)^p ([`split`]).
+    #[inline]
+    pub(crate) fn add_value(&mut self, x: f64, parts: [[i64; 2]; 4]) {
+        self.n += 1;
+        for (sum, part) in self.parts.iter_mut().zip(parts) {
+            // (wrapping, as in `add`)
+            sum[0] = sum[0].wrapping_add(part[0]);
+            sum[1] = sum[1].wrapping_add(part[1]);
+        }
+        self.min = self.min.min(x);
+        self.max = self.max.max(x);
     }
 
     /// The central moments from the power sums about the pilot's centre c (exact algebra: with

@@ -3,28 +3,21 @@
 //! tables (see [`super`]). polars' Rust API changes between minor versions; it is pinned in
 //! Cargo.toml.
 //!
-//! **One scan, many aggregations.** The part files of every cell (one plain dataset, or the
-//! cells of a sweep) are scanned into one frame: per realization its slot (cell × 20 + its
-//! jackknife group, realization mod 20), the value of every analysed observable
-//! ([`Observable::expr`], the one censoring rule), the integer parts of (x − c)^p about a pilot
-//! centre c ([`super::exact`]), its histogram bin, and one flag per validation rule. From that
-//! frame, in one streaming pass (the scan is shared by the sinks):
+//! **One pass, every aggregate.** The part files of every cell (one plain dataset, or the cells
+//! of a sweep) are scanned into one per-realization frame: its slot (cell × 20 + its jackknife
+//! group, realization mod 20), its convergence bucket, the value of every analysed observable
+//! ([`Observable::expr`], the one censoring rule), one flag per validation rule, and the tails'
+//! per-batch counts and extremes ([`super::tail_counts`]). polars decodes each column once and
+//! evaluates these expressions on its threads, batch by batch; each batch is handed over as it
+//! comes ([`LazyFrame::sink_batches`]) and folded into every aggregate it feeds in one pass over
+//! its columns ([`super::fold`]: exact integer power sums, dyadic histogram counts, joint
+//! counts, convergence sums, tails' counts, broken rules). The aggregates are integer sums,
+//! counts and extremes, so they do not depend on the order the batches come in: the tables are
+//! bit-identical for any thread count, batch size and shard split.
 //!
-//! - per slot: n, Σ(x − c)^p for p = 1..4, min, max, the censored count of every observable, and
-//!   the number of rows breaking each rule;
-//! - per (cell, group, bin): counts of every continuous observable on the dyadic grid of width
-//!   2^e (bin ⌊x·2^−e⌋, exact: scaling by a power of two is exact), and of every count
-//!   observable per value;
-//! - per (cell, bin x, bin y): the joint counts of every requested pair;
-//! - per (cell, convergence bucket): n, Σ(x − c), Σ(x − c)² of the convergence observables.
-//! - with the tails, per key of each of their sinks: the sum of its counts over the batches
-//!   (each batch's keys are counted where they are made), and per slot the sums of the
-//!   extremes' columns ([`super::tail_counts`]).
-//!
-//! The pass is made over runs of at most [`CHUNK_ROWS`] realizations and batches of at most
-//! [`SERIES_PER_QUERY`] observables, whose integer sums and counts add exactly: polars buffers a
-//! shared scan for its slowest sink without a bound, and its planning grows faster than linearly
-//! with the aggregations.
+//! The rows are scanned in runs of [`RUN_ROWS`] (one query each, so that memory stays that of
+//! a run, whatever N), and the observables in batches of at most [`SERIES_PER_QUERY`] (each a
+//! full pass: a frame's width is a column per observable).
 //!
 //! **The pilot.** The centre c and the exponent e come from a first small query over the first
 //! [`PILOT_ROWS`] rows of each cell: c is their mean (the power sums about a centre near the mean
@@ -36,13 +29,14 @@
 //! analysis draws is on a grid of width 2^E with E ≥ e and is an exact sum of the pilot-grid
 //! counts. The pilot decides only how fine the counts are, never what they are.
 //!
-//! **Validation** is in the same scan: the rules are flags summed per group; only when one is
+//! **Validation** is in the same scan: the rules are flags counted by the fold; only when one is
 //! broken does [`locate`] look for the first offending file, row and column, to name them
-//! ([`super::rules`]). The power sums are exact integers ([`super::exact`]).
+//! ([`super::rules`]).
 
 use polars::prelude::*;
 
-use super::exact::{exact_parts, part_of, parts, quanta, term, Sums};
+use super::exact::Sums;
+use super::fold::{cut, extreme, flag, tail_keys, value, Batch, Fold, BUCKET, SLOT};
 use super::input::{scan, Dataset, Stamp, ROW};
 use super::jackknife::GROUPS;
 use super::rules::{locate, rules};
@@ -111,91 +105,38 @@ impl Aggregates {
     }
 }
 
-/// Realizations per run of the main query. polars' streaming engine buffers, without a bound,
-/// the morsels of a scan shared by several aggregations for the slowest of them, so memory
-/// would grow with the dataset; runs of at most this many rows, whose integer sums and counts
-/// add exactly, keep it bounded.
-const CHUNK_ROWS: u64 = 1 << 19;
-
-/// Column names inside the queries.
-const CELL: &str = "__cell";
+/// The jackknife group's column in the pilot.
 const GROUP: &str = "__group";
-const BUCKET: &str = "__bucket";
-/// cell × GROUPS + group: one int64 key (one-column keys hash fastest)
-const SLOT: &str = "__slot";
-/// Bits of a histogram bin in a (slot, bin) key: bins at the pilot exponent are below 2^42
-/// (a value at most its scale, whose start exponent leaves 2^41 bins; a count is its own bin).
-const KEY_BITS: u32 = 42;
-fn value(i: usize) -> String {
-    format!("__x{i}")
-}
-fn bin(i: usize) -> String {
-    format!("__b{i}")
-}
-fn jbin(p: usize, axis: char) -> String {
-    format!("__j{p}{axis}")
-}
-fn cut(i: usize) -> String {
-    format!("__c{i}")
-}
-fn flag(f: usize) -> String {
-    format!("__f{f}")
-}
-fn tail_key(s: usize) -> String {
-    format!("__t{s}")
-}
-fn tail_count(s: usize) -> String {
-    format!("__tn{s}")
-}
-fn tail_keys(variable: usize) -> String {
-    format!("__tv{variable}")
-}
-fn extreme(j: usize) -> String {
-    format!("__e{j}")
-}
 
-/// The bin of `x` on the grid of width 2^`exp` (x ≥ 0: the cast truncates, which is the floor).
-fn bin_expr(x: Expr, exp: i32) -> Expr {
-    (x * lit((-exp as f64).exp2())).cast(DataType::Int64)
-}
-
-/// The frame of one part file for the main query (see the module docs), in two stages so that
-/// each observable's expression is evaluated once per row and the second stage reads its column.
-#[allow(clippy::too_many_arguments)]
+/// The per-realization frame of one part file for the main query (see [`super::fold`]; its
+/// read position of row 0 in its cell is `position`), and the number of its rules.
 fn file_frame(
     data: &Dataset,
     file: usize,
     cell: usize,
-    (offset, rows): (u64, u64),
-    position: u64,
+    (offset, rows, position): (u64, u64, u64),
     plan: &Plan,
-    pilot: &Pilot,
     batch: &Batch,
-    n_rules: &mut usize,
-) -> PolarsResult<LazyFrame> {
+) -> PolarsResult<(LazyFrame, usize)> {
     let t_a = data.scenario.run.duration;
     let rules = if batch.extras { rules(data.file_starts[file], data) } else { Vec::new() };
-    *n_rules = rules.len();
+    let n_rules = rules.len();
     // the observables whose values this batch needs: its own, and those of the pairs and the
     // convergence table in the batch that does them
     let mut members: Vec<usize> = batch.owned.clone();
-    let mut summed: Vec<usize> = batch.owned.clone();
     if batch.extras {
         members.extend(plan.pairs.iter().flat_map(|&(i, j)| [i, j]).chain(plan.convergence.iter().copied()));
-        summed.extend(plan.convergence.iter().copied());
     }
-    for v in [&mut members, &mut summed] {
-        v.sort_unstable();
-        v.dedup();
-    }
-    // 1. per realization: its slot (cell and group), convergence bucket, observables, censoring
-    // and rules
+    members.sort_unstable();
+    members.dedup();
     let group = (col(crate::simulation::dataset::columns::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64);
     let mut cols = vec![(group + lit((cell * GROUPS) as i64)).alias(SLOT)];
-    // the convergence bucket: how many checkpoints lie below this realization's read count k
-    let k = col(ROW).cast(DataType::Int64) + lit(position as i64 + 1);
-    let bucket = plan.checkpoints.iter().fold(lit(0i64), |acc, &c| acc + k.clone().gt(lit(c as i64)).cast(DataType::Int64));
-    cols.push(bucket.cast(DataType::Int64).alias(BUCKET));
+    if batch.extras && !plan.convergence.is_empty() {
+        // the convergence bucket: how many checkpoints lie below this realization's read count k
+        let k = col(ROW).cast(DataType::Int64) + lit(position as i64 + 1);
+        let bucket = plan.checkpoints.iter().fold(lit(0i64), |acc, &c| acc + k.clone().gt(lit(c as i64)).cast(DataType::Int64));
+        cols.push(bucket.cast(DataType::Int64).alias(BUCKET));
+    }
     for &i in &members {
         cols.push(plan.series[i].expr(t_a).alias(value(i)));
     }
@@ -207,36 +148,16 @@ fn file_frame(
     for (f, r) in rules.into_iter().enumerate() {
         cols.push(r.bad.alias(flag(f)));
     }
-    // the tails' (key, count) lists of each batch and extremes (module docs of `tail_counts`)
+    // the tails' per-batch counts and extremes (module docs of `tail_counts`)
     if let (true, Some(tails)) = (batch.extras, plan.tails) {
         let keys = tail_counts::keys(&tails[cell], cell, tails.len());
         cols.extend(keys.into_iter().enumerate().map(|(v, k)| k.alias(tail_keys(v))));
         if tails[cell].tails_state {
-            cols.extend(tail_counts::extreme_columns(&tails[cell]).into_iter().enumerate().map(|(j, e)| e.alias(extreme(j))));
+            let extremes = tail_counts::extreme_columns(&tails[cell]);
+            cols.extend(extremes.into_iter().enumerate().map(|(j, e)| e.cast(DataType::Int64).alias(extreme(j))));
         }
     }
-    let frame = scan(&data.files[file], None, true)?.slice(offset as i64, rows as IdxSize).select(cols);
-    // 2. histogram bins and the integer parts of the power sums
-    let mut next = Vec::new();
-    for &i in &batch.owned {
-        let x = col(value(i));
-        let b = if plan.series[i].is_count() { x.cast(DataType::Int64) } else { bin_expr(x, pilot.exp[i]) };
-        next.push((col(SLOT) * lit(1i64 << KEY_BITS) + b).alias(bin(i)));
-    }
-    for &i in &summed {
-        next.push(exact_parts(col(value(i)), pilot.center[i], quanta(pilot.bound[i], pilot.rows)).alias(parts(i)));
-    }
-    for (p, &(i, j)) in plan.pairs.iter().enumerate().filter(|_| batch.extras) {
-        let (ex, ey) = pilot.joint[p];
-        next.push(bin_expr(col(value(i)), ex).alias(jbin(p, 'x')));
-        next.push(bin_expr(col(value(j)), ey).alias(jbin(p, 'y')));
-    }
-    for s in (0..tail_counts::SINKS).filter(|_| batch.extras && plan.tails.is_some()) {
-        let (v, keys, counts) = tail_counts::sink(s);
-        next.push(col(tail_keys(v)).struct_().field_by_name(&keys).alias(tail_key(s)));
-        next.push(col(tail_keys(v)).struct_().field_by_name(&counts).alias(tail_count(s)));
-    }
-    Ok(frame.with_columns(next))
+    Ok((scan(&data.files[file], None, true)?.slice(offset as i64, rows as IdxSize).select(cols), n_rules))
 }
 
 /// The pilot of each cell (module docs).
@@ -317,9 +238,9 @@ fn unchanged(cells: &[&Dataset]) -> PolarsResult<()> {
 /// `ctl` is told the realizations aggregated; when it is cancelled, the scan stops with an error
 /// between runs (the caller asks `ctl` what it was).
 pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot], ctl: Control) -> PolarsResult<Vec<Aggregates>> {
-    let rows = cells.iter().map(|d| d.rows).sum();
+    let rows: u64 = cells.iter().map(|d| d.rows).sum();
     loop {
-        ctl.progress.start("analyze", rows);
+        ctl.progress.start("analyze", rows * batches(plan).len() as u64);
         let out = aggregate_once(cells, plan, pilots, ctl)?;
         let mut again = false;
         for (agg, pilot) in out.iter().zip(pilots.iter_mut()) {
@@ -339,7 +260,48 @@ pub(crate) fn aggregate(cells: &[&Dataset], plan: &Plan, pilots: &mut [Pilot], c
 
 fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], ctl: Control) -> PolarsResult<Vec<Aggregates>> {
     unchanged(cells)?;
-    // runs of (cell, file, first row, rows, read position of the file's row 0)
+    let mut out: Vec<Aggregates> = cells.iter().map(|_| Aggregates::new(plan)).collect();
+    for batch in batches(plan) {
+        let fold = scan_batch(cells, plan, pilots, &batch, ctl)?;
+        if fold.broken().iter().any(|&b| b > 0) {
+            return Err(locate(cells));
+        }
+        fold.finish(&mut out);
+    }
+    unchanged(cells)?;
+    Ok(out)
+}
+
+/// Realizations per query: polars keeps what a query decoded until the query ends (measured:
+/// one query over 10^6 realizations peaked at 1.9 GiB, whatever the allocator and however fast
+/// the fold took the batches), so the rows are scanned in runs, one query each, whose folds add
+/// up exactly. A run is one row group of the files `simulate` writes
+/// ([`crate::simulation::dataset`]), decoded on every core ([`super::decode_on_every_core`]).
+const RUN_ROWS: u64 = 131_072;
+
+/// Observables per query: a query's frame holds a column per observable for each batch of rows
+/// in flight, so more observables (a large `--max-index`) are split over queries, each a full
+/// scan.
+const SERIES_PER_QUERY: usize = 64;
+
+/// The queries of the main pass: the observables of each, the first doing the rest too.
+fn batches(plan: &Plan) -> Vec<Batch> {
+    let n = plan.series.len();
+    (0..n.max(1))
+        .step_by(SERIES_PER_QUERY)
+        .enumerate()
+        .map(|(b, start)| Batch { owned: (start..(start + SERIES_PER_QUERY).min(n)).collect(), extras: b == 0 })
+        .collect()
+}
+
+/// One query of the main pass: every part file of every cell scanned into the per-realization
+/// frame, whose batches polars hands over (in any order) to be folded ([`super::fold`]) while it
+/// reads on. The fold runs on this thread; the query on another, so that decoding and folding
+/// overlap. Memory is what the batches in flight take: the channel holds two, and polars stops
+/// reading ahead while they wait.
+fn scan_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], batch: &Batch, ctl: Control) -> PolarsResult<Fold> {
+    // runs of at most RUN_ROWS rows: (cell, file, first row, rows, read position of the file's
+    // row 0 in its cell)
     let mut runs: Vec<Vec<(usize, usize, u64, u64, u64)>> = vec![Vec::new()];
     let mut filled = 0;
     for (c, data) in cells.iter().enumerate() {
@@ -348,241 +310,71 @@ fn aggregate_once(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], ctl: Contro
             let rows = data.file_rows[f];
             let mut offset = 0;
             while offset < rows {
-                if filled == CHUNK_ROWS {
+                if filled == RUN_ROWS {
                     runs.push(Vec::new());
                     filled = 0;
                 }
-                let take = (CHUNK_ROWS - filled).min(rows - offset);
+                let take = (RUN_ROWS - filled).min(rows - offset);
                 runs.last_mut().expect("a run").push((c, f, offset, take, position));
                 (offset, filled) = (offset + take, filled + take);
             }
             position += rows;
         }
     }
-    let mut out: Vec<Aggregates> = cells.iter().map(|_| Aggregates::new(plan)).collect();
-    for run in runs.iter().filter(|r| !r.is_empty()) {
-        if ctl.check().is_err() {
-            polars_bail!(ComputeError: "interrupted");
-        }
-        aggregate_run(cells, plan, pilots, run, &mut out)?;
-        ctl.progress.advance(run.iter().map(|r| r.3).sum());
-    }
-    unchanged(cells)?;
-    Ok(out)
-}
-
-/// Observables per query: polars' planning grows faster than linearly with the number of
-/// aggregations (`--max-index 200`, 804 observables in one query: 30 s and 5 GB on 3,000
-/// realizations), so more observables are split over queries over the same rows.
-const SERIES_PER_QUERY: usize = 64;
-
-/// The observables one query aggregates, and whether it also does the rest: row counts,
-/// validation, pairs and the convergence table.
-struct Batch {
-    owned: Vec<usize>,
-    extras: bool,
-}
-
-/// Run the main query over one run of rows, adding what it aggregates to `out`.
-fn aggregate_run(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], run: &[(usize, usize, u64, u64, u64)], out: &mut [Aggregates]) -> PolarsResult<()> {
-    let n = plan.series.len();
-    for (b, start) in (0..n.max(1)).step_by(SERIES_PER_QUERY).enumerate() {
-        let batch = Batch { owned: (start..(start + SERIES_PER_QUERY).min(n)).collect(), extras: b == 0 };
-        aggregate_batch(cells, plan, pilots, run, &batch, out)?;
-    }
-    Ok(())
-}
-
-/// One query of [`aggregate_run`].
-fn aggregate_batch(
-    cells: &[&Dataset],
-    plan: &Plan,
-    pilots: &[Pilot],
-    run: &[(usize, usize, u64, u64, u64)],
-    batch: &Batch,
-    out: &mut [Aggregates],
-) -> PolarsResult<()> {
-    let mut frames = Vec::new();
-    let mut n_rules = 0;
-    for &(c, f, offset, rows, position) in run {
-        frames.push(file_frame(cells[c], f, c, (offset, rows), position, plan, &pilots[c], batch, &mut n_rules)?);
-    }
-    let (pairs, convergence): (&[(usize, usize)], &[usize]) = if batch.extras { (plan.pairs, plan.convergence) } else { (&[], &[]) };
     let args =
         UnionArgs { parallel: true, rechunk: false, to_supertypes: false, diagonal: false, strict: true, from_partitioned_ds: false, maintain_order: false };
-    let base = concat(frames, args)?;
-    // per slot (cell and group): the power sums, ranges, censored counts and broken rules
-    let mut aggs = vec![len().cast(DataType::Int64).alias("__rows")];
-    for &i in &batch.owned {
-        let o = plan.series[i];
-        aggs.extend([
-            col(value(i)).count().cast(DataType::Int64).alias(format!("n{i}")),
-            col(value(i)).min().alias(format!("lo{i}")),
-            col(value(i)).max().alias(format!("hi{i}")),
-        ]);
-        for p in 1..=4 {
-            aggs.extend(['h', 'l'].map(|part| part_of(&parts(i), p, part).sum().alias(term(i, p, part))));
+    let (send, receive) = std::sync::mpsc::sync_channel::<DataFrame>(2);
+    let mut queries = Vec::new();
+    let mut n_rules = 0;
+    for run in runs.iter().filter(|r| !r.is_empty()) {
+        let mut frames = Vec::new();
+        for &(c, f, offset, rows, position) in run {
+            let (frame, rules) = file_frame(cells[c], f, c, (offset, rows, position), plan, batch)?;
+            n_rules = rules;
+            frames.push(frame);
         }
-        if o.censored_expr().is_some() {
-            aggs.push(col(cut(i)).cast(DataType::Int64).sum().alias(format!("cut{i}")));
+        let send = send.clone();
+        // (a batch that cannot be sent: the fold stopped, so the query stops too)
+        queries.push(concat(frames, args)?.sink_batches(PlanCallback::new(move |df: DataFrame| Ok(send.send(df).is_err())), false, None)?);
+    }
+    drop(send);
+    let query = move || -> PolarsResult<()> {
+        for q in queries {
+            q.collect_with_engine(Engine::Streaming)?;
         }
-    }
-    for f in 0..n_rules {
-        aggs.push(col(flag(f)).cast(DataType::Int64).sum().alias(flag(f)));
-    }
-    // (the cells of one scan are of one kind: all with the tails' state, or none)
-    let tails = plan.tails.filter(|_| batch.extras);
-    let extremes = tails.map_or(0, |t| if t[0].tails_state { tail_counts::extreme_columns(&t[0]).len() } else { 0 });
-    for j in 0..extremes {
-        aggs.push(col(extreme(j)).cast(DataType::Int64).sum().alias(extreme(j)));
-    }
-    let mut plans = vec![base.clone().group_by([col(SLOT)]).agg(aggs).logical_plan];
-    // per (slot, bin): histogram counts, on one int64 key (one-column keys hash fastest); each
-    // branch projects first: a group_by or filter on the wide shared frame copies every column
-    let count = || [len().cast(DataType::Int64).alias("__n")];
-    for &i in &batch.owned {
-        plans.push(base.clone().select([col(bin(i))]).group_by([col(bin(i))]).agg(count()).logical_plan);
-    }
-    // per (slot, bin x, bin y): joint counts
-    for p in 0..pairs.len() {
-        let (x, y) = (jbin(p, 'x'), jbin(p, 'y'));
-        plans.push(base.clone().select([col(SLOT), col(&x), col(&y)]).group_by([col(SLOT), col(&x), col(&y)]).agg(count()).logical_plan);
-    }
-    // per (cell, bucket): the convergence sums
-    let mut conv = Vec::new();
-    for &i in convergence {
-        conv.push(col(value(i)).count().cast(DataType::Int64).alias(format!("n{i}")));
-        for p in 1..=2 {
-            conv.extend(['h', 'l'].map(|part| part_of(&parts(i), p, part).sum().alias(term(i, p, part))));
-        }
-    }
-    if !conv.is_empty() {
-        let cell = (col(SLOT) / lit(GROUPS as f64)).cast(DataType::Int64).alias(CELL);
-        plans.push(base.clone().group_by([cell, col(BUCKET)]).agg(conv).logical_plan);
-    }
-    // per key of each tails' sink: the sum of its counts over the batches
-    for s in (0..tail_counts::SINKS).filter(|_| tails.is_some()) {
-        let (key, n) = (tail_key(s), tail_count(s));
-        let exploded = base
-            .clone()
-            .select([col(&key), col(&n)])
-            .explode(by_name([key.as_str(), n.as_str()], true, false), ExplodeOptions { empty_as_null: false, keep_nulls: false });
-        plans.push(exploded.group_by([col(&key)]).agg([col(&n).sum().alias("__n")]).logical_plan);
-    }
-    let frames = LazyFrame::collect_all_with_engine(plans, Engine::Streaming, OptFlags::default())?;
-    let mut frames = frames.into_iter();
-
-    let df = frames.next().expect("the sums");
-    let ints = |name: &str| int_column(&df, name);
-    let floats = |name: &str| float_column(&df, name);
-    let slot = ints(SLOT)?;
-    let (cell_of, group_of): (Vec<i64>, Vec<i64>) = slot.iter().map(|s| (s / GROUPS as i64, s % GROUPS as i64)).unzip();
-    let broken: Vec<i64> = (0..n_rules).map(|f| Ok(ints(&flag(f))?.iter().sum())).collect::<PolarsResult<_>>()?;
-    if broken.iter().any(|&b| b > 0) {
-        return Err(locate(cells));
-    }
-    let rows = ints("__rows")?;
-    for r in (0..df.height()).filter(|_| batch.extras) {
-        out[cell_of[r] as usize].rows += rows[r] as u64;
-    }
-    for j in 0..extremes {
-        let e = ints(&extreme(j))?;
-        for r in 0..df.height() {
-            let per_group = &mut out[cell_of[r] as usize].tails.extremes;
-            per_group.resize_with(GROUPS, || vec![0; extremes]);
-            per_group[group_of[r] as usize][j] += e[r] as u64;
-        }
-    }
-    for &i in &batch.owned {
-        let o = plan.series[i];
-        let (n, lo, hi) = (ints(&format!("n{i}"))?, floats(&format!("lo{i}"))?, floats(&format!("hi{i}"))?);
-        let parts = |p: usize, part: char| ints(&term(i, p, part));
-        let s: Vec<[Vec<i64>; 2]> = (1..=4).map(|p| Ok([parts(p, 'h')?, parts(p, 'l')?])).collect::<PolarsResult<_>>()?;
-        let cut = if o.censored_expr().is_some() { ints(&format!("cut{i}"))? } else { vec![0; df.height()] };
-        for r in 0..df.height() {
-            let sums = Sums {
-                n: n[r] as u64,
-                parts: [0, 1, 2, 3].map(|p| [s[p][0][r], s[p][1][r]]),
-                min: lo[r].unwrap_or(f64::INFINITY),
-                max: hi[r].unwrap_or(f64::NEG_INFINITY),
-                cut: cut[r] as u64,
+        Ok(())
+    };
+    let extremes = match plan.tails {
+        Some(t) if batch.extras && t[0].tails_state => tail_counts::extreme_columns(&t[0]).len(),
+        _ => 0,
+    };
+    let mut fold = Fold::new(plan, pilots, batch, n_rules, extremes);
+    std::thread::scope(|scope| {
+        let running = scope.spawn(query);
+        let mut stopped: PolarsResult<()> = Ok(());
+        loop {
+            let df = match receive.recv_timeout(std::time::Duration::from_millis(50)) {
+                Ok(df) => df,
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) if !running.is_finished() => continue,
+                // (the query is done: what it sent before is still queued)
+                Err(_) => match receive.try_recv() {
+                    Ok(df) => df,
+                    Err(_) => break,
+                },
             };
-            out[cell_of[r] as usize].sums[i][group_of[r] as usize].add(&sums);
-        }
-    }
-    for &i in &batch.owned {
-        let df = frames.next().expect("a histogram");
-        let (key, n) = (key_column(&df, &bin(i))?, key_column(&df, "__n")?);
-        for r in 0..df.height() {
-            // (realizations without a value: the null key)
-            let (Some(key), Some(n)) = (key[r], n[r]) else { continue };
-            let (slot, b) = ((key >> KEY_BITS) as usize, key & ((1 << KEY_BITS) - 1));
-            // (the rules keep every value's bin below 2^KEY_BITS; a key outside is a bug, not data)
-            let agg = out.get_mut(slot / GROUPS).ok_or_else(|| polars_err!(ComputeError: "histogram key {key} outside the cells"))?;
-            agg.bins[i][slot % GROUPS].push((b, n as u64));
-        }
-    }
-    for p in 0..pairs.len() {
-        let df = frames.next().expect("a joint histogram");
-        let (s, x, y, n) = (key_column(&df, SLOT)?, key_column(&df, &jbin(p, 'x'))?, key_column(&df, &jbin(p, 'y'))?, key_column(&df, "__n")?);
-        for r in 0..df.height() {
-            // (realizations without both values: a null bin)
-            let (Some(s), Some(x), Some(y), Some(n)) = (s[r], x[r], y[r], n[r]) else { continue };
-            out[s as usize / GROUPS].joint[p].push(((x, y), n as u64));
-        }
-    }
-    // counts of the same bin from several runs are added up, so the tables stay as small as
-    // the histograms, whatever the number of runs
-    for agg in out.iter_mut() {
-        for &i in &batch.owned {
-            agg.bins[i].iter_mut().for_each(compact);
-        }
-        agg.joint.iter_mut().take(pairs.len()).for_each(compact);
-    }
-    if !convergence.is_empty() {
-        let df = frames.next().expect("the convergence sums");
-        let ints = |name: &str| int_column(&df, name);
-        let (c, b) = (ints(CELL)?, ints(BUCKET)?);
-        for (slot, &i) in convergence.iter().enumerate() {
-            let n = ints(&format!("n{i}"))?;
-            let (h1, l1, h2, l2) = (ints(&term(i, 1, 'h'))?, ints(&term(i, 1, 'l'))?, ints(&term(i, 2, 'h'))?, ints(&term(i, 2, 'l'))?);
-            for r in 0..df.height() {
-                let sums = Sums { n: n[r] as u64, parts: [[h1[r], l1[r]], [h2[r], l2[r]], [0, 0], [0, 0]], ..Default::default() };
-                out[c[r] as usize].convergence[slot][b[r] as usize].add(&sums);
+            if ctl.check().is_err() {
+                stopped = Err(polars_err!(ComputeError: "interrupted"));
+                break;
             }
+            if let Err(e) = fold.add(&df) {
+                stopped = Err(e);
+                break;
+            }
+            ctl.progress.advance(df.height() as u64);
         }
-    }
-    for s in (0..tail_counts::SINKS).filter(|_| tails.is_some()) {
-        let df = frames.next().expect("a tails count");
-        let mut per_cell: Vec<&mut tail_counts::HashCounts> = out.iter_mut().map(|a| &mut a.tails.sinks[s]).collect();
-        tail_counts::add_counts(&df, &tail_key(s), "__n", plan.tails.map_or(0, |t| t[0].max_index), &mut per_cell)?;
-    }
-    Ok(())
-}
-
-/// A column of an aggregated table as integers (null as 0: a sum over no rows).
-fn int_column(df: &DataFrame, name: &str) -> PolarsResult<Vec<i64>> {
-    Ok(df.column(name)?.cast(&DataType::Int64)?.i64()?.iter().map(|v| v.unwrap_or(0)).collect())
-}
-
-/// A column of an aggregated table as floats (null: no value, as a min or max over no rows).
-fn float_column(df: &DataFrame, name: &str) -> PolarsResult<Vec<Option<f64>>> {
-    Ok(df.column(name)?.cast(&DataType::Float64)?.f64()?.iter().collect())
-}
-
-/// A key or count column of a group_by's output (null: the group of rows without a value).
-fn key_column(df: &DataFrame, name: &str) -> PolarsResult<Vec<Option<i64>>> {
-    Ok(df.column(name)?.i64()?.iter().collect())
-}
-
-/// Sort counts by key and add up those of the same key.
-fn compact<K: Ord + Copy>(counts: &mut Vec<(K, u64)>) {
-    counts.sort_unstable_by_key(|(k, _)| *k);
-    counts.dedup_by(|next, kept| {
-        let same = next.0 == kept.0;
-        if same {
-            kept.1 += next.1;
-        }
-        same
-    });
+        drop(receive);
+        let ran = running.join().unwrap_or_else(|_| Err(polars_err!(ComputeError: "the scan failed")));
+        stopped.and(ran)
+    })?;
+    Ok(fold)
 }

@@ -94,33 +94,28 @@ const PER_STICK: [&str; 3] = [name::STICK_END, name::STICK_ENTRY_POSITION, name:
 /// an entry position or velocity is a finite number, and an entry velocity one of the belt's
 /// `levels` where they are known.
 fn per_stick_rule(list: &'static str, levels: Option<Vec<f64>>) -> Expr {
-    use polars_arrow::array::Array;
+    use polars_arrow::array::{Array, ListArray, PrimitiveArray, Utf8ViewArray};
     col(list).map_many(
         move |cols: &mut [Column]| {
             let lists = cols[0].list()?.rechunk();
             let counts = cols[1].cast(&DataType::Int64)?;
             let counts = counts.i64()?.rechunk();
-            let inner = lists.get_inner();
-            let element_bad: Vec<bool> = match inner.dtype() {
-                DataType::String => inner.str()?.iter().map(|v| !v.is_some_and(|v| StickEnd::ALL.iter().any(|e| e.name() == v))).collect(),
-                _ => inner
-                    .cast(&DataType::Float64)?
-                    .f64()?
-                    .iter()
-                    .map(|v| !v.is_some_and(|v| v.is_finite() && levels.as_ref().is_none_or(|l| l.contains(&v))))
-                    .collect(),
+            let (Some(arr), Some(n)) = (lists.downcast_iter().next(), counts.downcast_iter().next()) else {
+                return Ok(BooleanChunked::full_null(list.into(), 0).into_column());
             };
-            let bad: BooleanChunked = match (lists.downcast_iter().next(), counts.downcast_iter().next()) {
-                (Some(arr), Some(n)) => {
-                    let o = arr.offsets().as_slice();
-                    (0..arr.len())
-                        .map(|r| {
-                            let (a, b) = (o[r] as usize, o[r + 1] as usize);
-                            !arr.is_valid(r) || !n.is_valid(r) || n.value(r) != o[r + 1] - o[r] || element_bad.get(a..b).is_none_or(|e| e.contains(&true))
-                        })
-                        .collect()
-                }
-                _ => BooleanChunked::full_null("".into(), 0),
+            // (one pass over the rows, each element checked in place)
+            let o = arr.offsets().as_slice();
+            let shape_bad = |arr: &ListArray<i64>, r: usize| !arr.is_valid(r) || !n.is_valid(r) || n.value(r) != o[r + 1] - o[r];
+            let elements = arr.values();
+            let bad: BooleanChunked = if let Some(names) = elements.as_any().downcast_ref::<Utf8ViewArray>() {
+                let known = |i: usize| names.is_valid(i) && StickEnd::ALL.iter().any(|e| e.name() == names.value(i));
+                (0..arr.len()).map(|r| shape_bad(arr, r) || !(o[r] as usize..o[r + 1] as usize).all(known)).collect()
+            } else if let Some(values) = elements.as_any().downcast_ref::<PrimitiveArray<f64>>() {
+                let xs = values.values().as_slice();
+                let known = |i: usize| values.is_valid(i) && xs[i].is_finite() && levels.as_ref().is_none_or(|l| l.contains(&xs[i]));
+                (0..arr.len()).map(|r| shape_bad(arr, r) || !(o[r] as usize..o[r + 1] as usize).all(known)).collect()
+            } else {
+                polars_bail!(SchemaMismatch: "column `{list}` is not a list of strings or of float64")
             };
             Ok(bad.with_name(list.into()).into_column())
         },

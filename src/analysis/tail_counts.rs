@@ -2,15 +2,14 @@
 //! stick or slip (its time cell, index k, whether it is the censored one and its jackknife
 //! group), one per stick entry (the bin of its holding time and its belt state) — counted per
 //! key over each batch of realizations polars hands over (a partial aggregate, in dense arrays:
-//! [`element_counts`]), whose (key, count) lists the query explodes and sums per key over the
-//! batches; and the per-realization columns of the extremes that it sums per jackknife group.
-//! The tails are thus counted in the same scan as the moments and histograms (the lists are
-//! decoded once).
+//! [`element_counts`]), whose (key, count) lists the fold ([`super::fold`]) sums per key over
+//! the batches; and the per-realization columns of the extremes that it sums per jackknife
+//! group. The tails are thus counted in the same scan as the moments and histograms (the lists
+//! are decoded once).
 //!
-//! Why a partial aggregate: 10^6 paper realizations have 8.3·10^7 keys; polars' explode and
-//! hash group-by of all of them cost 0.96 s of the tails' 1.36 s (stop 41, measured), while a
-//! batch of 131,072 realizations has only ~5·10^4 distinct keys per sink (2.8·10^6 pairs in all
-//! instead of 8.3·10^7 keys), so polars sums 30 times fewer rows.
+//! Why a partial aggregate: 10^6 paper realizations have 8.3·10^7 keys, while a batch of 131,072
+//! realizations has only ~5·10^4 distinct keys per sink (2.8·10^6 pairs in all), and the keys
+//! are made on polars' threads, batch by batch, in parallel.
 
 use polars::prelude::*;
 
@@ -127,20 +126,15 @@ pub(crate) fn extreme_columns(plan: &TailPlan) -> Vec<Expr> {
     out
 }
 
-/// Add the counts of one sink's table (`key`, `n`: [`keys`]' pairs exploded and summed per key)
-/// to the cells' counts of that sink.
-pub(crate) fn add_counts(df: &DataFrame, key: &str, n: &str, max_index: u32, out: &mut [&mut HashCounts]) -> PolarsResult<()> {
+/// Add one sink's counts by packed key (the (key, count) pairs of [`keys`], summed over the
+/// batches) to the cells' counts of that sink.
+pub(crate) fn add_counts(pairs: impl IntoIterator<Item = (i64, u64)>, max_index: u32, out: &mut [&mut HashCounts]) {
     let (cells, packing) = (out.len() as i64, Space::packing(max_index));
-    let keys = df.column(key)?.cast(&DataType::Int64)?;
-    let ns = df.column(n)?.cast(&DataType::Int64)?;
-    for (key, n) in keys.i64()?.iter().zip(ns.i64()?.iter()) {
-        // (no null comes out of the explode; skipped all the same)
-        let (Some(key), Some(n)) = (key, n) else { continue };
+    for (key, n) in pairs {
         let (cell, key) = (key % cells, key / cells);
         let (t, k, flag, g) = packing.decode(key);
-        *out[cell as usize].entry((g as usize, k as u32, t, flag)).or_insert(0) += n as u64;
+        *out[cell as usize].entry((g as usize, k as u32, t, flag)).or_insert(0) += n;
     }
-    Ok(())
 }
 
 /// The counts of one sink of one cell per (group, k, cell, flag).
@@ -507,10 +501,8 @@ mod tests {
             *per_cell[c].entry((0, kk, (d / rho).floor() as i64 + split, flag)).or_insert(0) += 1;
             *per_cell[c].entry(((r % 20) as usize, kk, (d / (32.0 * rho)).floor() as i64 + split, flag)).or_insert(0) += 1;
         }
-        let n = keys.len();
-        let df = DataFrame::new_infer_height(vec![Column::new("key".into(), keys), Column::new("n".into(), vec![1i64; n])]).unwrap();
         let mut out = vec![HashCounts::new(); cells];
-        add_counts(&df, "key", "n", max_index, &mut out.iter_mut().collect::<Vec<_>>()).unwrap();
+        add_counts(keys.into_iter().map(|k| (k, 1)), max_index, &mut out.iter_mut().collect::<Vec<_>>());
         assert_eq!(out, per_cell);
         // a duration past the cells' range (refused by validation) makes no key, not an overflow
         assert_eq!(duration_keys(Some(f64::INFINITY), 1, &[0, 1, 0], rho, &times), [None, None]);
