@@ -73,30 +73,28 @@ const WINDOW: i64 = 1 << 14;
 /// The histogram counts of one observable: those of one cell at a time in a dense window of
 /// bins (nearly every value: the window is the pilot's bound about its centre), with the indices
 /// touched so that moving them to the map costs what filling them did; the rest, and the other
-/// cells', in the map by (slot << [`KEY_BITS`]) + bin. The dense counters are 32 bits (a
-/// window of the paper's T_1 fills 4,096 bins × 20 groups: 320 KiB, which stays in a core's L2
-/// cache where 64-bit counters did not — the counter's load was a quarter of the fold's time);
-/// they move to the map before any could overflow.
+/// cells', in the map by (slot << [`KEY_BITS`]) + bin. The dense counters are 16 bits: a
+/// window of the paper's T_1 fills 4,096 bins × 20 groups, 160 KiB, which stays in a core's L2
+/// cache beside the batches polars decodes (with 64-bit counters, the counter's load was a
+/// quarter of the fold's time, 19 % with 32-bit ones); a full counter moves to the map.
 struct Bins {
     map: PlHashMap<i64, u64>,
     cell: usize,
     lo: i64,
     width: i64,
-    dense: Vec<u32>,
+    dense: Vec<u16>,
     touched: Vec<u32>,
-    /// counts added to `dense` since it was last emptied
-    added: u32,
 }
 
 impl Bins {
     fn new() -> Bins {
-        Bins { map: Default::default(), cell: usize::MAX, lo: 0, width: 0, dense: Vec::new(), touched: Vec::new(), added: 0 }
+        Bins { map: Default::default(), cell: usize::MAX, lo: 0, width: 0, dense: Vec::new(), touched: Vec::new() }
     }
 
     /// Count `bin` of jackknife group `g` of cell `cell` (whose window is `window`).
     #[inline]
     fn add(&mut self, cell: usize, g: usize, bin: i64, window: (i64, i64)) {
-        if cell != self.cell || self.added == u32::MAX {
+        if cell != self.cell {
             self.flush();
             (self.cell, self.lo, self.width) = (cell, window.0, window.1 - window.0);
             self.dense.resize(self.width as usize * GROUPS, 0);
@@ -107,9 +105,13 @@ impl Bins {
             let n = &mut self.dense[i];
             if *n == 0 {
                 self.touched.push(i as u32);
+            } else if *n == u16::MAX {
+                // (its key is then in the touched list twice; the second flush of it adds 0)
+                *self.map.entry((((cell * GROUPS + g) as i64) << KEY_BITS) + bin).or_insert(0) += u64::from(u16::MAX);
+                *n = 0;
+                self.touched.push(i as u32);
             }
             *n += 1;
-            self.added += 1;
         } else {
             *self.map.entry((((cell * GROUPS + g) as i64) << KEY_BITS) + bin).or_insert(0) += 1;
         }
@@ -123,7 +125,6 @@ impl Bins {
             *self.map.entry(key).or_insert(0) += u64::from(std::mem::take(&mut self.dense[i as usize]));
         }
         self.touched.clear();
-        self.added = 0;
     }
 }
 
@@ -136,6 +137,9 @@ struct Observed {
     /// [slot]
     sums: Vec<Sums>,
     bins: Bins,
+    /// its convergence sums, when it is a convergence observable of this query (folded in the
+    /// same pass; the others' are in [`Fold::convergence`])
+    running: Option<Running>,
 }
 
 /// One pair's joint counts.
@@ -147,9 +151,11 @@ struct Pair {
     counts: PlHashMap<(i64, i64, i64), u64>,
 }
 
-/// One convergence observable's sums: [cell][bucket].
+/// One convergence observable's sums: [cell][bucket] (of position `slot` in the plan's
+/// convergence list).
 struct Running {
     at: usize,
+    slot: usize,
     grid: Vec<Grid>,
     sums: Vec<Vec<Sums>>,
 }
@@ -158,7 +164,14 @@ struct Running {
 pub(crate) struct Fold {
     extras: bool,
     series: Vec<Observed>,
+    rest: Rest,
+    tails: Tails,
+}
+
+/// What the query that does the extras aggregates beside the observables.
+struct Rest {
     pairs: Vec<Pair>,
+    /// the convergence observables this query does not own ([`Observed::running`])
     convergence: Vec<Running>,
     /// rows breaking each rule
     rules: Vec<u64>,
@@ -166,8 +179,11 @@ pub(crate) struct Fold {
     rows: Vec<u64>,
     /// [cell][group][column]
     extremes: Vec<Vec<Vec<u64>>>,
-    /// [sink]: packed key (the cell in it, [`tail_counts`]) → count
-    tails: Vec<PlHashMap<i64, u64>>,
+}
+
+/// The tails' counts: [sink]: packed key (the cell in it, [`tail_counts`]) → count.
+struct Tails {
+    sinks: Vec<PlHashMap<i64, u64>>,
     max_index: u32,
 }
 
@@ -215,9 +231,11 @@ impl Fold {
         };
         let (pairs, convergence): (&[(usize, usize)], &[usize]) = if batch.extras { (plan.pairs, plan.convergence) } else { (&[], &[]) };
         let sinks = if batch.extras && plan.tails.is_some() { tail_counts::SINKS } else { 0 };
-        Fold {
-            extras: batch.extras,
-            series: batch.owned.iter().map(|&i| Observed { at: i, grid: grid(i), sums: vec![Sums::default(); cells * GROUPS], bins: Bins::new() }).collect(),
+        let running = |i: usize| {
+            let slot = convergence.iter().position(|&c| c == i)?;
+            Some(Running { at: i, slot, grid: grid(i), sums: vec![vec![Sums::default(); plan.checkpoints.len() + 1]; cells] })
+        };
+        let rest = Rest {
             pairs: pairs
                 .iter()
                 .enumerate()
@@ -227,101 +245,62 @@ impl Fold {
                     counts: Default::default(),
                 })
                 .collect(),
-            convergence: convergence
-                .iter()
-                .map(|&i| Running { at: i, grid: grid(i), sums: vec![vec![Sums::default(); plan.checkpoints.len() + 1]; cells] })
-                .collect(),
+            convergence: convergence.iter().filter(|i| !batch.owned.contains(i)).filter_map(|&i| running(i)).collect(),
             rules: vec![0; rules],
             rows: vec![0; cells],
             extremes: vec![if extremes > 0 { vec![vec![0; extremes]; GROUPS] } else { Vec::new() }; cells],
-            tails: vec![PlHashMap::default(); sinks],
-            max_index: plan.tails.map_or(0, |t| t[0].max_index),
+        };
+        Fold {
+            extras: batch.extras,
+            rest,
+            tails: Tails { sinks: vec![PlHashMap::default(); sinks], max_index: plan.tails.map_or(0, |t| t[0].max_index) },
+            series: batch
+                .owned
+                .iter()
+                .map(|&i| Observed { at: i, grid: grid(i), sums: vec![Sums::default(); cells * GROUPS], bins: Bins::new(), running: running(i) })
+                .collect(),
         }
     }
 
-    /// Add one batch of rows of the per-realization frame.
+    /// Add one batch of rows of the per-realization frame: the observables (in parallel), the
+    /// rest and the tails' counts at once.
     pub(crate) fn add(&mut self, df: &DataFrame) -> PolarsResult<()> {
         if df.height() == 0 {
             return Ok(());
         }
         let slot = ints(df, SLOT)?;
         let slots = slot.values().as_slice();
-        let cell_of = |r: usize| slots[r] as usize / GROUPS;
-        self.series.par_iter_mut().try_for_each(|s| s.add(df, slots))?;
-        if !self.extras {
-            return Ok(());
-        }
-        for r in 0..df.height() {
-            self.rows[cell_of(r)] += 1;
-        }
-        for (f, broken) in self.rules.iter_mut().enumerate() {
-            *broken += set(&flags(df, &flag(f))?).count() as u64;
-        }
-        for p in &mut self.pairs {
-            let (x, y) = (floats(df, &value(p.at.0))?, floats(df, &value(p.at.1))?);
-            let (xs, ys) = (x.values().as_slice(), y.values().as_slice());
-            for r in present(&x).filter(|&r| y.is_valid(r)) {
-                let c = cell_of(r);
-                let (sx, sy) = p.scale[c];
-                *p.counts.entry((c as i64, (xs[r] * sx) as i64, (ys[r] * sy) as i64)).or_insert(0) += 1;
-            }
-        }
-        if !self.convergence.is_empty() {
-            let bucket = ints(df, BUCKET)?;
-            let buckets = bucket.values().as_slice();
-            for run in &mut self.convergence {
-                let values = floats(df, &value(run.at))?;
-                let xs = values.values().as_slice();
-                for r in present(&values) {
-                    let c = cell_of(r);
-                    let g = &run.grid[c];
-                    let [p1, p2, _, _] = split(xs[r] - g.center, &g.quanta);
-                    run.sums[c][buckets[r] as usize].add_value(xs[r], [p1, p2, [0, 0], [0, 0]]);
-                }
-            }
-        }
-        for j in 0..self.extremes.first().and_then(|e| e.first()).map_or(0, Vec::len) {
-            let e = ints(df, &extreme(j))?;
-            for r in present(&e) {
-                let slot = slots[r] as usize;
-                self.extremes[slot / GROUPS][slot % GROUPS][j] += e.value(r) as u64;
-            }
-        }
-        for (s, counts) in self.tails.iter_mut().enumerate() {
-            let (v, keys, ns) = tail_counts::sink(s);
-            let pairs = df.column(&tail_keys(v))?.struct_()?.clone();
-            let exploded = |field: &str| -> PolarsResult<Series> {
-                let list = pairs.field_by_name(field)?;
-                list.explode(ExplodeOptions { empty_as_null: false, keep_nulls: false })
-            };
-            let (keys, ns) = (exploded(&keys)?, exploded(&ns)?);
-            for (k, n) in keys.i64()?.iter().zip(ns.i64()?.iter()) {
-                if let (Some(k), Some(n)) = (k, n) {
-                    *counts.entry(k).or_insert(0) += n as u64;
-                }
-            }
-        }
-        Ok(())
+        let bucket = if df.column(BUCKET).is_ok() { Some(ints(df, BUCKET)?) } else { None };
+        let buckets = bucket.as_ref().map(|b| b.values().as_slice());
+        let (series, rest, tails, extras) = (&mut self.series, &mut self.rest, &mut self.tails, self.extras);
+        let (a, (b, c)) = rayon::join(
+            || series.par_iter_mut().try_for_each(|s| s.add(df, slots, buckets)),
+            || rayon::join(|| if extras { rest.add(df, slots, buckets) } else { Ok(()) }, || tails.add(df)),
+        );
+        a.and(b).and(c)
     }
 
     /// How many rows broke each rule.
     pub(crate) fn broken(&self) -> &[u64] {
-        &self.rules
+        &self.rest.rules
     }
 
     /// Add the folded aggregates to each cell's.
     pub(crate) fn finish(self, out: &mut [Aggregates]) {
-        if self.extras {
-            for (agg, (rows, extremes)) in out.iter_mut().zip(self.rows.iter().zip(self.extremes)) {
+        let Fold { extras, series, rest, tails } = self;
+        if extras {
+            for (agg, (rows, extremes)) in out.iter_mut().zip(rest.rows.iter().zip(rest.extremes)) {
                 agg.rows += rows;
                 agg.tails.extremes = extremes;
             }
         }
-        for (sink, counts) in self.tails.into_iter().enumerate() {
+        for (sink, counts) in tails.sinks.into_iter().enumerate() {
             let mut per_cell: Vec<&mut HashCounts> = out.iter_mut().map(|a| &mut a.tails.sinks[sink]).collect();
-            tail_counts::add_counts(counts, self.max_index, &mut per_cell);
+            tail_counts::add_counts(counts, tails.max_index, &mut per_cell);
         }
-        for mut s in self.series {
+        let mut running = Vec::new();
+        for mut s in series {
+            running.extend(s.running.take());
             s.bins.flush();
             for (slot, sums) in s.sums.iter().enumerate() {
                 out[slot / GROUPS].sums[s.at][slot % GROUPS].add(sums);
@@ -334,7 +313,7 @@ impl Fold {
                 agg.bins[s.at].iter_mut().for_each(|b| b.sort_unstable());
             }
         }
-        for (p, pair) in self.pairs.into_iter().enumerate() {
+        for (p, pair) in rest.pairs.into_iter().enumerate() {
             for ((c, x, y), n) in pair.counts {
                 out[c as usize].joint[p].push(((x, y), n));
             }
@@ -342,39 +321,122 @@ impl Fold {
                 agg.joint[p].sort_unstable();
             }
         }
-        for (slot, run) in self.convergence.into_iter().enumerate() {
+        for run in rest.convergence.into_iter().chain(running) {
             for (c, buckets) in run.sums.into_iter().enumerate() {
                 for (b, sums) in buckets.iter().enumerate() {
-                    out[c].convergence[slot][b].add(sums);
+                    out[c].convergence[run.slot][b].add(sums);
                 }
             }
         }
     }
 }
 
+impl Rest {
+    /// Add one batch: rows, broken rules, joint counts, the other convergence sums, extremes.
+    fn add(&mut self, df: &DataFrame, slots: &[i64], buckets: Option<&[i64]>) -> PolarsResult<()> {
+        let cell_of = |r: usize| slots[r] as usize / GROUPS;
+        for r in 0..df.height() {
+            self.rows[cell_of(r)] += 1;
+        }
+        for (f, broken) in self.rules.iter_mut().enumerate() {
+            *broken += count_set(&flags(df, &flag(f))?);
+        }
+        for p in &mut self.pairs {
+            let (x, y) = (floats(df, &value(p.at.0))?, floats(df, &value(p.at.1))?);
+            let (xs, ys) = (x.values().as_slice(), y.values().as_slice());
+            for r in present(&x).filter(|&r| y.is_valid(r)) {
+                let c = cell_of(r);
+                let (sx, sy) = p.scale[c];
+                *p.counts.entry((c as i64, (xs[r] * sx) as i64, (ys[r] * sy) as i64)).or_insert(0) += 1;
+            }
+        }
+        for run in &mut self.convergence {
+            let values = floats(df, &value(run.at))?;
+            let buckets = buckets.ok_or_else(|| polars_err!(ComputeError: "no convergence buckets"))?;
+            for r in present(&values) {
+                run.add(values.value(r), cell_of(r), buckets[r]);
+            }
+        }
+        for j in 0..self.extremes.first().and_then(|e| e.first()).map_or(0, Vec::len) {
+            let e = ints(df, &extreme(j))?;
+            for r in present(&e) {
+                let slot = slots[r] as usize;
+                self.extremes[slot / GROUPS][slot % GROUPS][j] += e.value(r) as u64;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Tails {
+    /// Add one batch's (key, count) pairs of every sink (in its first row: [`tail_counts`]).
+    fn add(&mut self, df: &DataFrame) -> PolarsResult<()> {
+        for (s, counts) in self.sinks.iter_mut().enumerate() {
+            let (v, keys, ns) = tail_counts::sink(s);
+            let pairs = df.column(&tail_keys(v))?.struct_()?.clone();
+            let (keys, ns) = (pairs.field_by_name(&keys)?, pairs.field_by_name(&ns)?);
+            for (k, n) in keys.list()?.downcast_iter().zip(ns.list()?.downcast_iter()) {
+                // (the pairs of this batch's rows: the lists' values between their offsets)
+                let int = |a: &dyn Array| a.as_any().downcast_ref::<PrimitiveArray<i64>>().map(|a| a.values().clone());
+                let (Some(kv), Some(nv)) = (int(k.values().as_ref()), int(n.values().as_ref())) else {
+                    polars_bail!(ComputeError: "the tails' counts are not int64 lists");
+                };
+                let (ko, no) = (k.offsets(), n.offsets());
+                let (kr, nr) = (*ko.first() as usize..*ko.last() as usize, *no.first() as usize..*no.last() as usize);
+                for (&key, &count) in kv[kr].iter().zip(&nv[nr]) {
+                    *counts.entry(key).or_insert(0) += count as u64;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Running {
+    /// Add value x of a row of cell `cell` in convergence bucket `bucket`.
+    #[inline]
+    fn add(&mut self, x: f64, cell: usize, bucket: i64) {
+        let g = &self.grid[cell];
+        let [p1, p2, _, _] = split(x - g.center, &g.quanta);
+        self.sums[cell][bucket as usize].add_value(x, [p1, p2, [0, 0], [0, 0]]);
+    }
+}
+
 impl Observed {
-    /// Add the rows of one batch (`slots`: each row's slot).
-    fn add(&mut self, df: &DataFrame, slots: &[i64]) -> PolarsResult<()> {
+    /// Add the rows of one batch (`slots`: each row's slot; `buckets`: its convergence bucket,
+    /// in the query that does the convergence table).
+    fn add(&mut self, df: &DataFrame, slots: &[i64], buckets: Option<&[i64]>) -> PolarsResult<()> {
         let values = floats(df, &value(self.at))?;
         let xs = values.values().as_slice();
+        let buckets = match (&self.running, buckets) {
+            (Some(_), None) => polars_bail!(ComputeError: "no convergence buckets"),
+            (_, b) => b.unwrap_or(&[]),
+        };
         let mut fold = |r: usize| {
             let (x, slot) = (xs[r], slots[r] as usize);
             let (cell, g) = (slot / GROUPS, slot % GROUPS);
             let grid = &self.grid[cell];
-            self.sums[slot].add_value(x, split(x - grid.center, &grid.quanta));
+            let parts = split(x - grid.center, &grid.quanta);
+            self.sums[slot].add_value(x, parts);
             // (the cast truncates: the floor, x ≥ 0; a count is its own bin)
             self.bins.add(cell, g, (x * grid.scale) as i64, grid.window);
+            if let Some(run) = &mut self.running {
+                // (the same centre and quanta: the parts of p = 1, 2 are those just made)
+                run.sums[cell][buckets[r] as usize].add_value(x, [parts[0], parts[1], [0, 0], [0, 0]]);
+            }
         };
         match values.validity() {
             None => (0..xs.len()).for_each(&mut fold),
             Some(valid) => valid.true_idx_iter().for_each(&mut fold),
         }
-        if let Ok(censored) = df.column(&cut(self.at)) {
-            let censored = censored.bool()?;
-            for (r, c) in censored.iter().enumerate() {
-                if c == Some(true) {
-                    self.sums[slots[r] as usize].cut += 1;
-                }
+        if df.column(&cut(self.at)).is_ok() {
+            let censored = flags(df, &cut(self.at))?;
+            let set = match censored.validity() {
+                Some(valid) => censored.values() & valid,
+                None => censored.values().clone(),
+            };
+            for r in set.true_idx_iter() {
+                self.sums[slots[r] as usize].cut += 1;
             }
         }
         Ok(())
@@ -386,7 +448,10 @@ fn present<T: polars_arrow::types::NativeType>(a: &PrimitiveArray<T>) -> impl It
     (0..a.len()).filter(move |&r| a.is_valid(r))
 }
 
-/// The rows where a flag is set (null: not set).
-fn set(a: &BooleanArray) -> impl Iterator<Item = usize> + '_ {
-    (0..a.len()).filter(move |&r| a.is_valid(r) && a.value(r))
+/// How many rows have a flag set (null: not set).
+fn count_set(a: &BooleanArray) -> u64 {
+    match a.validity() {
+        Some(valid) => (a.values() & valid).set_bits() as u64,
+        None => a.values().set_bits() as u64,
+    }
 }
