@@ -455,3 +455,35 @@ fn count_set(a: &BooleanArray) -> u64 {
         None => a.values().set_bits() as u64,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_histogram_counts_are_those_of_direct_counting_whatever_window_cell_or_overflow() {
+        // keys inside and outside each cell's window (below, beyond, negative), cells that
+        // alternate (each switch empties the window into the map) and one key counted past a
+        // 16-bit counter: the counts per (slot, bin) are those counted here directly
+        let windows = [(10, 50), (0, 8)];
+        let mut adds: Vec<(usize, usize, i64)> = (0..5000i64).map(|i| (((i / 7) % 2) as usize, (i % GROUPS as i64) as usize, (i * 37) % 70 - 5)).collect();
+        adds.extend(std::iter::repeat_n((0, 3, 12), 70_000));
+        let mut bins = Bins::new();
+        let mut direct = std::collections::HashMap::<i64, u64>::new();
+        for &(cell, g, bin) in &adds {
+            bins.add(cell, g, bin, windows[cell]);
+            *direct.entry((((cell * GROUPS + g) as i64) << KEY_BITS) + bin).or_insert(0) += 1;
+        }
+        bins.flush();
+        let got: std::collections::HashMap<i64, u64> = bins.map.into_iter().filter(|(_, n)| *n > 0).collect();
+        assert_eq!(got, direct);
+        assert_eq!(direct[&((3i64 << KEY_BITS) + 12)], 70_000 + adds[..5000].iter().filter(|a| **a == (0, 3, 12)).count() as u64);
+    }
+
+    #[test]
+    fn rows_with_a_flag_are_counted_nulls_not() {
+        let a = BooleanArray::from([Some(true), Some(false), None, Some(true)]);
+        assert_eq!(count_set(&a), 2);
+        assert_eq!(count_set(&BooleanArray::from_slice([true, true, false])), 2);
+    }
+}

@@ -47,6 +47,9 @@ pub struct Cell {
     pub interval: Option<(f64, f64)>,
     /// the paper's printed value (None when not compared or not printed)
     pub paper: Option<f64>,
+    /// the interval is approximate (its measured coverage falls below 0.93: the moments table's
+    /// `skewness_approximate`, `kurtosis_approximate`): shown, not judged
+    pub approximate: bool,
 }
 
 impl Cell {
@@ -65,10 +68,10 @@ impl Cell {
         self.ours == Some(0.0) && self.paper.is_some_and(|p| p != 0.0)
     }
 
-    /// `Some(true)` if consistent (see the type's docs), `None` without the numbers to judge or
-    /// [at the boundary](Cell::at_boundary).
+    /// `Some(true)` if consistent (see the type's docs), `None` without the numbers to judge,
+    /// [at the boundary](Cell::at_boundary) or with an [approximate](Cell::approximate) interval.
     pub fn consistent(&self) -> Option<bool> {
-        if self.at_boundary() {
+        if self.at_boundary() || self.approximate {
             return None;
         }
         let p = self.paper?;
@@ -97,11 +100,14 @@ impl Cell {
         format!("{}{paper} {}", self.text(digits), self.mark()).trim_end().to_string()
     }
 
-    /// `✓`, `✗ ±x.x %` (our value's difference from the paper's), `boundary`, or empty when nothing
-    /// is judged.
+    /// `✓`, `✗ ±x.x %` (our value's difference from the paper's), `boundary`, `≈` (an approximate
+    /// interval beside a paper value), or empty when nothing is judged.
     pub fn mark(&self) -> String {
         if self.at_boundary() {
             return "boundary".into();
+        }
+        if self.approximate && self.paper.is_some() && self.interval.is_some() {
+            return "≈".into();
         }
         match (self.consistent(), self.ours, self.paper) {
             (Some(true), _, _) => "✓".into(),
@@ -156,13 +162,18 @@ pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
     .iter()
     .map(|(lo, hi)| (col(lo), col(hi)))
     .collect();
+    // (per cell: the flag of its interval; mean, variance and mode have none; an analysis from
+    // before the flags has no such columns and reads as not approximate)
+    let (no_flag, skew_flag, kurt_flag) = (&[][..], moments.int(&m::SKEWNESS_APPROXIMATE), moments.int(&m::KURTOSIS_APPROXIMATE));
+    let approx: [&[Option<i64>]; 5] = [no_flag, no_flag, no_flag, skew_flag, kurt_flag];
     let mut rows = Vec::new();
     let wanted = TABLE1.iter().map(|(o, p)| (*o, Some(*p))).chain(COUNTS.iter().map(|(o, m, s2)| (*o, Some([*m, *s2, f64::NAN, f64::NAN, f64::NAN]))));
     for (o, p) in wanted {
         let Some(r) = (0..vars.len()).find(|&r| vars[r] == o.variable() && idx.get(r).copied().flatten() == o.index().map(i64::from)) else { continue };
         let pv = |i: usize| p.filter(|_| compare).map(|p| p[i]).filter(|x| x.is_finite());
         let interval = |i: usize| iv[i].0.get(r).copied().flatten().zip(iv[i].1.get(r).copied().flatten());
-        let cell = |ours: Option<f64>, se: Option<f64>, i: usize| Cell { ours, se, interval: interval(i), paper: pv(i) };
+        let approximate = |i: usize| approx.get(i).and_then(|c| c.get(r).copied().flatten()) == Some(1);
+        let cell = |ours: Option<f64>, se: Option<f64>, i: usize| Cell { ours, se, interval: interval(i), paper: pv(i), approximate: approximate(i) };
         // a column the table lacks reads as no value, never as an index out of bounds
         let at = |c: &[Option<f64>]| c.get(r).copied().flatten();
         // (a count's mode interval is stored rounded outward to integers, `SeriesStats::mode_interval`)
@@ -176,4 +187,21 @@ pub fn table1(moments: &Table, compare: bool) -> Vec<Row> {
         });
     }
     rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_approximate_interval_is_shown_not_judged() {
+        let cell = |approximate| Cell { ours: Some(2.0), se: None, interval: Some((1.9, 2.1)), paper: Some(3.0), approximate };
+        assert_eq!(cell(false).consistent(), Some(false));
+        assert!(cell(false).mark().starts_with('✗'));
+        assert_eq!(cell(true).consistent(), None);
+        assert_eq!(cell(true).mark(), "≈");
+        assert_eq!(cell(true).shown(1), "2.0 [1.9 – 2.1] (3) ≈");
+        // without a paper value there is nothing to mark
+        assert_eq!(Cell { paper: None, ..cell(true) }.mark(), "");
+    }
 }

@@ -32,6 +32,8 @@ table! {
         SKEWNESS_HI: "skewness_hi", Float, "95 % interval of the skewness, upper end";
         KURTOSIS_LO: "kurtosis_lo", Float, "95 % interval of the kurtosis, lower end";
         KURTOSIS_HI: "kurtosis_hi", Float, "95 % interval of the kurtosis, upper end";
+        SKEWNESS_APPROXIMATE: "skewness_approximate", Int, "1 when the skewness interval is approximate (its measured coverage falls below 0.93): the variable's kurtosis is above 3.5";
+        KURTOSIS_APPROXIMATE: "kurtosis_approximate", Int, "1 when the kurtosis interval is approximate: kurtosis above 3.5 and fewer than 18,000 realizations";
         REACHED: "reached", Int, "realizations that have the observable (T_k: at least k sticks)";
         REACHED_FRACTION: "reached_fraction", Float, "reached over the realizations analysed";
     }

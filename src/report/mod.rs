@@ -5,7 +5,8 @@
 //! independence tests, and every figure. A cell is marked ✓ when the paper's value lies inside our
 //! 95 % interval (jackknife, [`crate::analysis::jackknife`]) widened by half a unit of the paper's
 //! last printed decimal (the paper gives no errors and rounds to 2–3 decimals), ✗ otherwise, with
-//! the relative difference. (An analysis without intervals, from an older stickslip, falls back to
+//! the relative difference; a cell whose interval is approximate (the moments table's
+//! `skewness_approximate`, `kurtosis_approximate`) is shown with ≈, not judged. (An analysis without intervals, from an older stickslip, falls back to
 //! three standard errors for the mean and the variance.)
 
 mod error;
