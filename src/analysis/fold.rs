@@ -1,5 +1,5 @@
 //! The fold of `analyze`'s main pass: every batch of rows polars hands over (the per-realization
-//! frame of [`super::query`]: slot, convergence bucket, each observable's value, censoring and
+//! frame of [`super::query`]: slot, read count, each observable's value, censoring and
 //! rule flags, the tails' per-batch counts and extremes) is added into the aggregates in one pass
 //! over its columns — each value is read once, and every aggregate it feeds is updated there:
 //!
@@ -27,7 +27,8 @@ use super::tail_counts::{self, HashCounts};
 
 /// Column names of the per-realization frame (built in [`super::query`]).
 pub(crate) const SLOT: &str = "__slot";
-pub(crate) const BUCKET: &str = "__bucket";
+/// the realization's read count k in its cell (1 for its first realization)
+pub(crate) const READ: &str = "__read";
 pub(crate) fn value(i: usize) -> String {
     format!("__x{i}")
 }
@@ -163,6 +164,8 @@ struct Running {
 /// The running aggregates of one query (module docs).
 pub(crate) struct Fold {
     extras: bool,
+    /// the convergence table's checkpoints (realizations read), increasing
+    checkpoints: Vec<u64>,
     series: Vec<Observed>,
     rest: Rest,
     tails: Tails,
@@ -252,6 +255,7 @@ impl Fold {
         };
         Fold {
             extras: batch.extras,
+            checkpoints: plan.checkpoints.to_vec(),
             rest,
             tails: Tails { sinks: vec![PlHashMap::default(); sinks], max_index: plan.tails.map_or(0, |t| t[0].max_index) },
             series: batch
@@ -270,8 +274,12 @@ impl Fold {
         }
         let slot = ints(df, SLOT)?;
         let slots = slot.values().as_slice();
-        let bucket = if df.column(BUCKET).is_ok() { Some(ints(df, BUCKET)?) } else { None };
-        let buckets = bucket.as_ref().map(|b| b.values().as_slice());
+        // the convergence bucket of each row: how many checkpoints lie below its read count
+        let bucket: Option<Vec<i64>> = match df.column(READ) {
+            Ok(_) => Some(ints(df, READ)?.values().iter().map(|&k| self.checkpoints.partition_point(|&c| (c as i64) < k) as i64).collect()),
+            Err(_) => None,
+        };
+        let buckets = bucket.as_deref();
         let (series, rest, tails, extras) = (&mut self.series, &mut self.rest, &mut self.tails, self.extras);
         let (a, (b, c)) = rayon::join(
             || series.par_iter_mut().try_for_each(|s| s.add(df, slots, buckets)),
@@ -287,7 +295,7 @@ impl Fold {
 
     /// Add the folded aggregates to each cell's.
     pub(crate) fn finish(self, out: &mut [Aggregates]) {
-        let Fold { extras, series, rest, tails } = self;
+        let Fold { extras, series, rest, tails, .. } = self;
         if extras {
             for (agg, (rows, extremes)) in out.iter_mut().zip(rest.rows.iter().zip(rest.extremes)) {
                 agg.rows += rows;

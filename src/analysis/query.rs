@@ -5,7 +5,7 @@
 //!
 //! **One pass, every aggregate.** The part files of every cell (one plain dataset, or the cells
 //! of a sweep) are scanned into one per-realization frame: its slot (cell × 20 + its jackknife
-//! group, realization mod 20), its convergence bucket, the value of every analysed observable
+//! group, realization mod 20), its read count (for the convergence table), the value of every analysed observable
 //! ([`Observable::expr`], the one censoring rule), one flag per validation rule, and the tails'
 //! per-batch counts and extremes ([`super::tail_counts`]). polars decodes each column once and
 //! evaluates these expressions on its threads, batch by batch; each batch is handed over as it
@@ -36,7 +36,7 @@
 use polars::prelude::*;
 
 use super::exact::Sums;
-use super::fold::{cut, extreme, flag, tail_keys, value, Batch, Fold, BUCKET, SLOT};
+use super::fold::{cut, extreme, flag, tail_keys, value, Batch, Fold, READ, SLOT};
 use super::input::{scan, Dataset, Stamp, ROW};
 use super::jackknife::GROUPS;
 use super::rules::{locate, rules};
@@ -132,10 +132,8 @@ fn file_frame(
     let group = (col(crate::simulation::dataset::columns::REALIZATION) % lit(GROUPS as i64)).cast(DataType::Int64);
     let mut cols = vec![(group + lit((cell * GROUPS) as i64)).alias(SLOT)];
     if batch.extras && !plan.convergence.is_empty() {
-        // the convergence bucket: how many checkpoints lie below this realization's read count k
-        let k = col(ROW).cast(DataType::Int64) + lit(position as i64 + 1);
-        let bucket = plan.checkpoints.iter().fold(lit(0i64), |acc, &c| acc + k.clone().gt(lit(c as i64)).cast(DataType::Int64));
-        cols.push(bucket.cast(DataType::Int64).alias(BUCKET));
+        // the realization's read count k in its cell (its convergence bucket is found by the fold)
+        cols.push((col(ROW).cast(DataType::Int64) + lit(position as i64 + 1)).alias(READ));
     }
     for &i in &members {
         cols.push(plan.series[i].expr(t_a).alias(value(i)));
