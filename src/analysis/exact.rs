@@ -79,6 +79,7 @@ impl Default for Sums {
 
 impl Sums {
     /// Add the sums of more realizations (exact: integer sums).
+    #[inline]
     pub(crate) fn add(&mut self, o: &Sums) {
         self.n += o.n;
         for p in 0..4 {
@@ -96,14 +97,7 @@ impl Sums {
     /// Add one value x with the parts of (x − c)^p ([`split`]).
     #[inline]
     pub(crate) fn add_value(&mut self, x: f64, parts: [[i64; 2]; 4]) {
-        self.n += 1;
-        for (sum, part) in self.parts.iter_mut().zip(parts) {
-            // (wrapping, as in `add`)
-            sum[0] = sum[0].wrapping_add(part[0]);
-            sum[1] = sum[1].wrapping_add(part[1]);
-        }
-        self.min = self.min.min(x);
-        self.max = self.max.max(x);
+        self.add(&Sums { n: 1, parts, min: x, max: x, cut: 0 });
     }
 
     /// The central moments from the power sums about the pilot's centre c (exact algebra: with

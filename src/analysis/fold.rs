@@ -49,6 +49,11 @@ pub(crate) fn extreme(j: usize) -> String {
 /// (a value at most its scale, whose start exponent leaves 2^41 bins; a count is its own bin).
 const KEY_BITS: u32 = 42;
 
+/// The map key of `bin` of slot `slot` (cell × 20 + group).
+fn bin_key(slot: usize, bin: i64) -> i64 {
+    ((slot as i64) << KEY_BITS) + bin
+}
+
 /// What one query folds: the observables it owns (positions in the plan's series) and whether it
 /// also does the rest (rows, rules, pairs, convergence, tails).
 pub(crate) struct Batch {
@@ -108,13 +113,13 @@ impl Bins {
                 self.touched.push(i as u32);
             } else if *n == u16::MAX {
                 // (its key is then in the touched list twice; the second flush of it adds 0)
-                *self.map.entry((((cell * GROUPS + g) as i64) << KEY_BITS) + bin).or_insert(0) += u64::from(u16::MAX);
+                *self.map.entry(bin_key(cell * GROUPS + g, bin)).or_insert(0) += u64::from(u16::MAX);
                 *n = 0;
                 self.touched.push(i as u32);
             }
             *n += 1;
         } else {
-            *self.map.entry((((cell * GROUPS + g) as i64) << KEY_BITS) + bin).or_insert(0) += 1;
+            *self.map.entry(bin_key(cell * GROUPS + g, bin)).or_insert(0) += 1;
         }
     }
 
@@ -122,7 +127,7 @@ impl Bins {
     fn flush(&mut self) {
         for &i in &self.touched {
             let (b, g) = (i as usize / GROUPS, i as usize % GROUPS);
-            let key = (((self.cell * GROUPS + g) as i64) << KEY_BITS) + self.lo + b as i64;
+            let key = bin_key(self.cell * GROUPS + g, self.lo + b as i64);
             *self.map.entry(key).or_insert(0) += u64::from(std::mem::take(&mut self.dense[i as usize]));
         }
         self.touched.clear();
@@ -190,25 +195,27 @@ struct Tails {
     max_index: u32,
 }
 
-/// A float column of the frame as one array (a batch is rechunked if polars split it).
+/// A column of the frame as one array (a batch is rechunked if polars split it), typed by
+/// `typed` (`Column::f64`, `i64`, `bool`).
+fn one_array<'a, T: PolarsDataType>(df: &'a DataFrame, name: &str, typed: impl Fn(&'a Column) -> PolarsResult<&'a ChunkedArray<T>>) -> PolarsResult<T::Array>
+where
+    T::Array: Clone,
+{
+    let ca = typed(df.column(name)?)?.rechunk();
+    let one = ca.downcast_iter().next().cloned();
+    one.ok_or_else(|| polars_err!(ComputeError: "column {name}: no data"))
+}
+
 fn floats(df: &DataFrame, name: &str) -> PolarsResult<PrimitiveArray<f64>> {
-    let ca = df.column(name)?.f64()?.rechunk();
-    let one = ca.downcast_iter().next().cloned();
-    one.ok_or_else(|| polars_err!(ComputeError: "column {name}: no data"))
+    one_array(df, name, Column::f64)
 }
 
-/// An integer column of the frame as one array.
 fn ints(df: &DataFrame, name: &str) -> PolarsResult<PrimitiveArray<i64>> {
-    let ca = df.column(name)?.i64()?.rechunk();
-    let one = ca.downcast_iter().next().cloned();
-    one.ok_or_else(|| polars_err!(ComputeError: "column {name}: no data"))
+    one_array(df, name, Column::i64)
 }
 
-/// A boolean column as one array.
 fn flags(df: &DataFrame, name: &str) -> PolarsResult<BooleanArray> {
-    let ca = df.column(name)?.bool()?.rechunk();
-    let one = ca.downcast_iter().next().cloned();
-    one.ok_or_else(|| polars_err!(ComputeError: "column {name}: no data"))
+    one_array(df, name, Column::bool)
 }
 
 /// 2^−e.
@@ -405,7 +412,12 @@ impl Running {
     #[inline]
     fn add(&mut self, x: f64, cell: usize, bucket: i64) {
         let g = &self.grid[cell];
-        let [p1, p2, _, _] = split(x - g.center, &g.quanta);
+        self.add_parts(x, cell, bucket, split(x - g.center, &g.quanta));
+    }
+
+    /// The same with the parts of x already made ([`split`]); only those of p = 1, 2 are kept.
+    #[inline]
+    fn add_parts(&mut self, x: f64, cell: usize, bucket: i64, [p1, p2, _, _]: [[i64; 2]; 4]) {
         self.sums[cell][bucket as usize].add_value(x, [p1, p2, [0, 0], [0, 0]]);
     }
 }
@@ -430,7 +442,7 @@ impl Observed {
             self.bins.add(cell, g, (x * grid.scale) as i64, grid.window);
             if let Some(run) = &mut self.running {
                 // (the same centre and quanta: the parts of p = 1, 2 are those just made)
-                run.sums[cell][buckets[r] as usize].add_value(x, [parts[0], parts[1], [0, 0], [0, 0]]);
+                run.add_parts(x, cell, buckets[r], parts);
             }
         };
         match values.validity() {
@@ -438,12 +450,7 @@ impl Observed {
             Some(valid) => valid.true_idx_iter().for_each(&mut fold),
         }
         if df.column(&cut(self.at)).is_ok() {
-            let censored = flags(df, &cut(self.at))?;
-            let set = match censored.validity() {
-                Some(valid) => censored.values() & valid,
-                None => censored.values().clone(),
-            };
-            for r in set.true_idx_iter() {
+            for r in set_rows(&flags(df, &cut(self.at))?).true_idx_iter() {
                 self.sums[slots[r] as usize].cut += 1;
             }
         }
@@ -456,12 +463,17 @@ fn present<T: polars_arrow::types::NativeType>(a: &PrimitiveArray<T>) -> impl It
     (0..a.len()).filter(move |&r| a.is_valid(r))
 }
 
+/// The rows where a flag is set (null: not set), as a bitmap.
+fn set_rows(a: &BooleanArray) -> polars_arrow::bitmap::Bitmap {
+    match a.validity() {
+        Some(valid) => a.values() & valid,
+        None => a.values().clone(),
+    }
+}
+
 /// How many rows have a flag set (null: not set).
 fn count_set(a: &BooleanArray) -> u64 {
-    match a.validity() {
-        Some(valid) => (a.values() & valid).set_bits() as u64,
-        None => a.values().set_bits() as u64,
-    }
+    set_rows(a).set_bits() as u64
 }
 
 #[cfg(test)]

@@ -29,16 +29,40 @@ pub type Interval = (f64, f64);
 /// The interval around `full` from the leave-one-group-out values (None if any is missing or
 /// not finite, or there are fewer than two).
 pub fn interval(full: Option<f64>, loo: &[Option<f64>]) -> Option<Interval> {
-    let full = full.filter(|x| x.is_finite())?;
-    let v: Vec<f64> = loo.iter().map(|x| x.filter(|x| x.is_finite())).collect::<Option<Vec<f64>>>()?;
-    if v.len() < 2 {
-        return None;
+    let s = Spread::of(full, loo)?;
+    let g = s.loo.len() as f64;
+    s.around(T_QUANTILE * ((g - 1.0) / g * s.squares).sqrt())
+}
+
+/// The estimate and its leave-one-group-out values, checked: the ingredients of an interval.
+struct Spread {
+    full: f64,
+    /// the θ₍g₎
+    loo: Vec<f64>,
+    mean: f64,
+    /// Σ (θ₍g₎ − θ̄)²
+    squares: f64,
+}
+
+impl Spread {
+    /// None if the estimate or any leave-one-out value is missing or not finite, or there are
+    /// fewer than two.
+    fn of(full: Option<f64>, loo: &[Option<f64>]) -> Option<Spread> {
+        let full = full.filter(|x| x.is_finite())?;
+        let loo: Vec<f64> = loo.iter().map(|x| x.filter(|x| x.is_finite())).collect::<Option<Vec<f64>>>()?;
+        if loo.len() < 2 {
+            return None;
+        }
+        let g = loo.len() as f64;
+        let mean = loo.iter().sum::<f64>() / g;
+        let squares = loo.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>();
+        Some(Spread { full, loo, mean, squares })
     }
-    let g = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / g;
-    let se = ((g - 1.0) / g * v.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>()).sqrt();
-    let half = T_QUANTILE * se;
-    (half.is_finite()).then_some((full - half, full + half))
+
+    /// θ̂ ± `half` (None if it is not finite).
+    fn around(&self, half: f64) -> Option<Interval> {
+        half.is_finite().then_some((self.full - half, self.full + half))
+    }
 }
 
 /// The interval of a higher moment (skewness, kurtosis): as [`interval`], but with the
@@ -59,21 +83,13 @@ pub fn interval(full: Option<f64>, loo: &[Option<f64>]) -> Option<Interval> {
 /// plain interval; the interval is never narrower than it. The quantile t_ν is Hill's expansion
 /// ([`t_quantile`]). Coverage per column: the book's Benchmarks, "Interval coverage".
 pub fn moment_interval(full: Option<f64>, loo: &[Option<f64>]) -> Option<Interval> {
-    let full = full.filter(|x| x.is_finite())?;
-    let v: Vec<f64> = loo.iter().map(|x| x.filter(|x| x.is_finite())).collect::<Option<Vec<f64>>>()?;
-    if v.len() < 2 {
-        return None;
-    }
-    let g = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / g;
-    let m2 = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / g;
-    let m4 = v.iter().map(|x| (x - mean).powi(4)).sum::<f64>() / g;
+    let s = Spread::of(full, loo)?;
+    let g = s.loo.len() as f64;
+    let m2 = s.squares / g;
+    let m4 = s.loo.iter().map(|x| (x - s.mean).powi(4)).sum::<f64>() / g;
     let excess = if m2 > 0.0 { m4 / (m2 * m2) - 3.0 } else { 0.0 };
     let nu = (2.0 / (2.0 / (g - 1.0) + excess / g)).clamp(2.0, g - 1.0);
-    let nu = if nu.is_finite() { nu } else { g - 1.0 };
-    let se = ((g - 1.0) * m2).sqrt();
-    let half = t_quantile(nu) * se;
-    (half.is_finite()).then_some((full - half, full + half))
+    s.around(t_quantile(if nu.is_finite() { nu } else { g - 1.0 }) * ((g - 1.0) * m2).sqrt())
 }
 
 /// The two-sided 95 % quantile of Student's t with ν ≥ 2 degrees of freedom by the Cornish–Fisher

@@ -292,11 +292,12 @@ fn batches(plan: &Plan) -> Vec<Batch> {
         .collect()
 }
 
-/// One query of the main pass: every part file of every cell scanned into the per-realization
-/// frame, whose batches polars hands over (in any order) to be folded ([`super::fold`]) while it
-/// reads on. The fold runs on this thread; the query on another, so that decoding and folding
-/// overlap. Memory is what the batches in flight take: the channel holds two, and polars stops
-/// reading ahead while they wait.
+/// One query of the main pass: every part file of every cell scanned, run by run, into the
+/// per-realization frame, whose batches polars hands over (in any order) to be folded
+/// ([`super::fold`]) while it reads on. The fold runs on this thread; the runs' queries, one
+/// after the other, on another, so that decoding and folding overlap (the channel holds two
+/// batches). When the fold stops (an error, a cancel), the query running stops at its next
+/// batch and no other starts.
 fn scan_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], batch: &Batch, ctl: Control) -> PolarsResult<Fold> {
     // runs of at most RUN_ROWS rows: (cell, file, first row, rows, read position of the file's
     // row 0 in its cell)
@@ -336,8 +337,12 @@ fn scan_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], batch: &Batch, 
         queries.push(concat(frames, args)?.sink_batches(PlanCallback::new(move |df: DataFrame| Ok(send.send(df).is_err())), false, None)?);
     }
     drop(send);
-    let query = move || -> PolarsResult<()> {
+    let stop = std::sync::atomic::AtomicBool::new(false);
+    let query = || -> PolarsResult<()> {
         for q in queries {
+            if stop.load(std::sync::atomic::Ordering::Relaxed) {
+                break;
+            }
             q.collect_with_engine(Engine::Streaming)?;
         }
         Ok(())
@@ -370,6 +375,7 @@ fn scan_batch(cells: &[&Dataset], plan: &Plan, pilots: &[Pilot], batch: &Batch, 
             }
             ctl.progress.advance(df.height() as u64);
         }
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
         drop(receive);
         let ran = running.join().unwrap_or_else(|_| Err(polars_err!(ComputeError: "the scan failed")));
         stopped.and(ran)
