@@ -13,6 +13,7 @@
 
 pub mod analysis;
 pub mod blame;
+pub mod chain;
 pub mod cli;
 pub mod figures;
 pub mod interrupt;

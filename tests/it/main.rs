@@ -4,6 +4,7 @@ mod common;
 
 mod analysis;
 mod belts;
+mod chain;
 mod cli;
 mod closed_forms;
 mod coverage;

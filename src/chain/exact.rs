@@ -1,0 +1,356 @@
+//! The exact method for chains: the state stepped by e^{Ãτ}, every event found as a proven zero
+//! of its event function.
+//!
+//! A phase (a mode under one belt velocity v and one anchor velocity u) has a fixed Ã
+//! ([`super::matrix::System`]). Its weighted norm ‖Ã‖_D (velocities weighted by the fastest
+//! rate Ω of the chain, the constant by what keeps its column below Ω) fixes the step
+//! H = 1/(2‖Ã‖_D). On each step [τ, τ + h], h ≤ H, the state moves by the Taylor series of
+//! e^{Ãh} (19 terms: the rest is below 10⁻²² of ‖z‖), and the event function g = c·z equals
+//! its Taylor polynomial P(s) = Σ_j (c Ã^j z(τ)) s^j/j! to within the proven bound
+//! δ = ‖c Ã^{19}‖_D* e^{‖Ã‖h} ‖z‖_D h^{19}/19! plus the coefficients' rounding. The zeros of g
+//! on the step are those of P within δ, found by the isolation of [`super::roots`], which
+//! proves every sub-interval it skips free of zeros: no event is missed, and a simple zero is
+//! located to adjacent floats of P (the event time to about 10⁻¹⁶ relative).
+//!
+//! A phase that starts at a zero of its own event function — the slip after a breakaway or a
+//! pass-through (w = 0), with μ_s = μ_k also ẇ = 0 (the grazing departure) — leaves it with a
+//! known sign; the search starts past the band where the first non-vanishing derivative of P
+//! is proven to have that sign ([`super::roots::Poly::leaves`]), so the start is not found
+//! again (the chain's form of the grazing rule of [`crate::solver::exact`]).
+//!
+//! A tangency of g within its error bound (a *touch*): in a slip, an arrival decided by the
+//! arrival rule like any other; in a stick, F touching ±f_s from inside is not a breakaway
+//! (|F| ≤ f_s holds).
+
+use super::matrix::{dot, holding, relative_velocity, x, xd, Mode, System};
+use super::roots::{Poly, Zero, RESOLUTION};
+use super::{Anchor, Chain};
+use crate::physics::TOUCH_TOLERANCE;
+use crate::solver::{Event, Method, Stop};
+
+/// The exact method for one realization's chain.
+#[derive(Debug, Clone)]
+pub struct ChainExact {
+    ch: Chain,
+    anchor: Anchor,
+    /// the floor of the norm's rate, 1/t_a [1/s]
+    rate: f64,
+    /// the state (x₁…x_N, ẋ₁…ẋ_N, a, 1) and its time
+    z: Vec<f64>,
+    t: f64,
+    mode: Mode,
+    /// the belt velocity of the phase
+    v: f64,
+    /// the anchor's segment
+    segment: usize,
+    sys: System,
+    /// the rows c Ã^j of the phase's event function (w, or F)
+    rows: Vec<Vec<f64>>,
+    /// the sign the event function leaves zero with at the phase's start (None: it starts off
+    /// zero)
+    leave: Option<f64>,
+    /// no friction at all: crossings of belt speed change nothing and are not looked for
+    frictionless: bool,
+    /// the last advance's piece: start time and state, its system, the polynomial of w on it
+    /// (slip) and its length
+    piece: (f64, Vec<f64>, Option<System>, Option<Poly>, f64),
+    keep: bool,
+}
+
+impl ChainExact {
+    /// The method for `ch` from the state `x0`, `xd0` (every mass's position and velocity at
+    /// t = 0), under the anchor's motion `anchor`, over a window of `t_a` seconds.
+    pub fn new(ch: &Chain, anchor: &Anchor, x0: &[f64], xd0: &[f64], t_a: f64) -> ChainExact {
+        let n = ch.len();
+        let mut z = vec![0.0; 2 * n + 2];
+        z[..n].copy_from_slice(x0);
+        z[n..2 * n].copy_from_slice(xd0);
+        z[2 * n + 1] = 1.0;
+        let rate = 1.0 / t_a;
+        let sys = System::new(ch, Mode::Slip(1.0), 0.0, anchor.velocities[0], rate);
+        ChainExact {
+            ch: ch.clone(),
+            anchor: anchor.clone(),
+            rate,
+            z,
+            t: 0.0,
+            mode: Mode::Slip(1.0),
+            v: 0.0,
+            segment: 0,
+            sys,
+            rows: Vec::new(),
+            leave: None,
+            frictionless: ch.kinetic == 0.0 && ch.breakaway == 0.0,
+            piece: (0.0, Vec::new(), None, None, 0.0),
+            keep: false,
+        }
+    }
+
+    /// The whole state (x₁…x_N, ẋ₁…ẋ_N, a, 1) at the time reached.
+    pub fn state(&self) -> &[f64] {
+        &self.z
+    }
+
+    fn u(&self) -> f64 {
+        self.anchor.velocities[self.segment]
+    }
+
+    fn contact(&self) -> (f64, f64) {
+        let n = self.ch.len();
+        (self.z[x(n - 1)], self.z[xd(n, n - 1)])
+    }
+
+    /// Begin the phase `mode` at the current state.
+    fn enter(&mut self, mode: Mode, leave: Option<f64>) {
+        let n = self.ch.len();
+        self.mode = mode;
+        self.leave = leave;
+        self.sys = System::new(&self.ch, mode, self.v, self.u(), self.rate);
+        let row = match mode {
+            Mode::Slip(_) => relative_velocity(n, self.v),
+            Mode::Stick => {
+                self.z[xd(n, n - 1)] = self.v;
+                holding(&self.ch, self.v, self.u())
+            }
+        };
+        self.rows = self.sys.rows(row);
+    }
+
+    /// The holding force F at the current state (contact at belt speed).
+    fn force(&self) -> f64 {
+        dot(&holding(&self.ch, self.v, self.u()), &self.z)
+    }
+
+    /// The contact is at belt speed: the arrival rule (module docs of [`super`]).
+    fn arrive(&mut self) -> Stop {
+        let n = self.ch.len();
+        self.z[xd(n, n - 1)] = self.v;
+        let (f, fs) = (self.force(), self.ch.breakaway);
+        let band = TOUCH_TOLERANCE * fs;
+        let stick = if f.abs() < fs - band {
+            true
+        } else if f.abs() > fs + band {
+            false
+        } else {
+            // at the limit: a stick unless F moves outward under stick dynamics
+            let stuck = System::new(&self.ch, Mode::Stick, self.v, self.u(), self.rate);
+            let rate = dot(&stuck.rows(holding(&self.ch, self.v, self.u()))[1], &self.z);
+            f.signum() * rate <= 0.0
+        };
+        if stick {
+            self.enter(Mode::Stick, None);
+            Stop::Event(Event::Stick { t: self.t, x: self.z[x(n - 1)] })
+        } else {
+            self.enter(Mode::Slip(f.signum()), Some(f.signum()));
+            Stop::Advanced
+        }
+    }
+
+    /// The step's length from the current time towards `t_stop`.
+    fn step_len(&self, t_stop: f64) -> f64 {
+        let h = 0.5 / self.sys.norm;
+        (t_stop - self.t).min(h)
+    }
+
+    /// Move the state by s and the time to t + s (to `t_stop` exactly when s reaches it).
+    fn go(&mut self, s: f64, t_stop: f64) {
+        self.z = self.sys.step(&self.z, s);
+        if self.mode == Mode::Stick {
+            let n = self.ch.len();
+            self.z[xd(n, n - 1)] = self.v;
+        }
+        self.t = if s >= t_stop - self.t { t_stop } else { self.t + s };
+    }
+
+    /// The anchor changes velocity at the current time.
+    fn anchor_switch(&mut self) -> Stop {
+        self.segment += 1;
+        match self.mode {
+            Mode::Slip(sigma) => {
+                self.enter(Mode::Slip(sigma), None);
+                Stop::Advanced
+            }
+            Mode::Stick => {
+                let f = self.force();
+                if f.abs() > self.ch.breakaway * (1.0 + TOUCH_TOLERANCE) {
+                    let (xn, _) = self.contact();
+                    self.enter(Mode::Slip(f.signum()), Some(f.signum()));
+                    Stop::Event(Event::Slip { t: self.t, x: xn, xdot: self.v })
+                } else {
+                    self.enter(Mode::Stick, None);
+                    Stop::Advanced
+                }
+            }
+        }
+    }
+
+    /// Where the search for the phase's next zero starts on this step (past the band of the
+    /// zero it starts at, if it does).
+    fn search_from(&self, p: &Poly, h: f64, sign: Option<f64>) -> f64 {
+        match sign {
+            Some(s) => p.leaves(s, h).max(RESOLUTION * h),
+            None => 0.0,
+        }
+    }
+}
+
+impl Method for ChainExact {
+    fn start(&mut self, _x0: f64, _xdot0: f64, v: f64) -> Event {
+        self.v = v;
+        let (xn, xdn) = self.contact();
+        let w = v - xdn;
+        if w == 0.0 {
+            if let Stop::Event(e) = self.arrive() {
+                return e;
+            }
+        } else {
+            self.enter(Mode::Slip(w.signum()), None);
+        }
+        Event::Slip { t: 0.0, x: xn, xdot: xdn }
+    }
+
+    fn advance(&mut self, t1: f64, v: f64) -> Stop {
+        debug_assert_eq!(v, self.v);
+        let u_end = self.anchor.switches.get(self.segment).copied().unwrap_or(f64::INFINITY);
+        let t_stop = t1.min(u_end);
+        if self.t >= t_stop {
+            return if t_stop < t1 { self.anchor_switch() } else { Stop::SegmentEnd };
+        }
+        let h = self.step_len(t_stop);
+        if self.keep {
+            self.piece.0 = self.t;
+            self.piece.1.clone_from(&self.z);
+            self.piece.2 = Some(self.sys.clone());
+        }
+        let (p, margin) = self.sys.taylor(&self.rows, &self.z, h);
+        let leave = self.leave.take();
+        match self.mode {
+            Mode::Slip(_) => {
+                let from = self.search_from(&p, h, leave);
+                let zero = if self.frictionless { None } else { p.first_zero(from, h, margin) };
+                let s = zero.map_or(h, |z| z.s);
+                self.piece.3 = Some(p);
+                self.piece.4 = s;
+                self.go(s, t_stop);
+                if zero.is_some() {
+                    return self.arrive();
+                }
+            }
+            Mode::Stick => {
+                self.piece.3 = None;
+                let fs = self.ch.breakaway;
+                let mut first: Option<(Zero, f64)> = None;
+                for side in [1.0, -1.0] {
+                    // g = F − side·f_s, ≤ 0 (side +) or ≥ 0 (side −) while stuck
+                    let mut g = p.clone();
+                    g.c[0] -= side * fs;
+                    let at_limit = g.c[0].abs() <= TOUCH_TOLERANCE * fs;
+                    let from = self.search_from(&g, h, if at_limit { Some(-side) } else { None });
+                    let mut found = None;
+                    g.zeros(from, h, margin, &mut |z| {
+                        if z.touch {
+                            return false;
+                        }
+                        found = Some(z);
+                        true
+                    });
+                    if let Some(z) = found {
+                        if first.is_none_or(|(f, _)| z.s < f.s) {
+                            first = Some((z, side));
+                        }
+                    }
+                }
+                let s = first.map_or(h, |(z, _)| z.s);
+                self.piece.4 = s;
+                self.go(s, t_stop);
+                if let Some((_, side)) = first {
+                    let (xn, _) = self.contact();
+                    self.enter(Mode::Slip(side), Some(side));
+                    return Stop::Event(Event::Slip { t: self.t, x: xn, xdot: self.v });
+                }
+            }
+        }
+        if self.t >= t_stop {
+            return if t_stop < t1 { self.anchor_switch() } else { Stop::SegmentEnd };
+        }
+        Stop::Advanced
+    }
+
+    fn switch(&mut self, t: f64, v_old: f64, v_new: f64) -> Option<Event> {
+        debug_assert_eq!(t, self.t);
+        self.v = v_new;
+        match self.mode {
+            Mode::Stick => {
+                let (xn, _) = self.contact();
+                self.enter(Mode::Slip((v_new - v_old).signum()), None);
+                Some(Event::Slip { t, x: xn, xdot: v_old })
+            }
+            Mode::Slip(_) => {
+                let (_, xdn) = self.contact();
+                let w = v_new - xdn;
+                if w == 0.0 {
+                    match self.arrive() {
+                        Stop::Event(e) => Some(e),
+                        _ => None,
+                    }
+                } else {
+                    self.enter(Mode::Slip(w.signum()), None);
+                    None
+                }
+            }
+        }
+    }
+
+    fn time(&self) -> f64 {
+        self.t
+    }
+
+    fn keep_pieces(&mut self) {
+        self.keep = true;
+    }
+
+    fn state_at(&self, t: f64) -> (f64, f64) {
+        let n = self.ch.len();
+        match &self.piece.2 {
+            Some(sys) => {
+                let z = sys.step(&self.piece.1, t - self.piece.0);
+                (z[x(n - 1)], z[xd(n, n - 1)])
+            }
+            None => self.contact(),
+        }
+    }
+
+    fn non_finite(&self) -> bool {
+        !self.z.iter().all(|v| v.is_finite())
+    }
+
+    fn velocity_range(&self) -> (f64, f64) {
+        let (_, xdn) = self.contact();
+        match &self.piece.3 {
+            // ẋ_N = v − w on the slip's piece [0, s]: its ends and the turning points inside
+            Some(w) => {
+                let (mut lo, mut hi) = (self.v - w.at(0.0), self.v - w.at(0.0));
+                let mut see = |s: f64| {
+                    let x = self.v - w.at(s);
+                    lo = lo.min(x);
+                    hi = hi.max(x);
+                };
+                see(self.piece.4);
+                see_turns(w, self.piece.4, &mut see);
+                (lo.min(xdn), hi.max(xdn))
+            }
+            None => (self.v.min(xdn), self.v.max(xdn)),
+        }
+    }
+}
+
+/// Call `see` at every turning point of P on (0, len): the zeros of P′.
+fn see_turns(p: &Poly, len: f64, see: &mut impl FnMut(f64)) {
+    if len <= 0.0 {
+        return;
+    }
+    p.derivative().zeros(0.0, len, 0.0, &mut |z| {
+        see(z.s);
+        false
+    });
+}
