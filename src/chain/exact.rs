@@ -91,6 +91,20 @@ impl ChainExact {
         &self.z
     }
 
+    /// The whole state at `t` on the piece of motion the last advance covered (after
+    /// [`Method::keep_pieces`]; before any advance, the state reached).
+    pub fn state_of_all_at(&self, t: f64) -> Vec<f64> {
+        match &self.piece.2 {
+            Some(sys) => sys.step(&self.piece.1, t - self.piece.0),
+            None => self.z.clone(),
+        }
+    }
+
+    /// The contact's mode now: stuck (true) or slipping.
+    pub fn stuck(&self) -> bool {
+        self.mode == Mode::Stick
+    }
+
     fn u(&self) -> f64 {
         self.anchor.velocities[self.segment]
     }

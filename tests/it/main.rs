@@ -5,6 +5,7 @@ mod common;
 mod analysis;
 mod belts;
 mod chain;
+mod chain_reference;
 mod cli;
 mod closed_forms;
 mod coverage;
