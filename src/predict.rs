@@ -154,6 +154,9 @@ pub fn default_horizon(scenario: &Scenario) -> Result<f64, ScenarioError> {
 pub fn run(scenario: &Scenario, state: State, opts: Options, out: Option<&Path>, ctl: crate::progress::Control) -> Result<Prediction, LawError> {
     let progress = |line: &str| ctl.progress.note(line);
     let scene = scenario.scene()?;
+    if scene.chain.is_some() {
+        return Err(LawError::Refused(crate::chain::NO_CLOSED_LAW.into()));
+    }
     if !(state.x.is_finite() && state.velocity.is_finite() && state.belt.is_finite()) {
         let shown = crate::scenario::short;
         return Err(LawError::Refused(format!("--state {},{},{}: must be three finite numbers", shown(state.x), shown(state.velocity), shown(state.belt))));

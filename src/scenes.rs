@@ -33,7 +33,7 @@ impl Shipped {
 }
 
 /// Every shipped scenario, the paper's first.
-pub const SHIPPED: [Shipped; 10] = [
+pub const SHIPPED: [Shipped; 11] = [
     Shipped { name: "paper", text: PAPER_TOML, companions: &[] },
     shipped!("stribeck", "stribeck.toml"),
     shipped!("damped", "scenes/damped.toml"),
@@ -43,6 +43,7 @@ pub const SHIPPED: [Shipped; 10] = [
     shipped!("stribeck_damped", "scenes/stribeck_damped.toml"),
     shipped!("viscous", "scenes/viscous.toml"),
     shipped!("markov_belt", "scenes/markov_belt.toml"),
+    shipped!("chain_paper", "scenes/chain_paper.toml"),
     // (its velocity log is written beside it: `belt.file` is relative to the scenario's directory)
     Shipped {
         name: "recorded_belt",

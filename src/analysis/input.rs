@@ -462,6 +462,7 @@ fn belt_levels(scenario: &Scenario) -> Option<Vec<f64>> {
         Process::Telegraph(t) => Some(vec![t.forward_speed, -t.reverse_speed]),
         Process::Markov(m) => Some(m.velocities().to_vec()),
         Process::Recorded(_) => None,
+        Process::Constant(v) => Some(vec![v]),
     }
 }
 

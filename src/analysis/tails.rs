@@ -165,6 +165,9 @@ fn conditional_scene(data: &Dataset) -> Result<(crate::simulation::keys::Scene, 
         return Err(format!("the belt is \"{}\", not a two-state flip process (symmetric or telegraph)", name.as_str()));
     }
     let scene = data.scenario.scene().map_err(|e| format!("its scene cannot be rebuilt: {e}"))?;
+    if scene.chain.is_some() {
+        return Err(crate::chain::NO_CLOSED_LAW.into());
+    }
     if !scene.random.is_empty() {
         return Err("parameters are drawn per realization, so the holding time d_s(x) differs between realizations".into());
     }

@@ -42,6 +42,11 @@ pub(crate) mod roots;
 
 pub use exact::ChainExact;
 
+/// Why the stages built on one mass's closed-form law (the exact law, `predict`, the tails'
+/// conditional estimator) refuse a chain.
+pub const NO_CLOSED_LAW: &str =
+    "the scene is a chain of masses or has a moving anchor, and the holding-time law d_s(x) these results are built on holds for one mass on a fixed wall only: simulate the scene instead";
+
 /// One realization's chain: masses [kg], stiffnesses [N/m], dampings [N·s/m], the contact's
 /// kinetic and static friction forces f_k = μ_k n, f_s = μ_s n [N] and its viscous coefficient
 /// σ_v [N·s/m].
@@ -76,6 +81,25 @@ impl Anchor {
     pub fn constant(u: f64) -> Anchor {
         Anchor { velocities: vec![u], switches: Vec::new() }
     }
+}
+
+/// The mean of |u − v| over [0, t_a] [m/s] for the belt's and the anchor's segments
+/// (velocities, switch instants): how fast the string slides against the rock on average — a
+/// chain's severity unit.
+pub fn mean_slide(belt: (&[f64], &[f64]), anchor: (&[f64], &[f64]), t_a: f64) -> f64 {
+    let (mut t, mut total, mut i, mut j) = (0.0, 0.0, 0, 0);
+    while t < t_a {
+        let next = belt.1.get(i).copied().unwrap_or(t_a).min(anchor.1.get(j).copied().unwrap_or(t_a)).min(t_a);
+        total += (belt.0[i] - anchor.0[j]).abs() * (next - t);
+        if belt.1.get(i) == Some(&next) {
+            i += 1;
+        }
+        if anchor.1.get(j) == Some(&next) {
+            j += 1;
+        }
+        t = next;
+    }
+    total / t_a
 }
 
 impl Chain {

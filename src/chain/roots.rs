@@ -212,8 +212,10 @@ mod tests {
             false
         });
         assert_eq!(seen.len(), 4, "{seen:?}");
+        // (a zero of a pair 1e-7 apart is conditioned as |P| rounding / |P′| ≈ 1e-17 / 2e-8)
         for (z, r) in seen.iter().zip(roots) {
-            assert!(!z.touch && (z.s - r).abs() < 1e-14, "{z:?} vs {r}");
+            let tolerance = if r < 0.2 { 1e-9 } else { 1e-14 };
+            assert!(!z.touch && (z.s - r).abs() < tolerance, "{z:?} vs {r}");
         }
     }
 
@@ -221,8 +223,10 @@ mod tests {
     fn a_double_zero_is_a_touch_and_a_near_miss_beyond_the_margin_is_nothing() {
         // (s − 0.5)² touches zero
         let p = from_roots(&[0.5, 0.5], 1.0);
+        // (a double zero is found to about the square root of the rounding of P: its band
+        // |s − 0.5| ≲ √(1e-16))
         let z = p.first_zero(0.0, 1.0, 1e-18).expect("the touch");
-        assert!(z.touch && (z.s - 0.5).abs() < 1e-9, "{z:?}");
+        assert!(z.touch && (z.s - 0.5).abs() < 1e-7, "{z:?}");
         // (s − 0.5)² + 1e-6 never reaches zero
         let mut q = p.clone();
         q.c[0] += 1e-6;

@@ -16,6 +16,9 @@ pub const QUANTITIES: [&str; 8] = crate::observables::names(crate::observables::
 /// The frames of a scene's belt states (one for the symmetric belt, two for an asymmetric
 /// telegraph belt: forward, reverse; [`chain::Chain`]), or why the method does not hold for it.
 pub(crate) fn frames(scene: &Scene) -> Result<Vec<Frame>, String> {
+    if scene.chain.is_some() {
+        return Err(crate::chain::NO_CLOSED_LAW.into());
+    }
     if !scene.random.is_empty() {
         return Err("parameters are drawn per realization (the long-run law is computed for fixed parameters)".into());
     }

@@ -72,9 +72,12 @@ impl Scenario {
                 used(key, &[ProcessName::Telegraph])?;
             }
         }
-        for (key, set, by) in
-            [("belt.velocities", b.velocities.is_some(), &chain), ("belt.rates", b.rates.is_some(), &chain), ("belt.file", b.file.is_some(), &record)]
-        {
+        for (key, set, by) in [
+            ("belt.velocities", b.velocities.is_some(), &chain),
+            ("belt.rates", b.rates.is_some(), &chain),
+            ("belt.file", b.file.is_some(), &record),
+            ("belt.velocity", b.velocity.is_some(), &[ProcessName::Constant]),
+        ] {
             if set {
                 used(key, by)?;
             }
@@ -115,6 +118,19 @@ impl Scenario {
                 let m = Process::Markov(Arc::new(Markov::new(velocities.clone(), rates.clone()).map_err(|e| invalid("belt.rates", "(the matrix)", &e))?));
                 self.check_scale(&m, "belt.velocities", &shown_v)?;
                 m
+            }
+            ProcessName::Constant => {
+                let Some(v) = b.velocity else {
+                    return Err(invalid("belt.velocity", "(absent)", "the constant belt needs belt.velocity (m/s; 0 is a belt at rest)"));
+                };
+                if !(v == 0.0 || (MIN_SPEED..=MAX_SPEED).contains(&v.abs())) {
+                    return Err(invalid(
+                        "belt.velocity",
+                        &short(v),
+                        &format!("must be 0 or between {MIN_SPEED:e} and {MAX_SPEED:e} m/s in size, the range the solvers are proven on"),
+                    ));
+                }
+                Process::Constant(v)
             }
             ProcessName::Recorded => {
                 let Some(file) = &b.file else {
@@ -198,6 +214,7 @@ impl ProcessName {
             ProcessName::Telegraph => "telegraph",
             ProcessName::Markov => "markov",
             ProcessName::Recorded => "recorded",
+            ProcessName::Constant => "constant",
         }
     }
 }
@@ -223,7 +240,7 @@ const MAX_LOG_BYTES: u64 = 1 << 30;
 
 /// A velocity log: Parquet (by its magic bytes) or CSV with a header naming `time` and
 /// `velocity` (other columns ignored; blank lines and lines starting with `#` skipped).
-fn read_log(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
+pub(super) fn read_log(path: &Path) -> Result<(Vec<f64>, Vec<f64>), String> {
     // a regular file of bounded size only: a FIFO would block in open(), a device never end
     let meta = std::fs::metadata(path).map_err(|e| format!("cannot read it: {e}"))?;
     if !meta.is_file() {

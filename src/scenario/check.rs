@@ -58,6 +58,8 @@ impl Scenario {
             && belt(self) == belt(other)
             && self.initial_conditions == other.initial_conditions
             && self.run.duration == other.run.duration
+            && self.chain == other.chain
+            && self.anchor == other.anchor
     }
 
     /// The solver that actually runs: `auto` is `exact` where the scene has closed forms, else
@@ -79,7 +81,7 @@ impl Scenario {
             Param::Sweep(l) => l[0],
         };
         let kinetic = value(&m.friction_coefficient);
-        let params = Params {
+        let mut params = Params {
             mass: value(&m.mass),
             stiffness: value(&m.stiffness),
             damping: m.damping.as_ref().map_or(0.0, value),
@@ -96,6 +98,7 @@ impl Scenario {
                 }),
             },
         };
+        let chain = self.chain_scene(&mut params, &value)?;
         let process = self.process(value)?;
         let belt = Belt { process, initial_sign: self.belt.initial_sign.0, duration: self.run.duration };
         let random = Key::ALL
@@ -105,7 +108,11 @@ impl Scenario {
                 _ => None,
             })
             .collect();
-        Ok(Scene::new(params, belt, random, m.static_friction_coefficient.is_none()))
+        let scene = Scene::new(params, belt, random, m.static_friction_coefficient.is_none());
+        Ok(match chain {
+            Some(c) => scene.with_chain(c),
+            None => scene,
+        })
     }
 
     /// The mean λ t_a of the Poisson number of belt switches: the paper's symmetric belt at a
@@ -223,6 +230,7 @@ impl Scenario {
     fn check_derived(&self) -> Result<(), ScenarioError> {
         let scene = self.scene()?;
         self.check_belt_changes(&scene.belt.process)?;
+        self.check_chain(scene.chain.as_ref(), &scene.belt.process)?;
         let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), bounded);
         let hi = |k: Key| self.param(k).map_or(0.0, |p| bounded(p).1);
         // (the slip's damping per unit mass is (c + σ_v)/m)
@@ -235,7 +243,10 @@ impl Scenario {
                 reason: "these ratios must be finite".into(),
             });
         }
-        self.check_initial_state(&scene, ratios[0].sqrt())?;
+        if scene.chain.is_none() {
+            // (a chain's swing is bounded by the writers' guard, per realization)
+            self.check_initial_state(&scene, ratios[0].sqrt())?;
+        }
         let o = &self.output;
         if o.trajectories > 1000 || o.trajectories as f64 * self.run.duration / o.trajectory_step > MAX_TRAJECTORY_SAMPLES {
             return Err(ScenarioError::Invalid {
@@ -360,7 +371,7 @@ impl Scenario {
 /// The least and greatest value a key can take where they are finite and (the least) positive,
 /// else the law's mean: what the door's derived checks use (a draw of an unbounded law past
 /// them is refused per realization).
-fn bounded(p: &Param) -> (f64, f64) {
+pub(super) fn bounded(p: &Param) -> (f64, f64) {
     let (lo, hi) = support(p);
     let mean = match p {
         Param::Random(d) => d.mean(),

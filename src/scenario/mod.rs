@@ -13,10 +13,11 @@
 //!
 //! Files: `spec.rs` the typed sections; `types.rs` the [`Scenario`], its limits, overrides, sweep
 //! cells and errors; `resolve.rs` merging, `--set`, typing and sweeps; `input.rs` where a stage's
-//! scenario comes from; `belt.rs` the belt keys → the process; `check.rs` validation and the
+//! scenario comes from; `belt.rs` the belt keys → the process; `chain.rs` the chain and anchor keys → the chain scene; `check.rs` validation and the
 //! scene it describes; `plan.rs` the run plan. This file only declares and re-exports.
 
 mod belt;
+mod chain;
 mod check;
 mod input;
 mod plan;
@@ -27,6 +28,7 @@ mod types;
 pub use crate::shown::short;
 pub use crate::simulation::plan::fastest_rate;
 pub use crate::solver::Numerics;
+pub use chain::{chain_rate, MAX_CHAIN_RADIANS, MAX_MASSES};
 pub use input::{Input, Source};
-pub use spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, ProcessName, Run, Sign};
+pub use spec::{AnchorProcess, AnchorSpec, BeltSpec, ChainSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, ProcessName, Run, Sign};
 pub use types::*;

@@ -296,8 +296,11 @@ fn is_dist(t: &Table) -> bool {
 /// Set one dotted key (its section must exist; the typed step refuses unknown leaves).
 fn set(table: &mut Table, key: &str, value: Value) -> Result<(), ScenarioError> {
     let Some((section, leaf)) = key.split_once('.') else {
-        return Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(table.keys().cloned().collect()) });
+        return Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(sections(table)) });
     };
+    if OPTIONAL_SECTIONS.contains(&section) && !table.contains_key(section) {
+        table.insert(section.to_owned(), Value::Table(Table::new()));
+    }
     match table.get_mut(section) {
         Some(Value::Table(t)) if !leaf.contains('.') && !leaf.is_empty() => {
             t.insert(leaf.to_owned(), value);
@@ -311,8 +314,19 @@ fn set(table: &mut Table, key: &str, value: Value) -> Result<(), ScenarioError> 
             keys.dedup();
             Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(keys) })
         }
-        _ => Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(table.keys().cloned().collect()) }),
+        _ => Err(ScenarioError::UnknownKey { key: key.to_owned(), hint: Hint(sections(table)) }),
     }
+}
+
+/// The sections the paper scenario leaves out (a `--set` may open them).
+const OPTIONAL_SECTIONS: [&str; 2] = ["anchor", "chain"];
+
+/// The sections a key may start with.
+fn sections(table: &Table) -> Vec<String> {
+    let mut s: Vec<String> = table.keys().cloned().chain(OPTIONAL_SECTIONS.iter().map(|s| s.to_string())).collect();
+    s.sort();
+    s.dedup();
+    s
 }
 
 #[cfg(test)]

@@ -115,6 +115,8 @@ pub enum ProcessName {
     Markov,
     /// A measured velocity log (`file`); nothing is drawn.
     Recorded,
+    /// One velocity throughout (`velocity`, 0 included: the rock); nothing is drawn.
+    Constant,
 }
 
 /// `[belt]`.
@@ -143,6 +145,57 @@ pub struct BeltSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rates: Option<Vec<Vec<f64>>>,
     /// the velocity log of a recorded belt: CSV or Parquet with columns `time`, `velocity`
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// the velocity of a constant belt, m/s (any value, 0 included)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<f64>,
+}
+
+/// `[chain]`: the masses between the anchor and the contact ([`crate::chain`]); the last mass
+/// rubs on the belt.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainSpec {
+    /// m_1 … m_N, kg, > 0
+    pub masses: Vec<f64>,
+    /// k_1 … k_N, N/m, ≥ 0 (k_1 ties m_1 to the anchor)
+    pub stiffnesses: Vec<f64>,
+    /// c_1 … c_N, N·s/m, ≥ 0 (absent: zeros)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dampings: Option<Vec<f64>>,
+}
+
+/// `anchor.process`: how the anchor (the top drive) moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AnchorProcess {
+    /// At `speed` throughout (the default; 0: the paper's fixed wall).
+    Constant,
+    /// A continuous-time Markov chain on `velocities` with the transition `rates` (the belt's
+    /// Markov semantics: the initial level from the stationary law).
+    Markov,
+    /// A measured velocity log (`file`, the belt's log format).
+    Recorded,
+}
+
+/// `[anchor]`: the anchor's motion u(t) [m/s], piecewise constant, a(0) = 0.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AnchorSpec {
+    /// absent: constant
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub process: Option<AnchorProcess>,
+    /// U, m/s, any sign (absent: 0)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub speed: Option<Param>,
+    /// the levels of a Markov anchor, m/s
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocities: Option<Vec<f64>>,
+    /// the transition rates of a Markov anchor, 1/s (n×n, diagonal ignored)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rates: Option<Vec<Vec<f64>>>,
+    /// the velocity log of a recorded anchor: CSV or Parquet with columns `time`, `velocity`
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 use toml::Value;
 
-use super::spec::{BeltSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, Run};
+use super::spec::{AnchorSpec, BeltSpec, ChainSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, Run};
 use crate::shown::short;
 use crate::simulation::keys::Key;
 use crate::solver::Numerics;
@@ -53,8 +53,16 @@ pub struct Scenario {
     pub model: ModelSpec,
     /// `[belt]`: the belt process
     pub belt: BeltSpec,
-    /// `[initial_conditions]`: the ranges X0, Ẋ0 are drawn from
+    /// `[initial_conditions]`: the ranges X0, Ẋ0 are drawn from (each mass of a chain draws
+    /// its own)
     pub initial_conditions: InitialConditions,
+    /// `[chain]`: a chain of masses in place of `model.mass`, `model.stiffness` and
+    /// `model.damping` ([`crate::chain`]; absent: the one mass of `[model]`)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chain: Option<ChainSpec>,
+    /// `[anchor]`: how the anchor moves (absent: a fixed wall)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anchor: Option<AnchorSpec>,
     /// `[run]`: window, realizations, seed, solver
     pub run: Run,
     /// `[numerics]`: the solvers' tolerances, steps and budgets
@@ -229,6 +237,7 @@ impl Scenario {
             Key::StribeckVelocity => m.stribeck_velocity.as_ref(),
             Key::StribeckExponent => m.stribeck_exponent.as_ref(),
             Key::Viscous => m.viscous_friction.as_ref(),
+            Key::AnchorSpeed => self.anchor.as_ref().and_then(|a| a.speed.as_ref()),
         }
     }
 
@@ -249,6 +258,7 @@ impl Scenario {
             Key::StribeckVelocity => ParamSlot::Optional(&mut m.stribeck_velocity),
             Key::StribeckExponent => ParamSlot::Optional(&mut m.stribeck_exponent),
             Key::Viscous => ParamSlot::Optional(&mut m.viscous_friction),
+            Key::AnchorSpeed => ParamSlot::Optional(&mut self.anchor.get_or_insert_with(AnchorSpec::default).speed),
         }
     }
 }

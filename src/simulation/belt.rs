@@ -159,6 +159,8 @@ pub enum Process {
     Markov(Arc<Markov>),
     /// A measured velocity log ([`Recorded`]).
     Recorded(Arc<Recorded>),
+    /// One velocity throughout (`"constant"`; 0: the rock under a drill bit); nothing is drawn.
+    Constant(f64),
 }
 
 /// A two-state flip belt (the symmetric and the telegraph belt): each state's velocity and
@@ -187,7 +189,7 @@ impl Process {
             Process::Telegraph(t) => {
                 Some(TwoState { forward_speed: t.forward_speed, reverse_speed: t.reverse_speed, forward_rate: t.forward_rate, reverse_rate: t.reverse_rate })
             }
-            Process::Markov(_) | Process::Recorded(_) => None,
+            Process::Markov(_) | Process::Recorded(_) | Process::Constant(_) => None,
         }
     }
 
@@ -198,6 +200,7 @@ impl Process {
             Process::Telegraph(_) => "telegraph",
             Process::Markov(_) => "markov",
             Process::Recorded(_) => "recorded",
+            Process::Constant(_) => "constant",
         }
     }
 
@@ -234,6 +237,7 @@ impl Process {
             Process::Symmetric(p) => p.speed,
             Process::Telegraph(p) => p.forward_speed,
             Process::Markov(m) => mean(&mut m.stationary.iter().copied().zip(m.velocities.iter().copied())),
+            Process::Constant(v) => v.abs(),
             Process::Recorded(r) => {
                 let n = r.times.len();
                 mean(
@@ -253,6 +257,7 @@ impl Process {
             Process::Telegraph(p) => p.forward_speed.max(p.reverse_speed),
             Process::Markov(m) => largest(&mut m.stationary.iter().zip(&m.velocities).filter(|(p, _)| **p > 0.0).map(|(_, v)| *v)),
             Process::Recorded(r) => largest(&mut r.rows().take_while(|(t, _)| *t < duration).map(|(_, v)| v)),
+            Process::Constant(v) => v.abs(),
         }
     }
 
@@ -264,6 +269,7 @@ impl Process {
             Process::Telegraph(p) => p.forward_rate.max(p.reverse_rate),
             Process::Markov(m) => m.leave.iter().fold(0.0, |a: f64, &b| a.max(b)),
             Process::Recorded(r) => r.times.iter().filter(|t| **t < duration).count() as f64 / duration,
+            Process::Constant(_) => 0.0,
         }
     }
 }
@@ -322,6 +328,7 @@ impl Belt {
             }
             Process::Markov(m) => m.draw_into(rng, self.duration, path),
             Process::Recorded(r) => r.draw_into(self.duration, path),
+            Process::Constant(v) => path.initial_velocity = *v,
         }
     }
 

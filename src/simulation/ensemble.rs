@@ -4,16 +4,20 @@
 //! X0 ~ U[lo, hi], Ẋ0 ~ U[lo, hi] (one 53-bit uniform each), then the belt path
 //! ([`Belt::sample_into`]); each random scene key draws from its own sub-stream
 //! ([`crate::simulation::keys`]), so the belt and initial conditions do not depend on which keys are random.
+//! A chain ([`crate::chain`]) draws its contact mass's X0, Ẋ0 as above (so its belt is the
+//! one-mass scene's), the other masses' x_i(0), ẋ_i(0) in order i = 1 … N − 1 from the
+//! sub-stream [`CHAIN_INITIAL_PURPOSE`], and its anchor's path from [`ANCHOR_PURPOSE`].
 //! Chunks of consecutive indices are the unit of parallel work; the chunk length depends only on
 //! the scenario, so the rows — and the bytes written — are the same for any number of threads or
 //! shards.
 
+use crate::chain::{Chain, ChainExact};
 use crate::physics::{Params, PerUnitMass};
-use crate::simulation::belt::BeltPath;
+use crate::simulation::belt::{Belt, BeltPath};
 use crate::simulation::events::{Observer, Record};
-use crate::simulation::keys::Scene;
+use crate::simulation::keys::{ChainScene, Scene};
 use crate::simulation::plan::Plan;
-use crate::simulation::rng::{realization_rng, unit_f64};
+use crate::simulation::rng::{realization_rng, substream, unit_f64, ANCHOR_PURPOSE, CHAIN_INITIAL_PURPOSE};
 use crate::simulation::trajectory::{Sampler, Tee};
 use crate::solver::{Drive, SolveError, Solver};
 
@@ -131,12 +135,14 @@ impl Ensemble {
         // the scene's belt, or a copy with drawn keys (a chain's tables are shared, not copied)
         let drawn_belt;
         let mut belt = &self.scene.belt;
+        let mut drawn_anchor = None;
         out.params = self.scene.params;
         if !self.scene.random.is_empty() {
             match self.scene.draw(self.seed, |j| params_from.get(j).copied().unwrap_or(index), &mut out.params, &mut out.drawn) {
-                Ok(b) => {
+                Ok((b, a)) => {
                     drawn_belt = b;
                     belt = &drawn_belt;
+                    drawn_anchor = a;
                 }
                 Err(key) => {
                     let drawn = format!("{}: 10,000 draws in a row outside its range", key.dotted());
@@ -165,16 +171,59 @@ impl Ensemble {
         out.belt.segments(&mut out.switches, &mut out.velocities);
         let drive = Drive { velocities: &out.velocities, switches: &out.switches, t_end: belt.duration };
         out.record.clear();
-        out.steps = self
-            .solver
-            .solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra))
-            .map_err(|source| RunError { realization: index, source })?;
-        out.record.finish(belt.duration);
         (out.t_a, out.speed_scale) = (belt.duration, belt.scale());
+        out.steps = match &self.scene.chain {
+            None => self.solver.solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra)),
+            Some(chain) => {
+                let anchor = drawn_anchor.as_ref().unwrap_or(&chain.anchor);
+                self.chain(index, (chain, anchor), &drive, &out.params, (out.x0, out.xdot0), &mut Tee(&mut out.record, extra)).map(|(steps, scale)| {
+                    out.speed_scale = scale;
+                    steps
+                })
+            }
+        }
+        .map_err(|source| RunError { realization: index, source })?;
+        out.record.finish(belt.duration);
         if let Some((column, x, rule)) = out.record.outside(out.t_a, out.record.severity(out.speed_scale)) {
             return Err(RunError { realization: index, source: SolveError::Unwritable { column, value: crate::shown::short(x), rule } });
         }
         Ok(())
+    }
+
+    /// Solve realization `index` of the chain scene `chain` (with its anchor's process, drawn)
+    /// under `drive` for the friction of `p`, from the contact mass's state `start`; returns the
+    /// steps (0) and the mean |u − v| over [0, t_a] (what slides: the severity's unit).
+    fn chain<O: Observer>(
+        &self,
+        index: u64,
+        (chain, anchor): (&ChainScene, &Belt),
+        drive: &Drive<'_>,
+        p: &Params,
+        start: (f64, f64),
+        obs: &mut O,
+    ) -> Result<(u64, f64), SolveError> {
+        let (masses, stiffnesses, dampings) = if chain.from_model {
+            (vec![p.mass], vec![p.stiffness], vec![p.damping])
+        } else {
+            (chain.masses.clone(), chain.stiffnesses.clone(), chain.dampings.clone())
+        };
+        let n = masses.len();
+        let ch = Chain { masses, stiffnesses, dampings, kinetic: p.kinetic * p.normal_force, breakaway: p.static_ * p.normal_force, viscous: p.viscous };
+        let mut rng = substream(self.seed, index, CHAIN_INITIAL_PURPOSE);
+        let uniform = |r: [f64; 2], u: f64| r[0] + (r[1] - r[0]) * u;
+        let (mut x0, mut xd0) = (vec![0.0; n], vec![0.0; n]);
+        for i in 0..n - 1 {
+            x0[i] = uniform(self.position, unit_f64(&mut rng));
+            xd0[i] = uniform(self.velocity, unit_f64(&mut rng));
+        }
+        (x0[n - 1], xd0[n - 1]) = start;
+        let mut path = BeltPath::default();
+        anchor.sample_into(&mut substream(self.seed, index, ANCHOR_PURPOSE), &mut path);
+        let mut a = crate::chain::Anchor::default();
+        path.segments(&mut a.switches, &mut a.velocities);
+        let scale = crate::chain::mean_slide((drive.velocities, drive.switches), (&a.velocities, &a.switches), drive.t_end);
+        let mut method = ChainExact::new(&ch, &a, &x0, &xd0, drive.t_end);
+        Ok((crate::solver::drive(&mut method, drive, start.0, start.1, u64::MAX, obs)?, scale))
     }
 
     /// Whether rows keep the belt switch instants (`output.switch_times`).

@@ -53,8 +53,11 @@ pub enum Key {
     StribeckVelocity,
     /// `model.stribeck_exponent`: δ (Stribeck law)
     StribeckExponent,
-    /// (last: a key's sub-stream is its place here, so new keys go at the end)
+    /// `model.viscous_friction`: σ_v [N·s/m]
     Viscous,
+    /// `anchor.speed`: U [m/s], a constant anchor's speed (a chain's top drive)
+    /// (last: a key's sub-stream is its place here, so new keys go at the end)
+    AnchorSpeed,
 }
 
 /// Everything the program knows about one numeric scene key, in one row of [`KEYS`]: its name
@@ -72,40 +75,42 @@ pub struct KeyInfo {
     pub range: (f64, f64),
     /// the law or the belt processes that use it (empty: every scene)
     pub used_by: &'static str,
-    /// set a value drawn for a realization (on a process that does not use it: nothing; the
-    /// scenario refuses that combination)
-    apply: fn(&mut Params, &mut Process, f64),
+    /// set a value drawn for a realization into the parameters, the belt's process or the
+    /// anchor's (on a process that does not use it: nothing; the scenario refuses that
+    /// combination)
+    apply: fn(&mut Params, &mut Process, &mut Process, f64),
 }
 
 /// The table of numeric scene keys, in [`Key`] order.
 #[rustfmt::skip]
-pub const KEYS: [KeyInfo; 13] = [
-    KeyInfo { dotted: "model.mass", unit: " (kg)", range: (1e-9, 1e6), used_by: "", apply: |p, _, x| p.mass = x },
-    KeyInfo { dotted: "model.stiffness", unit: " (N/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.stiffness = x },
-    KeyInfo { dotted: "model.damping", unit: " (N·s/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.damping = x },
-    KeyInfo { dotted: "model.normal_force", unit: " (N)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.normal_force = x },
-    KeyInfo { dotted: "model.friction_coefficient", unit: "", range: (0.0, 1e6), used_by: "", apply: |p, _, x| p.kinetic = x },
-    KeyInfo { dotted: "model.static_friction_coefficient", unit: "", range: (0.0, 1e6), used_by: "", apply: |p, _, x| p.static_ = x },
-    KeyInfo { dotted: "belt.speed", unit: " (m/s)", range: (1e-9, 1e6), used_by: "symmetric, telegraph", apply: |_, b, x| match b {
+pub const KEYS: [KeyInfo; 14] = [
+    KeyInfo { dotted: "model.mass", unit: " (kg)", range: (1e-9, 1e6), used_by: "", apply: |p, _, _, x| p.mass = x },
+    KeyInfo { dotted: "model.stiffness", unit: " (N/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, _, x| p.stiffness = x },
+    KeyInfo { dotted: "model.damping", unit: " (N·s/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, _, x| p.damping = x },
+    KeyInfo { dotted: "model.normal_force", unit: " (N)", range: (0.0, 1e9), used_by: "", apply: |p, _, _, x| p.normal_force = x },
+    KeyInfo { dotted: "model.friction_coefficient", unit: "", range: (0.0, 1e6), used_by: "", apply: |p, _, _, x| p.kinetic = x },
+    KeyInfo { dotted: "model.static_friction_coefficient", unit: "", range: (0.0, 1e6), used_by: "", apply: |p, _, _, x| p.static_ = x },
+    KeyInfo { dotted: "belt.speed", unit: " (m/s)", range: (1e-9, 1e6), used_by: "symmetric, telegraph", apply: |_, b, _, x| match b {
         Process::Symmetric(s) => s.speed = x,
         Process::Telegraph(t) => t.forward_speed = x,
         _ => {}
     } },
-    KeyInfo { dotted: "belt.switch_rate", unit: " (1/s)", range: (0.0, 1e6), used_by: "symmetric, telegraph", apply: |_, b, x| match b {
+    KeyInfo { dotted: "belt.switch_rate", unit: " (1/s)", range: (0.0, 1e6), used_by: "symmetric, telegraph", apply: |_, b, _, x| match b {
         Process::Symmetric(s) => s.switch_rate = x,
         Process::Telegraph(t) => t.forward_rate = x,
         _ => {}
     } },
-    KeyInfo { dotted: "belt.reverse_speed", unit: " (m/s)", range: (1e-9, 1e6), used_by: "telegraph", apply: |_, b, x| if let Process::Telegraph(t) = b { t.reverse_speed = x } },
-    KeyInfo { dotted: "belt.reverse_switch_rate", unit: " (1/s)", range: (0.0, 1e6), used_by: "telegraph", apply: |_, b, x| if let Process::Telegraph(t) = b { t.reverse_rate = x } },
-    KeyInfo { dotted: "model.stribeck_velocity", unit: " (m/s)", range: (1e-9, 1e6), used_by: "stribeck", apply: |p, _, x| if let Law::Stribeck(s) = &mut p.law { s.velocity = x } },
-    KeyInfo { dotted: "model.stribeck_exponent", unit: "", range: (0.3, 20.0), used_by: "stribeck", apply: |p, _, x| if let Law::Stribeck(s) = &mut p.law { s.exponent = x } },
-    KeyInfo { dotted: "model.viscous_friction", unit: " (N·s/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, x| p.viscous = x },
+    KeyInfo { dotted: "belt.reverse_speed", unit: " (m/s)", range: (1e-9, 1e6), used_by: "telegraph", apply: |_, b, _, x| if let Process::Telegraph(t) = b { t.reverse_speed = x } },
+    KeyInfo { dotted: "belt.reverse_switch_rate", unit: " (1/s)", range: (0.0, 1e6), used_by: "telegraph", apply: |_, b, _, x| if let Process::Telegraph(t) = b { t.reverse_rate = x } },
+    KeyInfo { dotted: "model.stribeck_velocity", unit: " (m/s)", range: (1e-9, 1e6), used_by: "stribeck", apply: |p, _, _, x| if let Law::Stribeck(s) = &mut p.law { s.velocity = x } },
+    KeyInfo { dotted: "model.stribeck_exponent", unit: "", range: (0.3, 20.0), used_by: "stribeck", apply: |p, _, _, x| if let Law::Stribeck(s) = &mut p.law { s.exponent = x } },
+    KeyInfo { dotted: "model.viscous_friction", unit: " (N·s/m)", range: (0.0, 1e9), used_by: "", apply: |p, _, _, x| p.viscous = x },
+    KeyInfo { dotted: "anchor.speed", unit: " (m/s)", range: (-1e6, 1e6), used_by: "constant anchor", apply: |_, _, a, x| if let Process::Constant(u) = a { *u = x } },
 ];
 
 impl Key {
     /// Every key, in [`KEYS`] order.
-    pub const ALL: [Key; 13] = [
+    pub const ALL: [Key; 14] = [
         Key::Mass,
         Key::Stiffness,
         Key::Damping,
@@ -119,6 +124,7 @@ impl Key {
         Key::StribeckVelocity,
         Key::StribeckExponent,
         Key::Viscous,
+        Key::AnchorSpeed,
     ];
 
     /// Its row of [`KEYS`].
@@ -133,6 +139,10 @@ impl Key {
 
     /// Its last component: the hive name of a swept key, the column of a random one.
     pub fn name(self) -> &'static str {
+        if self == Key::AnchorSpeed {
+            // (`speed` is the belt's)
+            return "anchor_speed";
+        }
         let d = self.dotted();
         &d[d.find('.').map_or(0, |i| i + 1)..]
     }
@@ -298,6 +308,23 @@ impl Dist {
     }
 }
 
+/// A chain scene's masses, springs and dashpots ([`crate::chain`]) and its anchor's process
+/// (drawn like a belt, from its own sub-stream).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainScene {
+    /// m_i [kg]
+    pub masses: Vec<f64>,
+    /// k_i [N/m]
+    pub stiffnesses: Vec<f64>,
+    /// c_i [N·s/m]
+    pub dampings: Vec<f64>,
+    /// u(t): the anchor's velocity process on [0, t_a]
+    pub anchor: Belt,
+    /// the one mass of `[model]` under a moving anchor: its mass, stiffness and damping are
+    /// each realization's (drawn) `params`, not the lists
+    pub from_model: bool,
+}
+
 /// The scene every realization is drawn from: the fixed values, the random keys, the belt.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
@@ -309,12 +336,20 @@ pub struct Scene {
     pub random: Vec<(Key, Dist)>,
     /// μ_s is absent: it equals each realization's μ_k.
     static_follows_kinetic: bool,
+    /// A chain of masses with its anchor (None: the one mass of `params`; its friction is
+    /// `params`' either way).
+    pub chain: Option<ChainScene>,
 }
 
 impl Scene {
     /// `static_follows_kinetic`: the scenario gives no μ_s, so each realization's μ_s is its μ_k.
     pub fn new(params: Params, belt: Belt, random: Vec<(Key, Dist)>, static_follows_kinetic: bool) -> Scene {
-        Scene { params, belt, random, static_follows_kinetic }
+        Scene { params, belt, random, static_follows_kinetic, chain: None }
+    }
+
+    /// The scene with a chain in place of the one mass.
+    pub fn with_chain(self, chain: ChainScene) -> Scene {
+        Scene { chain: Some(chain), ..self }
     }
 
     /// Whether a slip's damping (the dashpot or the viscous friction) can be nonzero (the exact
@@ -332,19 +367,22 @@ impl Scene {
     /// [`Scene::columns`] order) and the belt it returns: key j from its sub-stream of
     /// realization `index(j)` (one index for all in a plain run; a pick-freeze design mixes them).
     /// `Err(key)`: the key's law put 10,000 draws in a row outside its range (see [`Dist::sample`]).
-    pub fn draw(&self, seed: u64, index: impl Fn(usize) -> u64, params: &mut Params, values: &mut Vec<f64>) -> Result<Belt, Key> {
+    /// The anchor's process drawn too (a chain's) is the belt's second member.
+    pub fn draw(&self, seed: u64, index: impl Fn(usize) -> u64, params: &mut Params, values: &mut Vec<f64>) -> Result<(Belt, Option<Belt>), Key> {
         *params = self.params;
         let mut belt = self.belt.clone();
+        let mut anchor = self.chain.as_ref().map(|c| c.anchor.clone());
+        let mut still = Process::Constant(0.0);
         values.clear();
         for (j, &(key, dist)) in self.random.iter().enumerate() {
             let x = dist.sample(&mut substream(seed, index(j), key.purpose()), key.range()).ok_or(key)?;
             values.push(x);
-            (key.info().apply)(params, &mut belt.process, x);
+            (key.info().apply)(params, &mut belt.process, anchor.as_mut().map_or(&mut still, |a| &mut a.process), x);
             if key == Key::Kinetic && self.static_follows_kinetic {
                 params.static_ = x;
             }
         }
-        Ok(belt)
+        Ok((belt, anchor))
     }
 }
 

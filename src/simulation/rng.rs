@@ -13,6 +13,13 @@ use rand_chacha::ChaCha8Rng;
 /// The generator's name as recorded in dataset metadata.
 pub const GENERATOR: &str = "ChaCha8Rng(key = seed u64 LE, purpose u64 LE, zero-padded; stream = realization index)";
 
+/// The sub-stream of a chain's initial conditions beyond the contact mass's (which draws from
+/// the main stream, so that the belt's draws do not depend on the chain).
+pub const CHAIN_INITIAL_PURPOSE: u64 = 1 << 32;
+
+/// The sub-stream of the anchor's velocity path.
+pub const ANCHOR_PURPOSE: u64 = (1 << 32) + 1;
+
 /// The main random stream of realization `index` in a run seeded with `seed` (purpose 0).
 pub fn realization_rng(seed: u64, index: u64) -> ChaCha8Rng {
     substream(seed, index, 0)

@@ -49,7 +49,9 @@ fn every_key_runs_at_both_ends_of_its_range() {
             let sc = match Scenario::resolve(None, &sets) {
                 Ok(sc) => sc,
                 Err(e) => {
-                    assert!(e.to_string().contains("radians for a numerical solver"), "{sets:?}: {e}");
+                    // (or a chain, which the numerical solvers do not take yet)
+                    let chain = key == Key::AnchorSpeed && e.to_string().contains("exact chain solver only");
+                    assert!(chain || e.to_string().contains("radians for a numerical solver"), "{sets:?}: {e}");
                     continue;
                 }
             };
@@ -58,7 +60,13 @@ fn every_key_runs_at_both_ends_of_its_range() {
             ens.realization(0, &mut o).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
             check_invariants(&sc, &o, false).unwrap_or_else(|e| panic!("{sets:?}: {e}"));
         }
-        let below = if lo > 0.0 { lo / 2.0 } else { -1e-300 };
+        let below = if lo > 0.0 {
+            lo / 2.0
+        } else if lo == 0.0 {
+            -1e-300
+        } else {
+            lo * 2.0
+        };
         for x in [below, hi * 2.0] {
             let mut sets = companions(key, x.max(0.0));
             sets.push(format!("{}={x:e}", key.dotted()));

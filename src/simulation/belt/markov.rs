@@ -25,6 +25,11 @@ pub struct Markov {
 pub const MAX_LEVELS: usize = 64;
 
 impl Markov {
+    /// The rate q_i at which each level is left [1/s].
+    pub fn leave_rates(&self) -> &[f64] {
+        &self.leave
+    }
+
     /// The chain with `velocities` [m/s] and `rates[i][j]` [1/s] (the diagonal ignored). `Err`
     /// says what is wrong: a non-square or non-finite table, a negative rate, no unique
     /// stationary law (more than one closed class of levels).
