@@ -162,3 +162,30 @@ fn a_stiff_damped_spring_makes_two_masses_one() {
     assert!(worst.windows(2).all(|w| w[1].0 < w[0].0 / 4.0) && worst[2].0 < 1e-6, "median event-time differences {worst:?}");
     assert!(worst[0].1 <= 4 && worst[2].1 == 0, "unmatched events {worst:?}");
 }
+
+#[test]
+fn chain_scenarios_are_refused_with_the_culprit() {
+    use stickslip::scenario::Scenario;
+    let refused = |sets: &[&str], key: &str, why: &str| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        let e = Scenario::resolve(None, &sets).expect_err(&format!("{sets:?} is refused")).to_string();
+        assert!(e.contains(key) && e.contains(why), "{sets:?}: {e}");
+    };
+    let two = ["chain.masses=[1, 1]", "chain.stiffnesses=[4, 8]"];
+    refused(&[two[0], "chain.stiffnesses=[4]"], "chain.stiffnesses", "one value per mass");
+    refused(&[two[0], two[1], "model.mass=2"], "model.mass", "[chain] gives the masses");
+    refused(&[two[0], two[1], "model.damping=0.1"], "model.damping", "[chain] gives the masses");
+    refused(&["chain.masses=[1, 0]", "chain.stiffnesses=[4, 8]"], "chain.masses", "the range the solvers are proven on");
+    refused(&[two[0], two[1], "run.solver=\"rk45\""], "run.solver", "exact chain solver only");
+    refused(&[two[0], two[1], "model.friction_law=\"stribeck\"", "model.stribeck_velocity=0.1"], "model.friction_law", "Coulomb");
+    refused(&[two[0], "chain.stiffnesses=[4, 1e9]", "run.duration=100"], "chain.stiffnesses", "radians");
+    refused(&["anchor.speed=1", "belt.process=\"constant\"", "belt.velocity=1"], "anchor.speed", "nothing slides");
+    refused(&["belt.process=\"constant\"", "belt.velocity=0"], "belt.velocity", "moves nothing");
+    refused(&["belt.process=\"constant\""], "belt.velocity", "needs belt.velocity");
+    refused(&["anchor.process=\"markov\"", "anchor.speed=1"], "anchor.speed", "only anchor.process = \"constant\"");
+    refused(&["anchor.process=\"markov\"", "anchor.velocities=[1, 2]"], "anchor.rates", "needs anchor.velocities");
+    // a one-mass chain on a fixed anchor is the paper's oscillator, run by its closed forms
+    let one = Scenario::resolve(None, &["chain.masses=[1]".into(), "chain.stiffnesses=[4]".into()]).unwrap();
+    assert!(one.scene().unwrap().chain.is_none());
+    assert_eq!(one.scene().unwrap().params, Scenario::paper().scene().unwrap().params);
+}
