@@ -4,10 +4,10 @@
 //! A phase (a mode under one belt velocity v and one anchor velocity u) has a fixed Ã
 //! ([`super::matrix::System`]). Its weighted norm ‖Ã‖_D (velocities weighted by the fastest
 //! rate Ω of the chain, the constant by what keeps its column below Ω) fixes the step
-//! H = 1/(2‖Ã‖_D). On each step [τ, τ + h], h ≤ H, the state moves by the Taylor series of
-//! e^{Ãh} (19 terms: the rest is below 10⁻²² of ‖z‖), and the event function g = c·z equals
+//! H = 1/‖Ã‖_D. On each step [τ, τ + h], h ≤ H, the state moves by the Taylor series of
+//! e^{Ãh} (25 terms: the rest is below 10⁻²⁵ of ‖z‖), and the event function g = c·z equals
 //! its Taylor polynomial P(s) = Σ_j (c Ã^j z(τ)) s^j/j! to within the proven bound
-//! δ = ‖c Ã^{19}‖_D* e^{‖Ã‖h} ‖z‖_D h^{19}/19! plus the coefficients' rounding. The zeros of g
+//! δ = ‖c Ã^{25}‖_D* e^{‖Ã‖h} ‖z‖_D h^{25}/25! plus the coefficients' rounding. The zeros of g
 //! on the step are those of P within δ, found by the isolation of [`super::roots`], which
 //! proves every sub-interval it skips free of zeros: no event is missed, and a simple zero is
 //! located to adjacent floats of P (the event time to about 10⁻¹⁶ relative).
@@ -44,8 +44,11 @@ pub struct ChainExact {
     /// the anchor's segment
     segment: usize,
     sys: System,
-    /// the rows c Ã^j of the phase's event function (w, or F)
-    rows: Vec<Vec<f64>>,
+    /// the row c of the phase's event function (w, or F)
+    row: Vec<f64>,
+    /// scratch: the powers Ã^j z of a step ([`System::powers`]) and a state
+    powers: Vec<f64>,
+    scratch: Vec<f64>,
     /// the sign the event function leaves zero with at the phase's start (None: it starts off
     /// zero)
     leave: Option<f64>,
@@ -78,7 +81,9 @@ impl ChainExact {
             v: 0.0,
             segment: 0,
             sys,
-            rows: Vec::new(),
+            row: Vec::new(),
+            powers: Vec::new(),
+            scratch: Vec::new(),
             leave: None,
             frictionless: ch.kinetic == 0.0 && ch.breakaway == 0.0,
             piece: (0.0, Vec::new(), None, None, 0.0),
@@ -127,7 +132,7 @@ impl ChainExact {
                 holding(&self.ch, self.v, self.u())
             }
         };
-        self.rows = self.sys.rows(row);
+        self.row = row;
     }
 
     /// The holding force F at the current state (contact at belt speed).
@@ -148,7 +153,7 @@ impl ChainExact {
         } else {
             // at the limit: a stick unless F moves outward under stick dynamics
             let stuck = System::new(&self.ch, Mode::Stick, self.v, self.u(), self.rate);
-            let rate = dot(&stuck.rows(holding(&self.ch, self.v, self.u()))[1], &self.z);
+            let rate = dot(&stuck.left(&holding(&self.ch, self.v, self.u())), &self.z);
             f.signum() * rate <= 0.0
         };
         if stick {
@@ -162,13 +167,14 @@ impl ChainExact {
 
     /// The step's length from the current time towards `t_stop`.
     fn step_len(&self, t_stop: f64) -> f64 {
-        let h = 0.5 / self.sys.norm;
+        let h = 1.0 / self.sys.norm;
         (t_stop - self.t).min(h)
     }
 
     /// Move the state by s and the time to t + s (to `t_stop` exactly when s reaches it).
     fn go(&mut self, s: f64, t_stop: f64) {
-        self.z = self.sys.step(&self.z, s);
+        self.sys.at(&self.powers, s, &mut self.scratch);
+        std::mem::swap(&mut self.z, &mut self.scratch);
         if self.mode == Mode::Stick {
             let n = self.ch.len();
             self.z[xd(n, n - 1)] = self.v;
@@ -236,7 +242,8 @@ impl Method for ChainExact {
             self.piece.1.clone_from(&self.z);
             self.piece.2 = Some(self.sys.clone());
         }
-        let (p, margin) = self.sys.taylor(&self.rows, &self.z, h);
+        self.sys.powers(&self.z, &mut self.powers);
+        let (p, margin) = self.sys.taylor(&self.row, &self.powers, h);
         let leave = self.leave.take();
         match self.mode {
             Mode::Slip(_) => {

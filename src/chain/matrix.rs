@@ -5,8 +5,8 @@
 use super::roots::Poly;
 use super::Chain;
 
-/// Taylor terms kept: with ‖Ã‖τ ≤ 1/2 the next term is below 0.5¹⁹/19! ≈ 1.6·10⁻²³ of ‖z‖.
-pub(crate) const TERMS: usize = 18;
+/// Taylor terms kept: with ‖Ã‖τ ≤ 1 the next term is below 1/25! ≈ 6·10⁻²⁶ of ‖z‖.
+pub(crate) const TERMS: usize = 24;
 
 /// Unit roundoff.
 const U: f64 = f64::EPSILON * 0.5;
@@ -117,7 +117,7 @@ impl System {
     }
 
     /// Row vector times Ã.
-    fn left(&self, r: &[f64]) -> Vec<f64> {
+    pub fn left(&self, r: &[f64]) -> Vec<f64> {
         let d = self.dim;
         let mut out = vec![0.0; d];
         for (i, &ri) in r.iter().enumerate() {
@@ -130,20 +130,37 @@ impl System {
         out
     }
 
-    /// Ã times a vector.
-    fn right(&self, z: &[f64]) -> Vec<f64> {
+    /// Ã times a vector, into `out`.
+    fn right(&self, z: &[f64], out: &mut [f64]) {
         let d = self.dim;
-        (0..d).map(|i| self.a[i * d..(i + 1) * d].iter().zip(z).map(|(a, b)| a * b).sum()).collect()
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = self.a[i * d..(i + 1) * d].iter().zip(z).map(|(a, b)| a * b).sum();
+        }
     }
 
-    /// The rows r_j = c Ã^j, j = 0…TERMS + 1, of the event function c·z.
-    pub fn rows(&self, c: Vec<f64>) -> Vec<Vec<f64>> {
-        let mut rows = vec![c];
-        for _ in 0..=TERMS {
-            let next = self.left(rows.last().expect("a row"));
-            rows.push(next);
+    /// The vectors w_j = Ã^j z, j = 0…TERMS, into `w` (flattened): z(τ + s) = Σ_j w_j s^j/j!
+    /// and an event function's derivatives g^{(j)} = c·w_j come from them.
+    pub fn powers(&self, z: &[f64], w: &mut Vec<f64>) {
+        let d = self.dim;
+        w.resize((TERMS + 1) * d, 0.0);
+        w[..d].copy_from_slice(z);
+        for j in 1..=TERMS {
+            let (done, next) = w.split_at_mut(j * d);
+            self.right(&done[(j - 1) * d..], &mut next[..d]);
         }
-        rows
+    }
+
+    /// The state Σ_j w_j s^j/j! at s from the [`System::powers`] `w` (Horner).
+    pub fn at(&self, w: &[f64], s: f64, out: &mut Vec<f64>) {
+        let d = self.dim;
+        out.clear();
+        out.extend_from_slice(&w[TERMS * d..(TERMS + 1) * d]);
+        for j in (0..TERMS).rev() {
+            let scale = s / (j + 1) as f64;
+            for (o, wj) in out.iter_mut().zip(&w[j * d..(j + 1) * d]) {
+                *o = wj + scale * *o;
+            }
+        }
     }
 
     /// ‖z‖_D.
@@ -151,37 +168,42 @@ impl System {
         z.iter().zip(&self.weight).map(|(z, d)| z.abs() / d).fold(0.0, f64::max)
     }
 
-    /// z(s) = e^{Ãs} z by its Taylor series (Horner; s‖Ã‖_D ≤ 1/2).
+    /// z(s) = e^{Ãs} z by its Taylor series (Horner; s‖Ã‖_D ≤ 1).
     pub fn step(&self, z: &[f64], s: f64) -> Vec<f64> {
         let mut y = z.to_vec();
+        let mut ay = vec![0.0; self.dim];
         for j in (1..=TERMS).rev() {
-            let ay = self.right(&y);
-            for ((yi, zi), ai) in y.iter_mut().zip(z).zip(ay) {
+            self.right(&y, &mut ay);
+            for ((yi, zi), ai) in y.iter_mut().zip(z).zip(&ay) {
                 *yi = zi + s / j as f64 * ai;
             }
         }
         y
     }
 
-    /// The Taylor polynomial in s of g(τ + s) = r₀·z(τ + s) from z = z(τ), valid on [0, h], and
-    /// the bound of |g − P| there: the truncation ‖r_{M+1}‖_D* e^{‖Ã‖h} ‖z‖_D h^{M+1}/(M+1)!
-    /// and the rounding of the coefficients.
-    pub fn taylor(&self, rows: &[Vec<f64>], z: &[f64], h: f64) -> (Poly, f64) {
-        let mut c = Vec::with_capacity(TERMS + 1);
-        let (mut fact, mut rounding, mut power) = (1.0, 0.0, 1.0);
-        for (j, r) in rows.iter().take(TERMS + 1).enumerate() {
+    /// The Taylor polynomial in s of g(τ + s) = c·z(τ + s) from the [`System::powers`] `w` of
+    /// z = z(τ), valid on [0, h], and the bound of |g − P| there: the truncation
+    /// ‖c‖_D* ‖Ã‖_D^{M+1} e^{‖Ã‖h} ‖z‖_D h^{M+1}/(M+1)! (|c Ã^{M+1} z(τ + s)| ≤ ‖c‖_D* ‖Ã‖_D^{M+1}
+    /// ‖e^{Ãs}‖_D ‖z‖_D) and the rounding of the coefficients (each a dot product and a
+    /// chain of TERMS matrix-vector products: (dim + TERMS + 4) u of its absolute terms, the
+    /// latter bounded by ‖c‖_D* ‖Ã‖_D^j ‖z‖_D).
+    pub fn taylor(&self, c: &[f64], w: &[f64], h: f64) -> (Poly, f64) {
+        let d = self.dim;
+        let dual: f64 = c.iter().zip(&self.weight).map(|(r, d)| r.abs() * d).sum();
+        let size = self.size(&w[..d]);
+        let mut coef = Vec::with_capacity(TERMS + 1);
+        let (mut fact, mut rounding, mut power, mut growth) = (1.0, 0.0, 1.0, 1.0);
+        for j in 0..=TERMS {
             if j > 0 {
                 fact *= j as f64;
                 power *= h;
+                growth *= self.norm;
             }
-            let (dot, abs) = r.iter().zip(z).fold((0.0, 0.0), |(d, a), (ri, zi)| (d + ri * zi, a + (ri * zi).abs()));
-            c.push(dot / fact);
-            rounding += (self.dim + 4) as f64 * U * abs / fact * power;
+            coef.push(dot(c, &w[j * d..(j + 1) * d]) / fact);
+            rounding += (d + TERMS + 4) as f64 * U * dual * growth * size / fact * power;
         }
-        let last = &rows[TERMS + 1];
-        let dual: f64 = last.iter().zip(&self.weight).map(|(r, d)| r.abs() * d).sum();
-        let truncation = dual * (self.norm * h).exp() * self.size(z) * power * h / (fact * (TERMS + 1) as f64);
-        (Poly { c }, truncation + rounding)
+        let truncation = dual * growth * self.norm * (self.norm * h).exp() * size * power * h / (fact * (TERMS + 1) as f64);
+        (Poly { c: coef }, truncation + rounding)
     }
 }
 

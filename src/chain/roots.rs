@@ -1,7 +1,7 @@
 //! Root isolation of a polynomial on an interval that provably misses none.
 //!
 //! Between events the chain's event functions are g(τ) = c·e^{Ãτ}z₀ ([`super`]); on a step
-//! [τₐ, τₐ + h] with ‖Ã‖h ≤ 1/2 they equal their Taylor polynomial P(s) = Σ_{j≤M} g_j s^j/j! to
+//! [τₐ, τₐ + h] with ‖Ã‖h ≤ 1 they equal their Taylor polynomial P(s) = Σ_{j≤M} g_j s^j/j! to
 //! within a proven bound δ (the truncation, [`super::exact`]). This file finds the zeros of g
 //! from P and δ: g has no zero on a sub-interval [l, l + ℓ] where |P| > δ + (rounding), and this
 //! is *proven* by the shifted expansion P(l + t) = Σ_m q_m t^m (exact for a polynomial):
@@ -29,6 +29,9 @@ pub(crate) const RESOLUTION: f64 = 1e-10;
 /// Unit roundoff.
 const U: f64 = f64::EPSILON * 0.5;
 
+/// The most terms a polynomial here has (the Taylor polynomials of [`super::matrix`]).
+const MAX_TERMS: usize = 32;
+
 /// A polynomial Σ p_j s^j in the power basis.
 #[derive(Debug, Clone)]
 pub(crate) struct Poly {
@@ -53,34 +56,34 @@ impl Poly {
         Poly { c: self.c.iter().enumerate().skip(1).map(|(j, &p)| j as f64 * p).collect() }
     }
 
-    /// The coefficients q of P(l + t) = Σ q_m t^m, and a bound of the rounding of each (repeated
-    /// synthetic division, O(M²)).
-    fn shifted(&self, l: f64) -> (Vec<f64>, Vec<f64>) {
-        let mut q = self.c.clone();
-        let mut a: Vec<f64> = self.c.iter().map(|x| x.abs()).collect();
-        let n = q.len();
-        for i in 0..n {
-            for j in (i..n - 1).rev() {
-                q[j] += l * q[j + 1];
-                a[j] += l.abs() * a[j + 1];
+    /// Whether P has no zero on [l, l + ℓ] with |P| > `margin` there (see the module docs):
+    /// the coefficients q of P(l + t) = Σ q_m t^m by repeated synthetic division (O(M²); none at
+    /// l = 0), with a bound of the rounding of each.
+    fn free(&self, l: f64, len: f64, margin: f64) -> bool {
+        let n = self.c.len();
+        assert!(n <= MAX_TERMS, "a polynomial of at most {MAX_TERMS} terms");
+        let (mut q, mut a) = ([0.0; MAX_TERMS], [0.0; MAX_TERMS]);
+        for (j, &c) in self.c.iter().enumerate() {
+            (q[j], a[j]) = (c, c.abs());
+        }
+        if l != 0.0 {
+            for i in 0..n {
+                for j in (i..n - 1).rev() {
+                    q[j] += l * q[j + 1];
+                    a[j] += l.abs() * a[j + 1];
+                }
             }
         }
-        let err = a.iter().map(|x| 4.0 * (2 * n + 2) as f64 * U * x).collect();
-        (q, err)
-    }
-
-    /// Whether P has no zero on [l, l + ℓ] with |P| > `margin` there (see the module docs).
-    fn free(&self, l: f64, len: f64, margin: f64) -> bool {
-        let (q, err) = self.shifted(l);
+        let rounding = 4.0 * (2 * n + 2) as f64 * U;
         let sign = q[0].signum();
-        let mut low = q[0].abs() - err[0];
+        let mut low = q[0].abs() - rounding * a[0];
         let mut power = 1.0;
-        for m in 1..q.len() {
+        for m in 1..n {
             power *= len;
             if q[m] * sign < 0.0 {
                 low -= q[m].abs() * power;
             }
-            low -= err[m] * power;
+            low -= rounding * a[m] * power;
         }
         q[0] != 0.0 && low > margin
     }
