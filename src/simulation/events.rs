@@ -181,6 +181,7 @@ impl Record {
 }
 
 impl Observer for Record {
+    #[inline]
     fn stick(&mut self, t: f64, x: f64, v: f64) {
         if let Some(&l) = self.slip_start.last() {
             if self.slip_duration.len() < self.slip_start.len() {
@@ -193,6 +194,7 @@ impl Observer for Record {
         self.in_stick = true;
     }
 
+    #[inline]
     fn slip(&mut self, t: f64, _x: f64, _xdot: f64, by: Release) {
         if self.in_stick {
             self.stick_duration.push(t - self.stick_start.last().unwrap());

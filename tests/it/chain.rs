@@ -37,6 +37,8 @@ fn one_mass_on_a_fixed_anchor_is_the_closed_forms() {
         let closed: Vec<Record> = outs.iter().map(|o| o.record.clone()).collect();
         let (errors, missed, spurious) = event_errors(&closed, &chain);
         let worst = errors.last().copied().unwrap_or(0.0);
+        // (printed for the book: cargo test --release --test it chain -- --nocapture)
+        eprintln!("one mass {sets:?}: {} events, worst difference {worst:e} s", errors.len());
         assert_eq!((missed, spurious), (0, 0), "{sets:?}");
         assert!(worst < 1e-9, "{sets:?}: worst event-time difference {worst:e} s over {} events", errors.len());
         for (a, b) in closed.iter().zip(&chain) {
@@ -122,6 +124,7 @@ fn energy_balance_along_a_trajectory() {
     let e1 = ch.energy(m.state());
     assert!(events >= 5, "{events} events");
     let gap = (e1 - e0 - work).abs() / scale;
+    eprintln!("energy balance: {events} events, relative gap {gap:e}");
     assert!(gap < 1e-9, "E(t_a) − E(0) = {:e}, work {work:e}: relative gap {gap:e}", e1 - e0);
 }
 
@@ -155,6 +158,7 @@ fn a_stiff_damped_spring_makes_two_masses_one() {
             .collect();
         let (errors, missed, spurious) = event_errors(&closed, &chain);
         let mid = errors[errors.len() / 2];
+        eprintln!("stiff limit k2 = {k2:e}: median difference {mid:e} s, {} unmatched of {}", missed + spurious, errors.len());
         worst.push((mid, missed + spurious));
     }
     // the median difference falls with k₂ (measured 1.4e-5, 2.6e-6, 1.7e-7 s), and the sticks

@@ -318,6 +318,7 @@ fn the_exact_chain_agrees_with_an_independent_reference() {
         }
         let (errors, missed, spurious) = event_errors(&reference_, &exact);
         let worst = errors.last().copied().unwrap_or(0.0);
+        eprintln!("reference, {}: {} events, worst difference {worst:e} s", case.name, errors.len());
         assert!(errors.len() > 100, "{}: only {} events", case.name, errors.len());
         assert_eq!((missed, spurious), (0, 0), "{}", case.name);
         assert!(worst < 1e-8, "{}: worst event-time difference {worst:e} s", case.name);
