@@ -33,7 +33,7 @@ impl Shipped {
 }
 
 /// Every shipped scenario, the paper's first.
-pub const SHIPPED: [Shipped; 11] = [
+pub const SHIPPED: [Shipped; 12] = [
     Shipped { name: "paper", text: PAPER_TOML, companions: &[] },
     shipped!("stribeck", "stribeck.toml"),
     shipped!("damped", "scenes/damped.toml"),
@@ -44,6 +44,7 @@ pub const SHIPPED: [Shipped; 11] = [
     shipped!("viscous", "scenes/viscous.toml"),
     shipped!("markov_belt", "scenes/markov_belt.toml"),
     shipped!("chain_paper", "scenes/chain_paper.toml"),
+    shipped!("drillstring", "scenes/drillstring.toml"),
     // (its velocity log is written beside it: `belt.file` is relative to the scenario's directory)
     Shipped {
         name: "recorded_belt",
