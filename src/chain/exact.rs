@@ -22,9 +22,9 @@
 //! arrival rule like any other; in a stick, F touching ±f_s from inside is not a breakaway
 //! (|F| ≤ f_s holds).
 
-use super::matrix::{dot, holding, relative_velocity, x, xd, Mode, System};
+use super::matrix::{anchor_force, dot, holding, relative_velocity, x, xd, Mode, System};
 use super::roots::{Poly, Zero, RESOLUTION};
-use super::{Anchor, Chain};
+use super::{Anchor, Chain, ChainSummary};
 use crate::physics::TOUCH_TOLERANCE;
 use crate::solver::{Event, Method, Stop};
 
@@ -54,6 +54,12 @@ pub struct ChainExact {
     leave: Option<f64>,
     /// no friction at all: crossings of belt speed change nothing and are not looked for
     frictionless: bool,
+    /// the anchor's force T as a row (it depends on u), ∫ T dt so far, its least and greatest
+    /// value, and x_N(0)
+    tension: Vec<f64>,
+    tension_integral: f64,
+    tension_range: (f64, f64),
+    contact_start: f64,
     /// the last advance's piece: start time and state, its system, the polynomial of w on it
     /// (slip) and its length
     piece: (f64, Vec<f64>, Option<System>, Option<Poly>, f64),
@@ -86,6 +92,10 @@ impl ChainExact {
             scratch: Vec::new(),
             leave: None,
             frictionless: ch.kinetic == 0.0 && ch.breakaway == 0.0,
+            tension: anchor_force(ch, anchor.velocities[0]),
+            tension_integral: 0.0,
+            tension_range: (f64::INFINITY, f64::NEG_INFINITY),
+            contact_start: x0[n - 1],
             piece: (0.0, Vec::new(), None, None, 0.0),
             keep: false,
         }
@@ -108,6 +118,34 @@ impl ChainExact {
     /// The contact's mode now: stuck (true) or slipping.
     pub fn stuck(&self) -> bool {
         self.mode == Mode::Stick
+    }
+
+    /// What the realization adds to its row ([`ChainSummary`]), once the driver reached t_a.
+    pub fn summary(&self) -> ChainSummary {
+        let n = self.ch.len();
+        ChainSummary {
+            anchor_force_mean: self.tension_integral / self.t,
+            anchor_force_min: self.tension_range.0,
+            anchor_force_max: self.tension_range.1,
+            mean_velocity: (self.z[x(n - 1)] - self.contact_start) / self.t,
+        }
+    }
+
+    /// Add the anchor's force over the piece [0, s] of this step (its integral, its ends and
+    /// turning points).
+    fn tension_over(&mut self, h: f64, s: f64) {
+        let (p, _) = self.sys.taylor(&self.tension, &self.powers, h);
+        self.tension_integral += p.c.iter().enumerate().rev().fold(0.0, |acc, (j, c)| acc * s + c / (j + 1) as f64) * s;
+        let (mut lo, mut hi) = self.tension_range;
+        let mut see = |t: f64| {
+            let f = p.at(t);
+            lo = lo.min(f);
+            hi = hi.max(f);
+        };
+        see(0.0);
+        see(s);
+        see_turns(&p, s, &mut see);
+        self.tension_range = (lo, hi);
     }
 
     fn u(&self) -> f64 {
@@ -185,6 +223,7 @@ impl ChainExact {
     /// The anchor changes velocity at the current time.
     fn anchor_switch(&mut self) -> Stop {
         self.segment += 1;
+        self.tension = anchor_force(&self.ch, self.u());
         match self.mode {
             Mode::Slip(sigma) => {
                 self.enter(Mode::Slip(sigma), None);
@@ -252,6 +291,7 @@ impl Method for ChainExact {
                 let s = zero.map_or(h, |z| z.s);
                 self.piece.3 = Some(p);
                 self.piece.4 = s;
+                self.tension_over(h, s);
                 self.go(s, t_stop);
                 if zero.is_some() {
                     return self.arrive();
@@ -283,6 +323,7 @@ impl Method for ChainExact {
                 }
                 let s = first.map_or(h, |(z, _)| z.s);
                 self.piece.4 = s;
+                self.tension_over(h, s);
                 self.go(s, t_stop);
                 if let Some((_, side)) = first {
                     let (xn, _) = self.contact();

@@ -231,6 +231,17 @@ pub(crate) fn holding(ch: &Chain, v: f64, u: f64) -> Vec<f64> {
     row
 }
 
+/// The anchor's force T = k₁ (a − x₁) + c₁ (u − ẋ₁) as a row.
+pub(crate) fn anchor_force(ch: &Chain, u: f64) -> Vec<f64> {
+    let n = ch.len();
+    let mut row = vec![0.0; 2 * n + 2];
+    row[anchor(n)] = ch.stiffnesses[0];
+    row[x(0)] = -ch.stiffnesses[0];
+    row[one(n)] = ch.dampings[0] * u;
+    row[xd(n, 0)] = -ch.dampings[0];
+    row
+}
+
 /// c·z.
 pub(crate) fn dot(c: &[f64], z: &[f64]) -> f64 {
     c.iter().zip(z).map(|(a, b)| a * b).sum()

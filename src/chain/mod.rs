@@ -66,6 +66,21 @@ pub struct Chain {
     pub viscous: f64,
 }
 
+/// What a realization of a chain adds to its row: the anchor's force T = k₁ (a − x₁) + c₁ (u − ẋ₁)
+/// (the torque the top drive feels) over [0, t_a] — its time average, least and greatest value —
+/// and the contact mass's mean velocity (x_N(t_a) − x_N(0))/t_a.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ChainSummary {
+    /// (1/t_a) ∫ T dt [N]
+    pub anchor_force_mean: f64,
+    /// min T [N]
+    pub anchor_force_min: f64,
+    /// max T [N]
+    pub anchor_force_max: f64,
+    /// (x_N(t_a) − x_N(0))/t_a [m/s]
+    pub mean_velocity: f64,
+}
+
 /// The anchor's motion: its velocity on each segment and the instants it changes (sorted, in
 /// (0, t_a)); a(0) = 0.
 #[derive(Debug, Clone, PartialEq, Default)]

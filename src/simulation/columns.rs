@@ -49,6 +49,22 @@ pub const MAX_SLIP_SPEED: &str = "max_slip_speed";
 /// severity (schema v3)
 pub const SEVERITY: &str = "severity";
 
+/// `float64`: a chain's anchor force T = k₁ (a − x₁) + c₁ (u − ẋ₁) averaged over [0, t_a] [N]
+/// (schema v4, chains only)
+pub const ANCHOR_FORCE_MEAN: &str = "anchor_force_mean";
+/// `float64`: the least anchor force over [0, t_a] [N] (schema v4, chains only)
+pub const ANCHOR_FORCE_MIN: &str = "anchor_force_min";
+/// `float64`: the greatest anchor force over [0, t_a] [N] (schema v4, chains only)
+pub const ANCHOR_FORCE_MAX: &str = "anchor_force_max";
+/// `float64`: the contact mass's mean velocity (x_N(t_a) − x_N(0))/t_a [m/s] (schema v4,
+/// chains only)
+pub const MEAN_VELOCITY: &str = "mean_velocity";
+
+/// A chain realization's columns with their values (the writers' guard checks them).
+pub fn chain_values(c: &crate::chain::ChainSummary) -> [(&'static str, f64); 4] {
+    [(ANCHOR_FORCE_MEAN, c.anchor_force_mean), (ANCHOR_FORCE_MIN, c.anchor_force_min), (ANCHOR_FORCE_MAX, c.anchor_force_max), (MEAN_VELOCITY, c.mean_velocity)]
+}
+
 /// Each list column with the count column of its length, and whether its values are start
 /// instants (in increasing order); `switch_times` is present only when the scenario asks.
 pub const LISTS: [(&str, &str, bool); 5] = [

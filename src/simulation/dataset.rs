@@ -50,12 +50,14 @@ pub struct Layout {
     pub switch_times: bool,
     /// the column names of the drawn scene keys, in order
     pub drawn: Vec<&'static str>,
+    /// whether a chain's columns are written
+    pub chain: bool,
 }
 
 /// The Arrow schema of a dataset file: the declared columns ([`schema::COLUMNS`]) present
 /// in this layout, then one float64 per drawn scene key.
 pub fn schema(layout: &Layout) -> SchemaRef {
-    let mut fields: Vec<Field> = schema::present(layout.switch_times).map(|c| Field::new(c.name, c.kind().arrow(), false)).collect();
+    let mut fields: Vec<Field> = schema::present(layout.switch_times, layout.chain).map(|c| Field::new(c.name, c.kind().arrow(), false)).collect();
     fields.extend(layout.drawn.iter().map(|name| Field::new(*name, DataType::Float64, false)));
     Arc::new(Schema::new(fields))
 }
@@ -161,10 +163,10 @@ impl Rows {
     /// ([`crate::simulation::ensemble::Ensemble::chunk_len`]), and a scene with far more events per
     /// realization than that (one row per chunk) grows its lists as it goes rather than reserving
     /// its whole hint up front.
-    pub fn new(with_switch_times: bool, drawn: usize, rows: usize, per_list: usize) -> Rows {
+    pub fn new((with_switch_times, with_chain): (bool, bool), drawn: usize, rows: usize, per_list: usize) -> Rows {
         let values = rows.saturating_mul(per_list).min(LIST_RESERVE);
         Rows {
-            columns: schema::present(with_switch_times).map(|c| Builder::new(c.value, rows, values)).collect(),
+            columns: schema::present(with_switch_times, with_chain).map(|c| Builder::new(c.value, rows, values)).collect(),
             // (not `vec![…; drawn]`: a clone of an empty Vec has no capacity)
             drawn: (0..drawn).map(|_| Vec::with_capacity(rows)).collect(),
             len: 0,
@@ -365,7 +367,7 @@ fn properties(layout: &Layout, metadata: Vec<(String, String)>) -> WriterPropert
         // rows are in realization order (column 0): declared, so readers can rely on it
         .set_sorting_columns(Some(vec![SortingColumn { column_idx: 0, descending: false, nulls_first: false }]))
         .set_key_value_metadata(Some(metadata.into_iter().map(|(k, v)| KeyValue::new(k, v)).collect()));
-    let declared = schema::present(layout.switch_times).map(|c| (c.name, c.kind(), c.store));
+    let declared = schema::present(layout.switch_times, layout.chain).map(|c| (c.name, c.kind(), c.store));
     let drawn = layout.drawn.iter().map(|name| (*name, Kind::Float64, Store::Plain));
     for (name, kind, store) in declared.chain(drawn) {
         let path = match kind {
@@ -402,7 +404,7 @@ mod tests {
     fn rows_reserve_what_the_chunk_needs_and_no_more_than_the_cap() {
         // a chunk of 1,000 rows of 30 values per list, two drawn keys, switch times kept: the
         // four interval lists, stick_end, the two entry lists and the two switch lists
-        let rows = Rows::new(true, 2, 1000, 30);
+        let rows = Rows::new((true, false), 2, 1000, 30);
         assert_eq!(list_capacities(&rows).len(), 9);
         for c in &rows.columns {
             let (values, offsets) = match c {
@@ -416,7 +418,7 @@ mod tests {
         assert!(rows.drawn.iter().all(|c| c.capacity() >= 1000), "{:?}", rows.drawn.iter().map(Vec::capacity).collect::<Vec<_>>());
         // a scene with 10^7 expected events per realization (one row per chunk) grows its lists
         // instead of reserving 80 MB each up front
-        let huge = Rows::new(true, 0, 1, 10_000_000);
+        let huge = Rows::new((true, false), 0, 1, 10_000_000);
         assert!(list_capacities(&huge).iter().all(|&c| c <= LIST_RESERVE));
     }
 }

@@ -11,7 +11,7 @@
 //! the scenario, so the rows — and the bytes written — are the same for any number of threads or
 //! shards.
 
-use crate::chain::{Chain, ChainExact};
+use crate::chain::{Chain, ChainExact, ChainSummary};
 use crate::physics::{Params, PerUnitMass};
 use crate::simulation::belt::{Belt, BeltPath};
 use crate::simulation::events::{Observer, Record};
@@ -53,6 +53,8 @@ pub struct Outcome {
     /// the belt's speed scale (drawn, when it is random), m/s: the severity's unit
     /// ([`crate::simulation::belt::Process::scale`])
     pub speed_scale: f64,
+    /// what a chain's realization adds to its row (None: one mass)
+    pub chain: Option<ChainSummary>,
     switches: Vec<f64>,
     velocities: Vec<f64>,
 }
@@ -171,19 +173,22 @@ impl Ensemble {
         out.belt.segments(&mut out.switches, &mut out.velocities);
         let drive = Drive { velocities: &out.velocities, switches: &out.switches, t_end: belt.duration };
         out.record.clear();
-        (out.t_a, out.speed_scale) = (belt.duration, belt.scale());
+        (out.t_a, out.speed_scale, out.chain) = (belt.duration, belt.scale(), None);
         out.steps = match &self.scene.chain {
             None => self.solver.solve(&physics, &drive, out.x0, out.xdot0, &mut Tee(&mut out.record, extra)),
             Some(chain) => {
                 let anchor = drawn_anchor.as_ref().unwrap_or(&chain.anchor);
-                self.chain(index, (chain, anchor), &drive, &out.params, (out.x0, out.xdot0), &mut Tee(&mut out.record, extra)).map(|(steps, scale)| {
-                    out.speed_scale = scale;
+                self.chain(index, (chain, anchor), &drive, &out.params, (out.x0, out.xdot0), &mut Tee(&mut out.record, extra)).map(|(steps, scale, summary)| {
+                    (out.speed_scale, out.chain) = (scale, Some(summary));
                     steps
                 })
             }
         }
         .map_err(|source| RunError { realization: index, source })?;
         out.record.finish(belt.duration);
+        if let Some((column, x)) = out.chain.iter().flat_map(crate::simulation::columns::chain_values).find(|(_, x)| !x.is_finite()) {
+            return Err(RunError { realization: index, source: SolveError::Unwritable { column, value: crate::shown::short(x), rule: "a finite number" } });
+        }
         if let Some((column, x, rule)) = out.record.outside(out.t_a, out.record.severity(out.speed_scale)) {
             return Err(RunError { realization: index, source: SolveError::Unwritable { column, value: crate::shown::short(x), rule } });
         }
@@ -192,7 +197,8 @@ impl Ensemble {
 
     /// Solve realization `index` of the chain scene `chain` (with its anchor's process, drawn)
     /// under `drive` for the friction of `p`, from the contact mass's state `start`; returns the
-    /// steps (0) and the mean |u − v| over [0, t_a] (what slides: the severity's unit).
+    /// steps (0), the mean |u − v| over [0, t_a] (what slides: the severity's unit) and what the
+    /// realization adds to its row.
     fn chain<O: Observer>(
         &self,
         index: u64,
@@ -201,7 +207,7 @@ impl Ensemble {
         p: &Params,
         start: (f64, f64),
         obs: &mut O,
-    ) -> Result<(u64, f64), SolveError> {
+    ) -> Result<(u64, f64, ChainSummary), SolveError> {
         let (masses, stiffnesses, dampings) = if chain.from_model {
             (vec![p.mass], vec![p.stiffness], vec![p.damping])
         } else {
@@ -223,7 +229,13 @@ impl Ensemble {
         path.segments(&mut a.switches, &mut a.velocities);
         let scale = crate::chain::mean_slide((drive.velocities, drive.switches), (&a.velocities, &a.switches), drive.t_end);
         let mut method = ChainExact::new(&ch, &a, &x0, &xd0, drive.t_end);
-        Ok((crate::solver::drive(&mut method, drive, start.0, start.1, u64::MAX, obs)?, scale))
+        let steps = crate::solver::drive(&mut method, drive, start.0, start.1, u64::MAX, obs)?;
+        Ok((steps, scale, method.summary()))
+    }
+
+    /// Whether the scene is a chain (its rows have the chain's columns).
+    pub fn has_chain(&self) -> bool {
+        self.scene.chain.is_some()
     }
 
     /// Whether rows keep the belt switch instants (`output.switch_times`).

@@ -126,6 +126,8 @@ pub enum Presence {
     Always,
     /// only with `output.switch_times = true`
     SwitchTimes,
+    /// only in a chain's dataset ([`crate::chain`])
+    Chain,
 }
 
 /// The range of a per-realization float, checked on read (the lists' rules, which tie each list
@@ -188,7 +190,7 @@ fn count(n: usize) -> i64 {
 
 /// Every column, in the writer's order (the drawn scene keys, one float64 each, stored
 /// [`Store::Plain`], follow them).
-pub const COLUMNS: [Column; 24] = {
+pub const COLUMNS: [Column; 28] = {
     use Bound::*;
     use Store::*;
     use Value as V;
@@ -287,11 +289,48 @@ pub const COLUMNS: [Column; 24] = {
                 "the belt velocity after each change",
             )
         },
+        Column {
+            presence: Presence::Chain,
+            ..col(
+                name::ANCHOR_FORCE_MEAN,
+                V::Float64(|r| chain(r).anchor_force_mean),
+                4,
+                Plain,
+                Unchecked,
+                "N",
+                "a chain's anchor force k₁ (a − x₁) + c₁ (u − ẋ₁) averaged over [0, t_a] (the torque the top drive feels, N·m)",
+            )
+        },
+        Column {
+            presence: Presence::Chain,
+            ..col(name::ANCHOR_FORCE_MIN, V::Float64(|r| chain(r).anchor_force_min), 4, Plain, Unchecked, "N", "a chain's least anchor force over [0, t_a]")
+        },
+        Column {
+            presence: Presence::Chain,
+            ..col(name::ANCHOR_FORCE_MAX, V::Float64(|r| chain(r).anchor_force_max), 4, Plain, Unchecked, "N", "a chain's greatest anchor force over [0, t_a]")
+        },
+        Column {
+            presence: Presence::Chain,
+            ..col(
+                name::MEAN_VELOCITY,
+                V::Float64(|r| chain(r).mean_velocity),
+                4,
+                Plain,
+                Unchecked,
+                "m/s",
+                "a chain's contact mass's mean velocity (x_N(t_a) − x_N(0))/t_a",
+            )
+        },
     ]
 };
 
+/// A chain realization's summary (a row of a chain's dataset has one).
+fn chain(r: Row) -> crate::chain::ChainSummary {
+    r.out.chain.unwrap_or_default()
+}
+
 /// The dataset's schema version, recorded in every part: the latest `since` of [`COLUMNS`]
-/// (v1 had int32 counts, v2 int64 ones; v3 added the tails' columns). `analyze` reads every
+/// (v1 had int32 counts, v2 int64 ones; v3 added the tails' columns; v4 a chain's columns). `analyze` reads every
 /// version from 1 to this one.
 pub const VERSION: u8 = {
     let mut latest = 0;
@@ -315,7 +354,12 @@ pub fn required(version: u8) -> impl Iterator<Item = &'static Column> {
     COLUMNS.iter().filter(move |c| c.presence == Presence::Always && c.since <= version)
 }
 
-/// The columns a part of this schema version has, with or without the switch times.
-pub fn present(switch_times: bool) -> impl Iterator<Item = &'static Column> {
-    COLUMNS.iter().filter(move |c| c.presence == Presence::Always || switch_times)
+/// The columns a part of this schema version has, with or without the switch times and a
+/// chain's columns.
+pub fn present(switch_times: bool, chain: bool) -> impl Iterator<Item = &'static Column> {
+    COLUMNS.iter().filter(move |c| match c.presence {
+        Presence::Always => true,
+        Presence::SwitchTimes => switch_times,
+        Presence::Chain => chain,
+    })
 }

@@ -264,7 +264,7 @@ pub fn compute_until(plan: &Plan, opts: &Options, targets: &Targets, ctl: Contro
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| SimulateError::Pool(e.to_string()))?;
     let range = opts.shard.range(plan.realizations);
     let ensemble = Ensemble::new(plan);
-    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns() };
+    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns(), chain: ensemble.has_chain() };
     // with targets, the realizations written are known only at the end: their metadata is
     // appended when the part is finished
     // (sharded: each shard stops within its block at its own targets; the run's size stays the
@@ -370,7 +370,7 @@ pub fn batches(plan: &Plan, threads: Option<usize>, ctl: Control) -> Result<Vec<
     let threads = worker_threads(threads)?;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| SimulateError::Pool(e.to_string()))?;
     let ensemble = Ensemble::new(plan);
-    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns() };
+    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns(), chain: ensemble.has_chain() };
     let metadata: std::collections::HashMap<String, String> = provenance(plan, Shard::WHOLE).into_iter().collect();
     let chunk = ensemble.chunk_len();
     let total = plan.realizations;
@@ -399,7 +399,7 @@ pub fn batches(plan: &Plan, threads: Option<usize>, ctl: Control) -> Result<Vec<
 pub fn write_batches(batches: &[arrow_array::RecordBatch], plan: &Plan, out: &std::path::Path) -> Result<PathBuf, SimulateError> {
     let dir = DatasetDir::prepare(out, &[])?;
     let ensemble = Ensemble::new(plan);
-    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns() };
+    let layout = Layout { switch_times: plan.switch_times, drawn: ensemble.scene().columns(), chain: ensemble.has_chain() };
     let mut writer = PartWriter::create(out, 0, 1, layout, provenance(plan, Shard::WHOLE))?;
     for b in batches {
         // (the schema without the provenance the batches carry: the file holds it in its footer)
@@ -414,7 +414,12 @@ pub fn write_batches(batches: &[arrow_array::RecordBatch], plan: &Plan, out: &st
 
 /// Simulate a contiguous range of realizations into dataset rows, and the targets' quantities.
 fn rows(ensemble: &Ensemble, range: std::ops::Range<u64>, targets: &Targets) -> Result<(Rows, Tracker), RunError> {
-    let mut rows = Rows::new(ensemble.store_switch_times(), ensemble.scene().columns().len(), (range.end - range.start) as usize, ensemble.list_len_hint());
+    let mut rows = Rows::new(
+        (ensemble.store_switch_times(), ensemble.has_chain()),
+        ensemble.scene().columns().len(),
+        (range.end - range.start) as usize,
+        ensemble.list_len_hint(),
+    );
     let mut tracker = Tracker::new(targets);
     let mut out = Outcome::default();
     for index in range {

@@ -90,7 +90,7 @@ fn exponential_dataset(dir: &Path, n: usize) -> Vec<f64> {
     // a horizon that holds every value of the sample (quantiles of Exp(1) reach ln(2n) ≈ 10.6)
     let sc = scenario(&[&format!("run.realizations={n}"), "run.duration=100"]);
     let mut w = PartWriter::create(dir, 0, 1, Layout::default(), provenance(&sc.plan().unwrap(), Shard::WHOLE)).unwrap();
-    let mut rows = Rows::new(false, 0, 0, 0);
+    let mut rows = Rows::new((false, false), 0, 0, 0);
     let mut x = Vec::new();
     for i in 0..n {
         let t1 = -(1.0 - (i as f64 + 0.5) / n as f64).ln();

@@ -99,6 +99,9 @@ fn energy_balance_along_a_trajectory() {
     let mut v = velocities[0];
     let _ = m.start(x0[n - 1], xd0[n - 1], v);
     let (mut work, mut scale, mut events) = (0.0, 0.0, 0);
+    // the anchor's force T integrated the same way, and seen at every node: the solver's
+    // summary must hold the integral, and a range that holds every node's value
+    let (mut tension, mut seen) = (0.0, (f64::INFINITY, f64::NEG_INFINITY));
     for (k, &t1) in switches.iter().chain([t_a].iter()).enumerate() {
         loop {
             let (t0, stuck) = (m.time(), m.stuck());
@@ -106,9 +109,13 @@ fn energy_balance_along_a_trajectory() {
             let t = m.time();
             for (node, weight) in GAUSS {
                 let s = t0 + 0.5 * (t - t0) * (node + 1.0);
-                let p = power(&m.state_of_all_at(s), s, v, stuck) * 0.5 * (t - t0) * weight;
+                let z = m.state_of_all_at(s);
+                let p = power(&z, s, v, stuck) * 0.5 * (t - t0) * weight;
                 work += p;
                 scale += p.abs();
+                let f = ch.stiffnesses[0] * (z[2 * n] - z[0]) + ch.dampings[0] * (u_at(s) - z[n]);
+                tension += f * 0.5 * (t - t0) * weight;
+                seen = (seen.0.min(f), seen.1.max(f));
             }
             match stop {
                 Stop::SegmentEnd => break,
@@ -124,6 +131,13 @@ fn energy_balance_along_a_trajectory() {
     let e1 = ch.energy(m.state());
     assert!(events >= 5, "{events} events");
     let gap = (e1 - e0 - work).abs() / scale;
+    let summary = m.summary();
+    let mean = tension / t_a;
+    assert!((summary.anchor_force_mean - mean).abs() < 1e-12 * mean.abs(), "anchor force mean {} vs {mean}", summary.anchor_force_mean);
+    let (lo, hi) = (summary.anchor_force_min, summary.anchor_force_max);
+    assert!(lo <= seen.0 && seen.1 <= hi && seen.0 - lo < 1e-2 * (hi - lo) && hi - seen.1 < 1e-2 * (hi - lo), "range [{lo}, {hi}], seen {seen:?}");
+    let drift = (m.state()[n - 1] - x0[n - 1]) / t_a;
+    assert!((summary.mean_velocity - drift).abs() < 1e-15 * drift.abs().max(1.0), "mean velocity {} vs {drift}", summary.mean_velocity);
     eprintln!("energy balance: {events} events, relative gap {gap:e}");
     assert!(gap < 1e-9, "E(t_a) − E(0) = {:e}, work {work:e}: relative gap {gap:e}", e1 - e0);
 }

@@ -87,7 +87,7 @@ fn provenance_is_in_the_key_value_metadata() {
     let get = |k: &str| kv.iter().find(|e| e.key == k).and_then(|e| e.value.clone()).unwrap_or_default();
     assert_eq!(get("stickslip.seed"), "7");
     assert_eq!(get("stickslip.solver"), "exact");
-    assert_eq!(get("stickslip.schema_version"), "3");
+    assert_eq!(get("stickslip.schema_version"), "4");
     assert_eq!(get("stickslip.version"), env!("CARGO_PKG_VERSION"));
     // every row group declares its sort by realization (column 0, ascending)
     for rg in reader.metadata().row_groups() {

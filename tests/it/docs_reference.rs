@@ -33,6 +33,7 @@ fn dataset() -> String {
         let present = match c.presence {
             Presence::Always => "always",
             Presence::SwitchTimes => "with `output.switch_times`",
+            Presence::Chain => "in a chain's dataset",
         };
         let rule = match c.bound {
             Bound::Unchecked => "its type",

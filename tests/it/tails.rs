@@ -229,7 +229,7 @@ fn a_curve_at_a_user_time_counts_the_durations_just_below_it() {
     assert_eq!((tau / rho).floor(), (d / rho).floor(), "d and τ share a cell");
     let sc = scenario(&[&format!("run.realizations={n}")]);
     let mut w = PartWriter::create(tmp.path(), 0, 1, Layout::default(), simulate::provenance(&sc.plan().unwrap(), Shard::WHOLE)).unwrap();
-    let mut rows = Rows::new(false, 0, 0, 0);
+    let mut rows = Rows::new((false, false), 0, 0, 0);
     for i in 0..n {
         let mut o = Outcome::default();
         o.belt.initial_velocity = 1.0;
