@@ -502,6 +502,13 @@ pub fn figure(rows: &[Row]) -> Figure {
 /// Run the stage into `out` (replaced when complete).
 /// `ctl` is asked between settings.
 pub fn run(base: &Scenario, n: u64, bias_fraction: f64, out: &Path, ctl: crate::progress::Control) -> Result<Vec<Row>, TradeoffError> {
+    if base.scene()?.chain.is_some() {
+        return Err(TradeoffError::Scenario(crate::scenario::ScenarioError::Invalid {
+            key: "chain".into(),
+            value: "(a chain or a moving anchor)".into(),
+            reason: "tradeoff measures the numerical solvers against exact, and they do not take chains yet".into(),
+        }));
+    }
     let staged = StagedDir::new(out, Kind::Tradeoff, "--out", &[])?;
     let rows = measure(base, n, bias_fraction, ctl)?;
     let werr = |path: &Path, e: &dyn std::fmt::Display| TradeoffError::Write { path: path.to_owned(), message: e.to_string() };

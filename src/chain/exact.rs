@@ -61,8 +61,8 @@ pub struct ChainExact {
     tension_range: (f64, f64),
     contact_start: f64,
     /// the last advance's piece: start time and state, its system, the polynomial of w on it
-    /// (slip) and its length
-    piece: (f64, Vec<f64>, Option<System>, Option<Poly>, f64),
+    /// (slip) with its margin, and its length
+    piece: (f64, Vec<f64>, Option<System>, Option<(Poly, f64)>, f64),
     keep: bool,
 }
 
@@ -134,7 +134,7 @@ impl ChainExact {
     /// Add the anchor's force over the piece [0, s] of this step (its integral, its ends and
     /// turning points).
     fn tension_over(&mut self, h: f64, s: f64) {
-        let (p, _) = self.sys.taylor(&self.tension, &self.powers, h);
+        let (p, margin) = self.sys.taylor(&self.tension, &self.powers, h);
         self.tension_integral += p.c.iter().enumerate().rev().fold(0.0, |acc, (j, c)| acc * s + c / (j + 1) as f64) * s;
         let (mut lo, mut hi) = self.tension_range;
         let mut see = |t: f64| {
@@ -144,7 +144,7 @@ impl ChainExact {
         };
         see(0.0);
         see(s);
-        see_turns(&p, s, &mut see);
+        see_turns(&p, s, margin, &mut see);
         self.tension_range = (lo, hi);
     }
 
@@ -289,7 +289,7 @@ impl Method for ChainExact {
                 let from = self.search_from(&p, h, leave);
                 let zero = if self.frictionless { None } else { p.first_zero(from, h, margin) };
                 let s = zero.map_or(h, |z| z.s);
-                self.piece.3 = Some(p);
+                self.piece.3 = Some((p, margin));
                 self.piece.4 = s;
                 self.tension_over(h, s);
                 self.go(s, t_stop);
@@ -390,7 +390,7 @@ impl Method for ChainExact {
         let (_, xdn) = self.contact();
         match &self.piece.3 {
             // ẋ_N = v − w on the slip's piece [0, s]: its ends and the turning points inside
-            Some(w) => {
+            Some((w, margin)) => {
                 let (mut lo, mut hi) = (self.v - w.at(0.0), self.v - w.at(0.0));
                 let mut see = |s: f64| {
                     let x = self.v - w.at(s);
@@ -398,7 +398,7 @@ impl Method for ChainExact {
                     hi = hi.max(x);
                 };
                 see(self.piece.4);
-                see_turns(w, self.piece.4, &mut see);
+                see_turns(w, self.piece.4, *margin, &mut see);
                 (lo.min(xdn), hi.max(xdn))
             }
             None => (self.v.min(xdn), self.v.max(xdn)),
@@ -406,12 +406,15 @@ impl Method for ChainExact {
     }
 }
 
-/// Call `see` at every turning point of P on (0, len): the zeros of P′.
-fn see_turns(p: &Poly, len: f64, see: &mut impl FnMut(f64)) {
+/// Call `see` at every turning point of P on (0, len): the zeros of P′, where P is known to
+/// `margin` (P′ then to about TERMS·margin/len: where P′ is flat within that, P is flat too, and
+/// its ends hold its extremes).
+fn see_turns(p: &Poly, len: f64, margin: f64, see: &mut impl FnMut(f64)) {
     if len <= 0.0 {
         return;
     }
-    p.derivative().zeros(0.0, len, 0.0, &mut |z| {
+    let slope_margin = margin * super::matrix::TERMS as f64 / len;
+    p.derivative().zeros(0.0, len, slope_margin, &mut |z| {
         see(z.s);
         false
     });

@@ -26,6 +26,11 @@
 /// Sub-intervals shorter than this fraction of the step are not split further (a touch).
 pub(crate) const RESOLUTION: f64 = 1e-10;
 
+/// The most sub-intervals one search examines: past it, each sub-interval left is reported as a
+/// touch without a further split, so that a search always ends (never reached by the tests'
+/// scenes; a polynomial of degree 24 has at most 24 zeros, each costing about 70 sub-intervals).
+const MAX_VISITS: usize = 1 << 14;
+
 /// Unit roundoff.
 const U: f64 = f64::EPSILON * 0.5;
 
@@ -56,10 +61,16 @@ impl Poly {
         Poly { c: self.c.iter().enumerate().skip(1).map(|(j, &p)| j as f64 * p).collect() }
     }
 
-    /// Whether P has no zero on [l, l + ℓ] with |P| > `margin` there (see the module docs):
-    /// the coefficients q of P(l + t) = Σ q_m t^m by repeated synthetic division (O(M²); none at
-    /// l = 0), with a bound of the rounding of each.
+    /// Whether P has no zero on [l, l + ℓ] with |P| > `margin` there (see the module docs).
     fn free(&self, l: f64, len: f64, margin: f64) -> bool {
+        self.bounds(l, len, margin).0
+    }
+
+    /// Whether P has no zero on [l, l + ℓ] with |P| > `margin` there, and whether P lies within
+    /// `margin` of zero on all of it (`flat`: g may be zero anywhere there, a touch as long as
+    /// the sub-interval): from the coefficients q of P(l + t) = Σ q_m t^m by repeated synthetic
+    /// division (O(M²); none at l = 0), with a bound of the rounding of each.
+    fn bounds(&self, l: f64, len: f64, margin: f64) -> (bool, bool) {
         let n = self.c.len();
         assert!(n <= MAX_TERMS, "a polynomial of at most {MAX_TERMS} terms");
         let (mut q, mut a) = ([0.0; MAX_TERMS], [0.0; MAX_TERMS]);
@@ -77,6 +88,7 @@ impl Poly {
         let rounding = 4.0 * (2 * n + 2) as f64 * U;
         let sign = q[0].signum();
         let mut low = q[0].abs() - rounding * a[0];
+        let mut high = q[0].abs();
         let mut power = 1.0;
         for m in 1..n {
             power *= len;
@@ -84,8 +96,9 @@ impl Poly {
                 low -= q[m].abs() * power;
             }
             low -= rounding * a[m] * power;
+            high += q[m].abs() * power;
         }
-        q[0] != 0.0 && low > margin
+        (q[0] != 0.0 && low > margin, high <= margin)
     }
 
     /// Visit the zeros of g (|g − P| ≤ `margin` on [0, h]) in (`from`, h], left to right, until
@@ -96,8 +109,22 @@ impl Poly {
         // make Newton bracket a zero it still holds (the ends differ in sign beyond the margin)
         let mut stack = vec![(from, h - from)];
         let min_len = RESOLUTION * h;
+        let mut visits = 0;
         while let Some((l, len)) = stack.pop() {
-            if len <= 0.0 || self.free(l, len, margin) {
+            visits += 1;
+            if len <= 0.0 {
+                continue;
+            }
+            let (free, flat) = self.bounds(l, len, margin);
+            if free {
+                continue;
+            }
+            if flat {
+                // (g within its margin of zero throughout: one touch for the whole sub-interval,
+                // not one per leaf of a split that could never prove anything)
+                if found(Zero { s: l, touch: true }) {
+                    return true;
+                }
                 continue;
             }
             let (pa, pb) = (self.at(l), self.at(l + len));
@@ -107,7 +134,7 @@ impl Poly {
                 }
                 continue;
             }
-            if len <= min_len {
+            if len <= min_len || visits > MAX_VISITS {
                 // the zero within the resolution: where |P| is least of the ends and the middle
                 let s = [l, l + 0.5 * len, l + len].into_iter().min_by(|a, b| self.at(*a).abs().total_cmp(&self.at(*b).abs())).unwrap_or(l);
                 if found(Zero { s, touch: true }) {

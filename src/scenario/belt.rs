@@ -194,13 +194,17 @@ pub(super) fn base_dir(file: &Path) -> std::path::PathBuf {
     std::path::absolute(dir).unwrap_or_else(|_| dir.to_owned())
 }
 
-/// A relative `belt.file` of a scenario file's table joined to the file's directory `base` (a
-/// scenario and its log are shipped side by side; the joined path is what provenance records).
+/// A relative `belt.file` or `anchor.file` of a scenario file's table joined to the file's
+/// directory `base` (a scenario and its logs are shipped side by side; the joined path is what
+/// provenance records).
 pub(super) fn anchor_log(user: &mut toml::Table, base: Option<std::path::PathBuf>) {
-    if let (Some(base), Some(toml::Value::Table(belt))) = (base, user.get_mut("belt")) {
-        if let Some(toml::Value::String(file)) = belt.get_mut("file") {
-            if Path::new(file.as_str()).is_relative() {
-                *file = base.join(file.as_str()).to_string_lossy().into_owned();
+    let Some(base) = base else { return };
+    for section in ["belt", "anchor"] {
+        if let Some(toml::Value::Table(t)) = user.get_mut(section) {
+            if let Some(toml::Value::String(file)) = t.get_mut("file") {
+                if Path::new(file.as_str()).is_relative() {
+                    *file = base.join(file.as_str()).to_string_lossy().into_owned();
+                }
             }
         }
     }

@@ -115,8 +115,12 @@ impl Scenario {
         uses("anchor.velocities", a.velocities.is_some(), AnchorProcess::Markov, "markov")?;
         uses("anchor.rates", a.rates.is_some(), AnchorProcess::Markov, "markov")?;
         uses("anchor.file", a.file.is_some(), AnchorProcess::Recorded, "recorded")?;
-        let levels = |key: &str, v: &[f64]| match v.iter().find(|v| !(v.abs() <= MAX_SPEED)) {
-            Some(x) => Err(invalid(key, &shown_list(v), &format!("{} exceeds {MAX_SPEED:e} m/s in size, the range the solvers are proven on", short(*x)))),
+        let levels = |key: &str, shown: &str, v: &[f64]| match v.iter().find(|v| !(v.abs() <= MAX_SPEED)) {
+            Some(x) => Err(invalid(
+                key,
+                shown,
+                &format!("holds {}: a level must be finite and at most {MAX_SPEED:e} m/s in size, the range the solvers are proven on", short(*x)),
+            )),
             None => Ok(()),
         };
         let process = match name {
@@ -126,7 +130,7 @@ impl Scenario {
                     let missing = if a.velocities.is_none() { "anchor.velocities" } else { "anchor.rates" };
                     return Err(invalid(missing, "(absent)", "the markov anchor needs anchor.velocities (m/s) and anchor.rates (1/s, an n×n matrix)"));
                 };
-                levels("anchor.velocities", velocities)?;
+                levels("anchor.velocities", &shown_list(velocities), velocities)?;
                 let m = Markov::new(velocities.clone(), rates.clone()).map_err(|e| invalid("anchor.rates", "(the matrix)", &e.replace("belt.", "anchor.")))?;
                 let (_, max_rate) = Key::SwitchRate.range();
                 if m.leave_rates().iter().any(|r| *r > max_rate) {
@@ -147,7 +151,7 @@ impl Scenario {
                     ));
                 };
                 let (times, velocities) = super::belt::read_log(Path::new(file)).map_err(|e| invalid("anchor.file", &format!("{file:?}"), &e))?;
-                levels("anchor.file", &velocities)?;
+                levels("anchor.file", &format!("{file:?}"), &velocities)?;
                 Process::Recorded(Arc::new(Recorded::new(times, velocities).map_err(|e| invalid("anchor.file", &format!("{file:?}"), &e))?))
             }
         };
@@ -183,7 +187,7 @@ impl Scenario {
             return Err(invalid(
                 "run.solver",
                 &format!("\"{}\"", self.run.solver.name()),
-                "a chain runs the exact chain solver only (the numerical solvers do not take chains yet): use \"exact\" or \"auto\"",
+                "a chain of masses or a moving anchor runs the exact chain solver only (the numerical solvers do not take chains yet): use \"exact\" or \"auto\"",
             ));
         }
         if self.model.friction_law.unwrap_or(FrictionLaw::Coulomb) != FrictionLaw::Coulomb {
@@ -197,17 +201,29 @@ impl Scenario {
         let rate = chain_rate(&c.masses, &c.stiffnesses, &c.dampings, viscous);
         let radians = rate * self.run.duration;
         if !(radians <= MAX_CHAIN_RADIANS) {
+            // (the dampings name it when the springs alone stay within the limit)
+            let springs = chain_rate(&c.masses, &c.stiffnesses, &vec![0.0; c.masses.len()], 0.0) * self.run.duration;
+            let (key, list) = if springs <= MAX_CHAIN_RADIANS { ("chain.dampings", &c.dampings) } else { ("chain.stiffnesses", &c.stiffnesses) };
             return Err(invalid(
-                "chain.stiffnesses",
-                &shown_list(&c.stiffnesses),
+                key,
+                &shown_list(list),
                 &format!(
                     "with chain.masses and chain.dampings the fastest rate is {rate:e} 1/s; times run.duration it must be at most {MAX_CHAIN_RADIANS:e} radians (the chain solver's steps grow with it)"
                 ),
             ));
         }
+        let top = |p: &Process| p.top_speed(self.run.duration);
+        let anchor_top = top(&c.anchor.process).max(self.param(Key::AnchorSpeed).map_or(0.0, |p| super::check::bounded(p).1.abs()));
+        if anchor_top < MIN_SPEED && top(belt) < MIN_SPEED {
+            return Err(invalid("anchor", "(the process)", "neither the anchor nor the belt ever moves: nothing slides, so the severity has no unit"));
+        }
         if let (Process::Constant(u), Process::Constant(v)) = (&c.anchor.process, belt) {
             if (u - v).abs() < MIN_SPEED && self.param(Key::AnchorSpeed).is_none_or(|p| matches!(p, Param::Value(_))) {
-                return Err(invalid("anchor.speed", &short(*u), &format!("equals belt.velocity = {}: nothing slides, so the severity has no unit", short(*v))));
+                return Err(invalid(
+                    "anchor.speed",
+                    &short(*u),
+                    &format!("is within {MIN_SPEED:e} m/s of belt.velocity = {}: nothing slides, so the severity has no unit", short(*v)),
+                ));
             }
         }
         Ok(())

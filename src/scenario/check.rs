@@ -229,6 +229,14 @@ impl Scenario {
     /// realization, naming it).
     fn check_derived(&self) -> Result<(), ScenarioError> {
         let scene = self.scene()?;
+        if let (Some(_), None) = (&self.chain, &scene.chain) {
+            // a one-mass chain on a fixed anchor is [model]'s oscillator: its checks, on its values
+            let mut one = self.clone();
+            one.chain = None;
+            (one.model.mass, one.model.stiffness, one.model.damping) =
+                (Param::Value(scene.params.mass), Param::Value(scene.params.stiffness), Some(Param::Value(scene.params.damping)));
+            return one.check_derived();
+        }
         self.check_belt_changes(&scene.belt.process)?;
         self.check_chain(scene.chain.as_ref(), &scene.belt.process)?;
         let (m_lo, m_hi) = self.param(Key::Mass).map_or((1.0, 1.0), bounded);

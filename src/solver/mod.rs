@@ -49,6 +49,14 @@ pub enum SolveError {
         /// the time reached [s]
         t: f64,
     },
+    /// The events accumulate at an instant (a Zeno point) the event-driven method cannot pass.
+    #[error("the contact's events accumulate at t = {t} s ({stops} stops within 1e-6 of the window): a Zeno point of chattering sticks no event-driven solver passes (an undamped stiff mode? give its spring a dashpot)")]
+    Chatter {
+        /// the time reached [s]
+        t: f64,
+        /// the stops counted
+        stops: u64,
+    },
     /// A value of the realization's row is not finite or breaks its column's rule (the writers'
     /// last guard, [`crate::simulation::events::Record::outside`]).
     #[error("column `{column}` would hold {value}, which is not {rule}: the scene lies outside the range the solvers are proven on")]
@@ -72,6 +80,11 @@ pub enum SolveError {
 /// physical scenarios: events are bounded by about two per half period and per belt switch).
 pub const EVENT_LIMIT: u64 = 200_000_000;
 
+/// Stops per window of the chatter guard ([`SolveError::Chatter`]): a window that moves time by
+/// less than 1e-6 of t_a ends the run (a method steps at least every 1/‖Ã‖ or event, so a
+/// normal run moves far more per window).
+pub const CHATTER_STOPS: u64 = 100_000;
+
 /// The one driver: run `method` over the segments of `drive` from `(x₀, ẋ₀)`, reporting every
 /// change of mode to `obs` (and grid samples, when `obs` asks for them). Returns the
 /// integration steps the method attempted ([`Method::steps`], 0 for `exact`).
@@ -86,7 +99,7 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
     if motion {
         obs.motion(xdot0, xdot0, v);
     }
-    let (mut stops, mut sampled) = (0u64, 0.0);
+    let (mut stops, mut sampled, mut window_start) = (0u64, 0.0, 0.0);
     let ends = drive.switches.iter().copied().chain(std::iter::once(drive.t_end));
     for (k, t1) in ends.enumerate() {
         loop {
@@ -109,6 +122,14 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
             }
             if method.non_finite() {
                 return Err(SolveError::NonFinite { t: method.time() });
+            }
+            if stops % CHATTER_STOPS == 0 {
+                // (a window of CHATTER_STOPS stops that moved time by less than 1e-6 of the window:
+                // the events accumulate)
+                if method.time() - window_start < 1e-6 * drive.t_end {
+                    return Err(SolveError::Chatter { t: method.time(), stops: CHATTER_STOPS });
+                }
+                window_start = method.time();
             }
             if method.steps() > step_budget {
                 return Err(SolveError::StepBudget { limit: step_budget, t: method.time() });

@@ -207,3 +207,35 @@ fn chain_scenarios_are_refused_with_the_culprit() {
     assert!(one.scene().unwrap().chain.is_none());
     assert_eq!(one.scene().unwrap().params, Scenario::paper().scene().unwrap().params);
 }
+
+#[test]
+fn degenerate_chains_finish() {
+    // an anchor at the belt's speed (the anchor force constant through a stick), a first link
+    // with neither spring nor dashpot (the anchor force zero), a free mass: each realization
+    // ends, with finite rows (the probe that hung on them: a search for the turning points of a
+    // polynomial that is zero)
+    for sets in [
+        vec!["anchor.speed=1"],
+        vec!["chain.masses=[1]", "chain.stiffnesses=[4]", "anchor.speed=-1"],
+        vec!["chain.masses=[1, 1]", "chain.stiffnesses=[0, 4]"],
+        vec!["chain.masses=[1, 1]", "chain.stiffnesses=[0, 0]"],
+        vec!["chain.masses=[1]", "chain.stiffnesses=[0]", "anchor.speed=-0.001"],
+    ] {
+        let sc = scenario(&sets);
+        for o in outcomes(&sc, 20) {
+            let c = o.chain.expect("a chain's summary");
+            assert!([c.anchor_force_mean, c.anchor_force_min, c.anchor_force_max, c.mean_velocity].iter().all(|x| x.is_finite()), "{sets:?}");
+        }
+    }
+}
+
+#[test]
+fn chattering_sticks_end_with_an_error_naming_the_instant() {
+    // an undamped stiff internal mode under μ_s = μ_k: the sticks of realization 101 accumulate
+    // near t = 9.05 s; the run stops there with one line instead of running on
+    let sc = scenario(&["chain.masses=[0.5, 0.5]", "chain.stiffnesses=[4, 1e6]"]);
+    let ens = sc.ensemble().unwrap();
+    let mut o = stickslip::simulation::ensemble::Outcome::default();
+    let e = ens.realization(101, &mut o).expect_err("chatters").to_string();
+    assert!(e.contains("realization 101") && e.contains("accumulate at t = 9.0"), "{e}");
+}
