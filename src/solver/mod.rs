@@ -80,9 +80,10 @@ pub enum SolveError {
 /// physical scenarios: events are bounded by about two per half period and per belt switch).
 pub const EVENT_LIMIT: u64 = 200_000_000;
 
-/// Stops per window of the chatter guard ([`SolveError::Chatter`]): a window that moves time by
-/// less than 1e-6 of t_a ends the run (a method steps at least every 1/‖Ã‖ or event, so a
-/// normal run moves far more per window).
+/// Stops per window of the chatter guard of the event-driven methods ([`SolveError::Chatter`]): a
+/// window that moves time by less than 1e-6 of t_a ends the run (they stop at events, segment
+/// ends and, for chains, steps of 1/‖Ã‖, so a normal run moves far more per window; the
+/// numerical methods have their step budget).
 pub const CHATTER_STOPS: u64 = 100_000;
 
 /// The one driver: run `method` over the segments of `drive` from `(x₀, ẋ₀)`, reporting every
@@ -123,7 +124,7 @@ pub fn drive<M: Method, O: Observer>(method: &mut M, drive: &Drive<'_>, x0: f64,
             if method.non_finite() {
                 return Err(SolveError::NonFinite { t: method.time() });
             }
-            if stops % CHATTER_STOPS == 0 {
+            if stops % CHATTER_STOPS == 0 && method.steps() == 0 {
                 // (a window of CHATTER_STOPS stops that moved time by less than 1e-6 of the window:
                 // the events accumulate)
                 if method.time() - window_start < 1e-6 * drive.t_end {
