@@ -31,8 +31,8 @@ use crate::solver::SolverKind;
 pub const MAX_MASSES: usize = 64;
 
 /// Largest accepted Ω·t_a of a chain (Ω its fastest rate, [`chain_rate`]): the exact chain
-/// solver takes about 2‖Ã‖ steps per second of the window, so a realization takes a few
-/// seconds at this limit.
+/// solver takes one step per 1/‖Ã‖_D of the window (‖Ã‖_D a small multiple of Ω), so its steps
+/// grow with Ω·t_a.
 pub const MAX_CHAIN_RADIANS: f64 = 1e6;
 
 impl Scenario {
