@@ -28,6 +28,17 @@ use super::{Anchor, Chain, ChainSummary};
 use crate::physics::TOUCH_TOLERANCE;
 use crate::solver::{Event, Method, Stop};
 
+/// The piece of motion one advance covered: its start time and state and its system (kept only
+/// for trajectory sampling), the polynomial of w on it with its margin (a slip), and its length.
+#[derive(Debug, Clone, Default)]
+struct Piece {
+    t0: f64,
+    z0: Vec<f64>,
+    sys: Option<System>,
+    slip: Option<(Poly, f64)>,
+    len: f64,
+}
+
 /// The exact method for one realization's chain.
 #[derive(Debug, Clone)]
 pub struct ChainExact {
@@ -60,9 +71,8 @@ pub struct ChainExact {
     tension_integral: f64,
     tension_range: (f64, f64),
     contact_start: f64,
-    /// the last advance's piece: start time and state, its system, the polynomial of w on it
-    /// (slip) with its margin, and its length
-    piece: (f64, Vec<f64>, Option<System>, Option<(Poly, f64)>, f64),
+    /// the piece of motion the last advance covered
+    piece: Piece,
     keep: bool,
 }
 
@@ -96,7 +106,7 @@ impl ChainExact {
             tension_integral: 0.0,
             tension_range: (f64::INFINITY, f64::NEG_INFINITY),
             contact_start: x0[n - 1],
-            piece: (0.0, Vec::new(), None, None, 0.0),
+            piece: Piece::default(),
             keep: false,
         }
     }
@@ -109,8 +119,8 @@ impl ChainExact {
     /// The whole state at `t` on the piece of motion the last advance covered (after
     /// [`Method::keep_pieces`]; before any advance, the state reached).
     pub fn state_of_all_at(&self, t: f64) -> Vec<f64> {
-        match &self.piece.2 {
-            Some(sys) => sys.step(&self.piece.1, t - self.piece.0),
+        match &self.piece.sys {
+            Some(sys) => sys.step(&self.piece.z0, t - self.piece.t0),
             None => self.z.clone(),
         }
     }
@@ -135,17 +145,9 @@ impl ChainExact {
     /// turning points).
     fn tension_over(&mut self, h: f64, s: f64) {
         let (p, margin) = self.sys.taylor(&self.tension, &self.powers, h);
-        self.tension_integral += p.c.iter().enumerate().rev().fold(0.0, |acc, (j, c)| acc * s + c / (j + 1) as f64) * s;
-        let (mut lo, mut hi) = self.tension_range;
-        let mut see = |t: f64| {
-            let f = p.at(t);
-            lo = lo.min(f);
-            hi = hi.max(f);
-        };
-        see(0.0);
-        see(s);
-        see_turns(&p, s, margin, &mut see);
-        self.tension_range = (lo, hi);
+        self.tension_integral += p.integral(s);
+        let (lo, hi) = p.range(s, margin);
+        self.tension_range = (self.tension_range.0.min(lo), self.tension_range.1.max(hi));
     }
 
     fn u(&self) -> f64 {
@@ -277,9 +279,9 @@ impl Method for ChainExact {
         }
         let h = self.step_len(t_stop);
         if self.keep {
-            self.piece.0 = self.t;
-            self.piece.1.clone_from(&self.z);
-            self.piece.2 = Some(self.sys.clone());
+            self.piece.t0 = self.t;
+            self.piece.z0.clone_from(&self.z);
+            self.piece.sys = Some(self.sys.clone());
         }
         self.sys.powers(&self.z, &mut self.powers);
         let (p, margin) = self.sys.taylor(&self.row, &self.powers, h);
@@ -289,8 +291,8 @@ impl Method for ChainExact {
                 let from = self.search_from(&p, h, leave);
                 let zero = if self.frictionless { None } else { p.first_zero(from, h, margin) };
                 let s = zero.map_or(h, |z| z.s);
-                self.piece.3 = Some((p, margin));
-                self.piece.4 = s;
+                self.piece.slip = Some((p, margin));
+                self.piece.len = s;
                 self.tension_over(h, s);
                 self.go(s, t_stop);
                 if zero.is_some() {
@@ -298,13 +300,14 @@ impl Method for ChainExact {
                 }
             }
             Mode::Stick => {
-                self.piece.3 = None;
+                self.piece.slip = None;
+                let p_force = p.c[0];
                 let fs = self.ch.breakaway;
                 let mut first: Option<(Zero, f64)> = None;
+                let (mut g, force) = (p, p_force);
                 for side in [1.0, -1.0] {
                     // g = F − side·f_s, ≤ 0 (side +) or ≥ 0 (side −) while stuck
-                    let mut g = p.clone();
-                    g.c[0] -= side * fs;
+                    g.c[0] = force - side * fs;
                     let at_limit = g.c[0].abs() <= TOUCH_TOLERANCE * fs;
                     let from = self.search_from(&g, h, if at_limit { Some(-side) } else { None });
                     let mut found = None;
@@ -322,7 +325,7 @@ impl Method for ChainExact {
                     }
                 }
                 let s = first.map_or(h, |(z, _)| z.s);
-                self.piece.4 = s;
+                self.piece.len = s;
                 self.tension_over(h, s);
                 self.go(s, t_stop);
                 if let Some((_, side)) = first {
@@ -373,9 +376,9 @@ impl Method for ChainExact {
 
     fn state_at(&self, t: f64) -> (f64, f64) {
         let n = self.ch.len();
-        match &self.piece.2 {
+        match &self.piece.sys {
             Some(sys) => {
-                let z = sys.step(&self.piece.1, t - self.piece.0);
+                let z = sys.step(&self.piece.z0, t - self.piece.t0);
                 (z[x(n - 1)], z[xd(n, n - 1)])
             }
             None => self.contact(),
@@ -388,34 +391,13 @@ impl Method for ChainExact {
 
     fn velocity_range(&self) -> (f64, f64) {
         let (_, xdn) = self.contact();
-        match &self.piece.3 {
+        match &self.piece.slip {
             // ẋ_N = v − w on the slip's piece [0, s]: its ends and the turning points inside
             Some((w, margin)) => {
-                let (mut lo, mut hi) = (self.v - w.at(0.0), self.v - w.at(0.0));
-                let mut see = |s: f64| {
-                    let x = self.v - w.at(s);
-                    lo = lo.min(x);
-                    hi = hi.max(x);
-                };
-                see(self.piece.4);
-                see_turns(w, self.piece.4, *margin, &mut see);
-                (lo.min(xdn), hi.max(xdn))
+                let (lo, hi) = w.range(self.piece.len, *margin);
+                ((self.v - hi).min(xdn), (self.v - lo).max(xdn))
             }
             None => (self.v.min(xdn), self.v.max(xdn)),
         }
     }
-}
-
-/// Call `see` at every turning point of P on (0, len): the zeros of P′, where P is known to
-/// `margin` (P′ then to about TERMS·margin/len: where P′ is flat within that, P is flat too, and
-/// its ends hold its extremes).
-fn see_turns(p: &Poly, len: f64, margin: f64, see: &mut impl FnMut(f64)) {
-    if len <= 0.0 {
-        return;
-    }
-    let slope_margin = margin * super::matrix::TERMS as f64 / len;
-    p.derivative().zeros(0.0, len, slope_margin, &mut |z| {
-        see(z.s);
-        false
-    });
 }

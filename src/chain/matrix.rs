@@ -71,22 +71,20 @@ impl System {
                 a[at(r, xd(n, i - 1))] += cc;
             }
             a[at(r, xd(n, i))] -= cc;
-            let (mut stiff, mut damp) = (k[i], c[i]);
             if i + 1 < n {
                 let (kn, cn) = (k[i + 1] / m[i], c[i + 1] / m[i]);
                 a[at(r, x(i))] -= kn;
                 a[at(r, x(i + 1))] += kn;
                 a[at(r, xd(n, i))] -= cn;
                 a[at(r, xd(n, i + 1))] += cn;
-                stiff += k[i + 1];
-                damp += c[i + 1];
             }
+            let mut viscous = 0.0;
             if let (Mode::Slip(sigma), true) = (mode, i == n - 1) {
                 a[at(r, one(n))] += (sigma * ch.kinetic + ch.viscous * v) / m[i];
                 a[at(r, xd(n, i))] -= ch.viscous / m[i];
-                damp += ch.viscous;
+                viscous = ch.viscous;
             }
-            omega = omega.max((stiff / m[i]).sqrt()).max(damp / m[i]);
+            omega = omega.max(super::mass_rate(m, k, c, viscous, i));
         }
         a[at(anchor(n), one(n))] = u;
         // the constant's weight: its column adds at most Ω to any row's weighted sum

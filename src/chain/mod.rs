@@ -66,6 +66,22 @@ pub struct Chain {
     pub viscous: f64,
 }
 
+/// The rate of mass i [1/s]: the larger of √((k_i + k_{i+1})/m_i) and
+/// (c_i + c_{i+1} (+ σ_v at the contact))/m_i, the weight of its row in the norm of the linear
+/// part ([`matrix`]).
+pub fn mass_rate(masses: &[f64], stiffnesses: &[f64], dampings: &[f64], viscous: f64, i: usize) -> f64 {
+    let n = masses.len();
+    let next = |v: &[f64]| v.get(i + 1).copied().unwrap_or(0.0);
+    let k = stiffnesses[i] + next(stiffnesses);
+    let c = dampings[i] + next(dampings) + if i + 1 == n { viscous } else { 0.0 };
+    (k / masses[i]).sqrt().max(c / masses[i])
+}
+
+/// The fastest rate Ω [1/s] of a chain: the largest [`mass_rate`].
+pub fn rate(masses: &[f64], stiffnesses: &[f64], dampings: &[f64], viscous: f64) -> f64 {
+    (0..masses.len()).map(|i| mass_rate(masses, stiffnesses, dampings, viscous, i)).fold(0.0, f64::max)
+}
+
 /// What a realization of a chain adds to its row: the anchor's force T = k₁ (a − x₁) + c₁ (u − ẋ₁)
 /// (the torque the top drive feels) over [0, t_a] — its time average, least and greatest value —
 /// and the contact mass's mean velocity (x_N(t_a) − x_N(0))/t_a.

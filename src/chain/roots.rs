@@ -149,6 +149,27 @@ impl Poly {
         false
     }
 
+    /// The least and greatest value of P on [0, len], where P is known to `margin`: at its ends
+    /// and at its turning points (the zeros of P′, known to about TERMS·margin/len: where P′
+    /// is flat within that, P is flat too and its ends hold its extremes).
+    pub fn range(&self, len: f64, margin: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (self.at(0.0).min(self.at(len)), self.at(0.0).max(self.at(len)));
+        if len > 0.0 {
+            let slope_margin = margin * super::matrix::TERMS as f64 / len;
+            self.derivative().zeros(0.0, len, slope_margin, &mut |z| {
+                let p = self.at(z.s);
+                (lo, hi) = (lo.min(p), hi.max(p));
+                false
+            });
+        }
+        (lo, hi)
+    }
+
+    /// ∫₀^s P.
+    pub fn integral(&self, s: f64) -> f64 {
+        self.c.iter().enumerate().rev().fold(0.0, |acc, (j, c)| acc * s + c / (j + 1) as f64) * s
+    }
+
     /// The first zero in (`from`, h].
     pub fn first_zero(&self, from: f64, h: f64, margin: f64) -> Option<Zero> {
         let mut first = None;

@@ -21,6 +21,7 @@ use std::sync::Arc;
 use super::spec::ModelSpec;
 use super::spec::{AnchorProcess, Param};
 use super::types::{invalid, shown_list, Scenario, ScenarioError};
+use crate::chain::rate as chain_rate;
 use crate::physics::{FrictionLaw, Params};
 use crate::shown::short;
 use crate::simulation::belt::{Belt, InitialSign, Markov, Process, Recorded, MAX_SPEED, MIN_SPEED};
@@ -228,18 +229,4 @@ impl Scenario {
         }
         Ok(())
     }
-}
-
-/// The fastest rate Ω [1/s] of a chain: the largest √((k_i + k_{i+1})/m_i) and
-/// (c_i + c_{i+1} (+ σ_v at the contact))/m_i (the norm of its linear part, [`crate::chain`]).
-pub fn chain_rate(masses: &[f64], stiffnesses: &[f64], dampings: &[f64], viscous: f64) -> f64 {
-    let n = masses.len();
-    (0..n)
-        .map(|i| {
-            let next = |v: &[f64]| v.get(i + 1).copied().unwrap_or(0.0);
-            let k = stiffnesses[i] + next(stiffnesses);
-            let c = dampings[i] + next(dampings) + if i + 1 == n { viscous } else { 0.0 };
-            (k / masses[i]).sqrt().max(c / masses[i])
-        })
-        .fold(0.0, f64::max)
 }

@@ -25,10 +25,11 @@ mod resolve;
 mod spec;
 mod types;
 
+pub use crate::chain::rate as chain_rate;
 pub use crate::shown::short;
 pub use crate::simulation::plan::fastest_rate;
 pub use crate::solver::Numerics;
-pub use chain::{chain_rate, MAX_CHAIN_RADIANS, MAX_MASSES};
+pub use chain::{MAX_CHAIN_RADIANS, MAX_MASSES};
 pub use input::{Input, Source};
 pub use spec::{AnchorProcess, AnchorSpec, BeltSpec, ChainSpec, InitialConditions, ModelSpec, Output, Param, ParamSlot, ProcessName, Run, Sign};
 pub use types::*;
