@@ -53,11 +53,8 @@ impl Scenario {
             return Err(invalid(k, "(set)", &format!("the asymmetric belt needs {other} too (give both, or neither for the paper's symmetric belt)")));
         }
         let (two_state, chain, record) = ([ProcessName::Symmetric, ProcessName::Telegraph], [ProcessName::Markov], [ProcessName::Recorded]);
-        // (typed, not checked: checking builds this very process; parsed once)
-        static PAPER: std::sync::OnceLock<super::spec::BeltSpec> = std::sync::OnceLock::new();
-        let paper = PAPER.get_or_init(|| {
-            Scenario::recorded(super::types::PAPER_TOML, Path::new("pipelines/paper.toml")).expect("the embedded paper scenario is valid").belt
-        });
+        // (typed, not checked: checking builds this very process)
+        let paper = &super::types::paper_typed().belt;
         for (key, set) in [
             ("belt.speed", b.speed != paper.speed),
             ("belt.switch_rate", b.switch_rate != paper.switch_rate),

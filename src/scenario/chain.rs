@@ -18,7 +18,6 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use super::spec::ModelSpec;
 use super::spec::{AnchorProcess, Param};
 use super::types::{invalid, shown_list, Scenario, ScenarioError};
 use crate::chain::rate as chain_rate;
@@ -78,17 +77,9 @@ impl Scenario {
         Ok(Some(ChainScene { masses, stiffnesses, dampings, anchor, from_model: self.chain.is_none() }))
     }
 
-    /// The embedded paper scenario's `[model]` (typed, not checked; parsed once).
-    fn paper_model() -> &'static ModelSpec {
-        static PAPER: std::sync::OnceLock<ModelSpec> = std::sync::OnceLock::new();
-        PAPER.get_or_init(|| {
-            Scenario::recorded(super::types::PAPER_TOML, Path::new("pipelines/paper.toml")).expect("the embedded paper scenario is valid").model
-        })
-    }
-
     /// `[chain]` replaces the one mass's keys: refuse them set beside it.
     fn refuse_model_keys(&self) -> Result<(), ScenarioError> {
-        let paper = Scenario::paper_model();
+        let paper = &super::types::paper_typed().model;
         for (key, set) in [
             ("model.mass", self.model.mass != paper.mass),
             ("model.stiffness", self.model.stiffness != paper.stiffness),

@@ -15,6 +15,13 @@ use crate::solver::Numerics;
 /// The paper scenario, embedded: the default of every key.
 pub const PAPER_TOML: &str = include_str!("../../pipelines/paper.toml");
 
+/// The embedded paper scenario, typed but not checked (checking builds the scene this serves),
+/// parsed once: the defaults a key set by the user is compared with.
+pub(super) fn paper_typed() -> &'static Scenario {
+    static PAPER: std::sync::OnceLock<Scenario> = std::sync::OnceLock::new();
+    PAPER.get_or_init(|| Scenario::recorded(PAPER_TOML, std::path::Path::new("pipelines/paper.toml")).expect("the embedded paper scenario is valid"))
+}
+
 /// Largest accepted λ·t_a (expected belt switches per realization): their instants are held in memory.
 pub const MAX_EXPECTED_SWITCHES: f64 = 1e7;
 
